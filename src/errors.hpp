@@ -1,0 +1,21 @@
+// errors.hpp -- the one exception type for bad input.
+//
+// Contract: an InputError carries a one-line message that names the place of the defect
+// ("$.pieces[2].Q[0][1]: zero denominator"); the CLI prefixes the file and exits with status 2.
+// Bugs are std::logic_error and must never be reported as bad input.
+#pragma once
+
+#include <stdexcept>
+#include <string>
+
+namespace impactcert {
+
+struct InputError : std::runtime_error {
+    using std::runtime_error::runtime_error;
+};
+
+[[noreturn]] inline void input_error(const std::string& path, const std::string& reason) {
+    throw InputError(path + ": " + reason);
+}
+
+} // namespace impactcert

@@ -1,0 +1,246 @@
+#include "law.hpp"
+
+#include <algorithm>
+#include <set>
+
+namespace impactcert {
+
+bool is_obligation_id(const std::string& id) {
+    return std::find(kObligationIds.begin(), kObligationIds.end(), id) != kObligationIds.end();
+}
+
+namespace {
+
+std::string idx(const std::string& base, std::size_t i) {
+    return base + "[" + std::to_string(i) + "]";
+}
+
+std::string in_quotes(const std::string& s) { return "\"" + s + "\""; }
+
+Matrix chain_W(std::size_t n) {
+    // Contact k sits between balls k and k+1: g_k = q_{k+1} - q_k - 2R.
+    Matrix W(n, n - 1);
+    for (std::size_t k = 0; k + 1 < n; ++k) {
+        W(k, k) = -1;
+        W(k + 1, k) = 1;
+    }
+    return W;
+}
+
+void check_square(const Matrix& m, std::size_t c, const std::string& path) {
+    if (m.rows() != c || m.cols() != c)
+        input_error(path, "expected a " + std::to_string(c) + "x" + std::to_string(c) +
+                              " matrix, got " + std::to_string(m.rows()) + "x" +
+                              std::to_string(m.cols()));
+}
+
+} // namespace
+
+Model::Model(Law law) : law_(std::move(law)) {
+    if (law_.name.empty())
+        input_error("$.name", "empty law name");
+
+    // Masses and contacts.
+    masses_ = law_.masses;
+    const std::size_t n = masses_.size();
+    if (n == 0)
+        input_error("$.masses", "no balls");
+    for (std::size_t i = 0; i < n; ++i)
+        if (sign_of(masses_[i]) != Sign::positive)
+            input_error(idx("$.masses", i), "mass must be positive, got " + to_string(masses_[i]));
+    if (law_.W) {
+        if (law_.W->rows() != n)
+            input_error("$.contacts.W", "expected " + std::to_string(n) + " rows (one per ball), got " +
+                                            std::to_string(law_.W->rows()));
+        if (law_.W->cols() == 0)
+            input_error("$.contacts.W", "no contacts");
+        W_ = *law_.W;
+    } else {
+        if (n < 2)
+            input_error("$.masses", "a chain needs at least two balls");
+        W_ = chain_W(n);
+    }
+    const std::size_t c = W_.cols();
+    M_inv_ = Matrix(n, n);
+    for (std::size_t i = 0; i < n; ++i)
+        M_inv_(i, i) = Rational(1) / masses_[i];
+    G_ = transpose(W_) * M_inv_ * W_;
+    auto H = inverse(G_);
+    if (!H)
+        input_error("$.contacts", "the columns of W are linearly dependent (G = W^T M^-1 W is singular)");
+    H_ = *H;
+
+    // Pieces.
+    if (law_.pieces.empty())
+        input_error("$.pieces", "no pieces");
+    std::set<std::string> names;
+    for (std::size_t p = 0; p < law_.pieces.size(); ++p) {
+        const PieceDecl& decl = law_.pieces[p];
+        const std::string path = idx("$.pieces", p);
+        if (decl.name.empty())
+            input_error(path + ".name", "empty piece name");
+        if (!names.insert(decl.name).second)
+            input_error(path + ".name", "duplicate piece name " + in_quotes(decl.name));
+        check_square(decl.Q, c, path + ".Q");
+
+        std::vector<Vector> rays;
+        if (decl.rays) {
+            rays = *decl.rays;
+            if (rays.size() != c)
+                input_error(path + ".rays", "expected " + std::to_string(c) + " rays, got " +
+                                                std::to_string(rays.size()));
+            for (std::size_t k = 0; k < c; ++k) {
+                if (rays[k].size() != c)
+                    input_error(idx(path + ".rays", k), "expected " + std::to_string(c) +
+                                                            " components, got " +
+                                                            std::to_string(rays[k].size()));
+                if (is_zero(rays[k]))
+                    input_error(idx(path + ".rays", k), "zero ray");
+                for (std::size_t l = 0; l < k; ++l)
+                    if (primitive_ray(rays[l]) == primitive_ray(rays[k]))
+                        input_error(idx(path + ".rays", k),
+                                    "repeats ray " + std::to_string(l) + " (same direction)");
+            }
+        } else {
+            auto q_inv = inverse(decl.Q);
+            if (!q_inv)
+                input_error(path + ".Q", "singular matrix, and no rays given (the cone is spanned "
+                                         "by the columns of Q^-1)");
+            for (std::size_t k = 0; k < c; ++k)
+                rays.push_back(q_inv->column(k));
+        }
+
+        Piece piece;
+        piece.name = decl.name;
+        piece.Q = decl.Q;
+        std::vector<Vector> primitive;
+        for (const auto& r : rays)
+            primitive.push_back(primitive_ray(r));
+        piece.R = Matrix::from_columns(primitive);
+        auto r_inv = inverse(piece.R);
+        if (!r_inv)
+            input_error(path + ".rays", "linearly dependent rays (the cone is not full-dimensional)");
+        piece.R_inv = *r_inv;
+        for (const auto& r : primitive) {
+            auto it = std::find(rays_.begin(), rays_.end(), r);
+            piece.ray_ids.push_back(static_cast<std::size_t>(it - rays_.begin()));
+            if (it == rays_.end())
+                rays_.push_back(r);
+        }
+        pieces_.push_back(std::move(piece));
+    }
+
+    // Declarations that reference pieces.
+    auto require_piece = [&](const std::string& name, const std::string& path) {
+        if (!names.count(name))
+            input_error(path, "unknown piece " + in_quotes(name));
+    };
+    for (std::size_t i = 0; i < law_.identities.size(); ++i) {
+        const auto& id = law_.identities[i];
+        const std::string path = idx("$.identities", i);
+        require_piece(id.lhs, path + ".lhs");
+        if (id.product.empty())
+            input_error(path + ".product", "empty product");
+        for (std::size_t k = 0; k < id.product.size(); ++k)
+            require_piece(id.product[k], idx(path + ".product", k));
+    }
+    for (std::size_t i = 0; i < law_.single_impacts.size(); ++i) {
+        const auto& si = law_.single_impacts[i];
+        const std::string path = idx("$.single_impacts", i);
+        require_piece(si.piece, path + ".piece");
+        if (si.contact < 1 || static_cast<std::size_t>(si.contact) > c)
+            input_error(path + ".contact", "contact must be in 1.." + std::to_string(c) + ", got " +
+                                               std::to_string(si.contact));
+        if (sign_of(si.restitution) == Sign::negative || si.restitution > Rational(1))
+            input_error(path + ".restitution",
+                        "restitution must be in [0, 1], got " + to_string(si.restitution));
+    }
+    for (std::size_t i = 0; i < law_.outcomes.size(); ++i) {
+        const auto& o = law_.outcomes[i];
+        const std::string path = idx("$.outcomes", i);
+        if (o.u_minus.size() != n)
+            input_error(path + ".u_minus", "expected " + std::to_string(n) + " ball velocities, got " +
+                                               std::to_string(o.u_minus.size()));
+        if (o.u_plus.size() != n)
+            input_error(path + ".u_plus", "expected " + std::to_string(n) + " ball velocities, got " +
+                                              std::to_string(o.u_plus.size()));
+    }
+    if (law_.claims) {
+        std::set<std::string> seen;
+        for (std::size_t i = 0; i < law_.claims->size(); ++i) {
+            const std::string& id = (*law_.claims)[i];
+            const std::string path = idx("$.claims", i);
+            if (!is_obligation_id(id))
+                input_error(path, "unknown obligation " + in_quotes(id));
+            if (!seen.insert(id).second)
+                input_error(path, "obligation " + in_quotes(id) + " claimed twice");
+            if (!applies(id))
+                input_error(path, in_quotes(id) + " is claimed but the law declares nothing for it");
+        }
+    }
+}
+
+std::size_t Model::piece_index(const std::string& name) const {
+    for (std::size_t p = 0; p < pieces_.size(); ++p)
+        if (pieces_[p].name == name)
+            return p;
+    throw std::out_of_range("no piece named " + name);
+}
+
+std::vector<std::size_t> Model::pieces_containing(const Vector& gamma) const {
+    std::vector<std::size_t> out;
+    for (std::size_t p = 0; p < pieces_.size(); ++p) {
+        const Vector s = pieces_[p].R_inv * gamma;
+        if (std::all_of(s.begin(), s.end(), [](const Rational& x) { return sign_of(x) != Sign::negative; }))
+            out.push_back(p);
+    }
+    return out;
+}
+
+std::vector<Vector> Model::values_at(const Vector& gamma) const {
+    std::vector<Vector> out;
+    for (auto p : pieces_containing(gamma)) {
+        Vector v = pieces_[p].Q * gamma;
+        if (std::find(out.begin(), out.end(), v) == out.end())
+            out.push_back(std::move(v));
+    }
+    return out;
+}
+
+bool Model::in_interior(std::size_t p, const Vector& gamma) const {
+    const Vector s = pieces_.at(p).R_inv * gamma;
+    return std::all_of(s.begin(), s.end(), [](const Rational& x) { return sign_of(x) == Sign::positive; });
+}
+
+bool Model::applies(const std::string& id) const {
+    if (id == "identities")
+        return !law_.identities.empty();
+    if (id == "single-impacts")
+        return !law_.single_impacts.empty();
+    if (id == "outcomes")
+        return !law_.outcomes.empty();
+    return is_obligation_id(id);
+}
+
+bool Model::claimed(const std::string& id) const {
+    if (!law_.claims)
+        return applies(id);
+    return std::find(law_.claims->begin(), law_.claims->end(), id) != law_.claims->end();
+}
+
+Vector Model::post_impact_velocities(const Vector& u_minus, const Vector& gamma_minus,
+                                     const Vector& gamma_plus) const {
+    const Vector impulse = H_ * (gamma_plus - gamma_minus);
+    return u_minus + M_inv_ * (W_ * impulse);
+}
+
+Matrix Model::single_impact(std::size_t k, const Rational& e) const {
+    const std::size_t c = contacts();
+    Matrix Q = Matrix::identity(c);
+    const Rational f = (Rational(1) + e) / G_(k, k);
+    for (std::size_t i = 0; i < c; ++i)
+        Q(i, k) -= f * G_(i, k);
+    return Q;
+}
+
+} // namespace impactcert

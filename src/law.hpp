@@ -1,0 +1,128 @@
+// law.hpp -- a cone-wise linear impact law, as declared and as prepared for proof.
+//
+// Contract:
+//   - `Law` is the declaration exactly as a law file (or the embedded default) states it.
+//   - `Model` is a validated law with its mechanics derived: M^-1, W, G = W^T M^-1 W, H = G^-1,
+//     and for every piece its ray matrix R (columns: primitive rays), R^-1 and the ids of its
+//     rays in a table of distinct rays. Constructing a Model validates the law and throws
+//     InputError naming the JSON path of the first defect; a Model is always consistent.
+//   - Nothing here assumes c = 2.
+#pragma once
+
+#include "errors.hpp"
+#include "matrix.hpp"
+
+#include <array>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace impactcert {
+
+// ---------------------------------------------------------------------------------------------
+// Declaration
+
+struct PieceDecl {
+    std::string name;
+    Matrix Q;                       // c x c
+    std::optional<std::vector<Vector>> rays; // c rays; absent: the columns of Q^-1
+};
+
+struct IdentityDecl {
+    std::string lhs;                  // piece name
+    std::vector<std::string> product; // piece names, left to right
+};
+
+struct SingleImpactDecl {
+    std::string piece;
+    int contact = 0;       // 1-based
+    Rational restitution; // in [0, 1]
+};
+
+struct OutcomeDecl {
+    std::string name;
+    Vector u_minus; // n ball velocities
+    Vector u_plus;  // n ball velocities, as declared
+};
+
+struct Law {
+    std::string name;
+    std::string description;               // free text (note/description), informational
+    std::vector<Rational> masses;          // n > 0
+    std::optional<Matrix> W;               // n x c; absent: "chain"
+    std::vector<PieceDecl> pieces;
+    std::vector<IdentityDecl> identities;
+    std::vector<SingleImpactDecl> single_impacts;
+    std::vector<OutcomeDecl> outcomes;
+    std::optional<std::vector<std::string>> claims; // absent: every obligation that applies
+};
+
+// ---------------------------------------------------------------------------------------------
+// Obligation ids, in report order (SPEC section 3).
+
+inline constexpr std::array<const char*, 12> kObligationIds = {
+    "fan",        "P1",         "P2",           "P3",
+    "kinematic",  "kinetic",    "energetic",    "identities",
+    "single-impacts", "nonexpansive", "nonexpansive-lemma", "outcomes"};
+
+bool is_obligation_id(const std::string& id);
+
+// ---------------------------------------------------------------------------------------------
+// Prepared law
+
+struct Piece {
+    std::string name;
+    Matrix Q;                       // c x c, invertible
+    Matrix R;                       // c x c, columns are the primitive rays
+    Matrix R_inv;                   // R^-1: s = R_inv gamma are gamma's cone coordinates
+    std::vector<std::size_t> ray_ids; // index into Model::rays() of each column of R
+};
+
+class Model {
+  public:
+    explicit Model(Law law); // validates; throws InputError
+
+    const Law& law() const { return law_; }
+    std::size_t balls() const { return masses_.size(); } // n
+    std::size_t contacts() const { return W_.cols(); }   // c
+
+    const Matrix& M_inv() const { return M_inv_; }
+    const Matrix& W() const { return W_; }
+    const Matrix& G() const { return G_; }
+    const Matrix& H() const { return H_; }
+    const std::vector<Piece>& pieces() const { return pieces_; }
+    const std::vector<Vector>& rays() const { return rays_; } // distinct, primitive
+    std::size_t piece_index(const std::string& name) const;   // throws std::out_of_range
+
+    // |x|_H^2 = x^T H x
+    Rational energy(const Vector& gamma) const { return bilinear(gamma, H_, gamma); }
+
+    // Pieces whose closed cone contains gamma (several on a boundary; none outside a gap).
+    std::vector<std::size_t> pieces_containing(const Vector& gamma) const;
+    // The values of S at gamma: Q_p gamma for every piece containing gamma, duplicates removed
+    // (one value off the boundaries or for a continuous law; none in a gap of the cones).
+    std::vector<Vector> values_at(const Vector& gamma) const;
+    // True when gamma lies in the interior of piece p's cone.
+    bool in_interior(std::size_t p, const Vector& gamma) const;
+
+    // Whether the obligation is declared/applicable and whether it is claimed.
+    bool applies(const std::string& id) const;
+    bool claimed(const std::string& id) const;
+
+    // Ball-velocity form: gamma = W^T u, and u+ from gamma- and gamma+ (SPEC section 3, outcomes).
+    Vector contact_velocities(const Vector& u) const { return transpose(W_) * u; }
+    Vector post_impact_velocities(const Vector& u_minus, const Vector& gamma_minus,
+                                  const Vector& gamma_plus) const;
+    // Two-ball impact matrix at contact k (0-based) with restitution e:
+    // Q^(k)(e) = I - (1+e) G e_k e_k^T / G_kk.
+    Matrix single_impact(std::size_t k, const Rational& e) const;
+
+  private:
+    Law law_;
+    std::vector<Rational> masses_;
+    Matrix M_inv_, W_, G_, H_;
+    std::vector<Piece> pieces_;
+    std::vector<Vector> rays_;
+};
+
+} // namespace impactcert

@@ -1,0 +1,361 @@
+#include "law_json.hpp"
+
+#include <cerrno>
+#include <cstring>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+namespace impactcert {
+
+using Json = nlohmann::json;
+
+namespace {
+
+std::string in_quotes(const std::string& s) { return "\"" + s + "\""; }
+
+// ---------------------------------------------------------------------------------------------
+// Syntax: nlohmann::json plus a duplicate-key check (a repeated key would silently replace the
+// first one, which is exactly the kind of typo that must not skip a check).
+
+struct Frame {
+    bool object = false;
+    std::string key;             // object: the current key
+    std::size_t index = 0;       // array: the index of the next element
+    std::set<std::string> keys;  // object: keys seen
+};
+
+std::string frames_path(const std::vector<Frame>& stack) {
+    std::string path = "$";
+    for (std::size_t i = 0; i + 1 < stack.size(); ++i) {
+        const Frame& f = stack[i];
+        if (f.object) {
+            path += '.';
+            path += f.key;
+        } else {
+            path += '[';
+            path += std::to_string(f.index - 1);
+            path += ']';
+        }
+    }
+    return path;
+}
+
+Json parse_syntax(const std::string& text) {
+    std::vector<Frame> stack;
+    auto element_begins = [&] {
+        if (!stack.empty() && !stack.back().object)
+            ++stack.back().index;
+    };
+    Json::parser_callback_t cb = [&](int, Json::parse_event_t event, Json& parsed) -> bool {
+        switch (event) {
+        case Json::parse_event_t::object_start:
+        case Json::parse_event_t::array_start:
+            element_begins();
+            stack.push_back(Frame{event == Json::parse_event_t::object_start, {}, 0, {}});
+            break;
+        case Json::parse_event_t::object_end:
+        case Json::parse_event_t::array_end:
+            stack.pop_back();
+            break;
+        case Json::parse_event_t::key: {
+            Frame& f = stack.back();
+            f.key = parsed.get<std::string>();
+            if (!f.keys.insert(f.key).second) {
+                stack.push_back(Frame{});
+                input_error(frames_path(stack) , "duplicate key " + in_quotes(f.key));
+            }
+            break;
+        }
+        case Json::parse_event_t::value:
+            element_begins();
+            break;
+        }
+        return true;
+    };
+    try {
+        return Json::parse(text, cb);
+    } catch (const Json::parse_error& e) {
+        // Turn the byte offset into line:column.
+        std::size_t line = 1, col = 1;
+        for (std::size_t i = 0; i + 1 < e.byte && i < text.size(); ++i) {
+            if (text[i] == '\n') {
+                ++line;
+                col = 1;
+            } else {
+                ++col;
+            }
+        }
+        std::string what = e.what();
+        if (auto p = what.find("syntax error"); p != std::string::npos)
+            what = what.substr(p);
+        throw InputError("line " + std::to_string(line) + ", column " + std::to_string(col) +
+                         ": malformed JSON: " + what);
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Typed access with JSON paths.
+
+bool is_free_text_key(const std::string& k) { return k == "note" || k == "description"; }
+
+void expect_object(const Json& j, const std::string& path, std::initializer_list<const char*> allowed,
+                   std::initializer_list<const char*> required) {
+    if (!j.is_object())
+        input_error(path, std::string("expected an object, got ") + j.type_name());
+    for (const auto& item : j.items()) {
+        if (is_free_text_key(item.key())) {
+            if (!item.value().is_string())
+                input_error(path + "." + item.key(), "free text must be a string");
+            continue;
+        }
+        bool known = false;
+        for (const char* a : allowed)
+            known = known || item.key() == a;
+        if (!known)
+            input_error(path + "." + item.key(), "unknown key " + in_quotes(item.key()));
+    }
+    for (const char* r : required)
+        if (!j.contains(r))
+            input_error(path, std::string("missing key ") + in_quotes(r));
+}
+
+const Json& expect_array(const Json& j, const std::string& path) {
+    if (!j.is_array())
+        input_error(path, std::string("expected an array, got ") + j.type_name());
+    return j;
+}
+
+std::string get_string(const Json& j, const std::string& path) {
+    if (!j.is_string())
+        input_error(path, std::string("expected a string, got ") + j.type_name());
+    return j.get<std::string>();
+}
+
+Rational get_rational(const Json& j, const std::string& path) {
+    std::string text;
+    if (j.is_string()) {
+        text = j.get<std::string>();
+    } else if (j.is_number_integer()) {
+        text = j.dump();
+    } else if (j.is_number()) {
+        input_error(path, "JSON number " + j.dump() +
+                              " is not an integer (or exceeds 64 bits): write rationals as "
+                              "strings, e.g. \"1\", \"-7/12\", \"0.25\"");
+    } else {
+        input_error(path, std::string("expected a rational (string or integer), got ") + j.type_name());
+    }
+    std::string why;
+    auto r = parse_rational(text, &why);
+    if (!r)
+        input_error(path, in_quotes(text) + ": " + why);
+    return *r;
+}
+
+Vector get_vector(const Json& j, const std::string& path) {
+    expect_array(j, path);
+    Vector v;
+    for (std::size_t i = 0; i < j.size(); ++i)
+        v.push_back(get_rational(j[i], path + "[" + std::to_string(i) + "]"));
+    return v;
+}
+
+Matrix get_matrix(const Json& j, const std::string& path) {
+    expect_array(j, path);
+    if (j.empty())
+        input_error(path, "empty matrix");
+    std::vector<Vector> rows;
+    for (std::size_t i = 0; i < j.size(); ++i) {
+        const std::string rp = path + "[" + std::to_string(i) + "]";
+        rows.push_back(get_vector(j[i], rp));
+        if (rows.back().size() != rows.front().size())
+            input_error(rp, "row has " + std::to_string(rows.back().size()) + " entries, row 0 has " +
+                                std::to_string(rows.front().size()));
+        if (rows.back().empty())
+            input_error(rp, "empty row");
+    }
+    return Matrix::from_rows(rows);
+}
+
+int get_small_int(const Json& j, const std::string& path) {
+    if (!j.is_number_integer())
+        input_error(path, std::string("expected an integer, got ") + j.dump());
+    const auto v = j.get<long long>();
+    if (v < -1000000 || v > 1000000)
+        input_error(path, "integer out of range: " + j.dump());
+    return static_cast<int>(v);
+}
+
+template <class F> void for_each_element(const Json& j, const std::string& path, F f) {
+    expect_array(j, path);
+    for (std::size_t i = 0; i < j.size(); ++i)
+        f(j[i], path + "[" + std::to_string(i) + "]");
+}
+
+Law parse_document(const Json& doc) {
+    expect_object(doc, "$",
+                  {"format", "name", "masses", "contacts", "pieces", "identities", "single_impacts",
+                   "outcomes", "claims"},
+                  {"format", "name", "masses", "pieces"});
+    const std::string format = get_string(doc["format"], "$.format");
+    if (format != kLawFormat)
+        input_error("$.format", "expected " + in_quotes(kLawFormat) + ", got " + in_quotes(format));
+    Law law;
+    law.name = get_string(doc["name"], "$.name");
+    if (doc.contains("description"))
+        law.description = doc["description"].get<std::string>();
+    else if (doc.contains("note"))
+        law.description = doc["note"].get<std::string>();
+    law.masses = get_vector(doc["masses"], "$.masses");
+
+    if (doc.contains("contacts")) {
+        const Json& c = doc["contacts"];
+        if (c.is_string()) {
+            if (c.get<std::string>() != "chain")
+                input_error("$.contacts", "expected \"chain\" or {\"W\": [...]}, got " + c.dump());
+        } else {
+            expect_object(c, "$.contacts", {"W"}, {"W"});
+            law.W = get_matrix(c["W"], "$.contacts.W");
+        }
+    }
+
+    for_each_element(doc["pieces"], "$.pieces", [&](const Json& p, const std::string& path) {
+        expect_object(p, path, {"name", "Q", "rays"}, {"name", "Q"});
+        PieceDecl decl;
+        decl.name = get_string(p["name"], path + ".name");
+        decl.Q = get_matrix(p["Q"], path + ".Q");
+        if (p.contains("rays")) {
+            std::vector<Vector> rays;
+            for_each_element(p["rays"], path + ".rays", [&](const Json& r, const std::string& rp) {
+                rays.push_back(get_vector(r, rp));
+            });
+            decl.rays = rays;
+        }
+        law.pieces.push_back(std::move(decl));
+    });
+
+    if (doc.contains("identities"))
+        for_each_element(doc["identities"], "$.identities", [&](const Json& d, const std::string& path) {
+            expect_object(d, path, {"lhs", "product"}, {"lhs", "product"});
+            IdentityDecl decl;
+            decl.lhs = get_string(d["lhs"], path + ".lhs");
+            for_each_element(d["product"], path + ".product", [&](const Json& f, const std::string& fp) {
+                decl.product.push_back(get_string(f, fp));
+            });
+            law.identities.push_back(std::move(decl));
+        });
+
+    if (doc.contains("single_impacts"))
+        for_each_element(doc["single_impacts"], "$.single_impacts",
+                         [&](const Json& d, const std::string& path) {
+                             expect_object(d, path, {"piece", "contact", "restitution"},
+                                           {"piece", "contact", "restitution"});
+                             SingleImpactDecl decl;
+                             decl.piece = get_string(d["piece"], path + ".piece");
+                             decl.contact = get_small_int(d["contact"], path + ".contact");
+                             decl.restitution = get_rational(d["restitution"], path + ".restitution");
+                             law.single_impacts.push_back(std::move(decl));
+                         });
+
+    if (doc.contains("outcomes"))
+        for_each_element(doc["outcomes"], "$.outcomes", [&](const Json& d, const std::string& path) {
+            expect_object(d, path, {"name", "u_minus", "u_plus"}, {"name", "u_minus", "u_plus"});
+            OutcomeDecl decl;
+            decl.name = get_string(d["name"], path + ".name");
+            decl.u_minus = get_vector(d["u_minus"], path + ".u_minus");
+            decl.u_plus = get_vector(d["u_plus"], path + ".u_plus");
+            law.outcomes.push_back(std::move(decl));
+        });
+
+    if (doc.contains("claims")) {
+        std::vector<std::string> claims;
+        for_each_element(doc["claims"], "$.claims", [&](const Json& d, const std::string& path) {
+            claims.push_back(get_string(d, path));
+        });
+        law.claims = claims;
+    }
+    return law;
+}
+
+} // namespace
+
+Law parse_law_text(const std::string& text, const std::string& origin) {
+    try {
+        Law law = parse_document(parse_syntax(text));
+        Model check(law); // semantic validation, with JSON paths
+        return law;
+    } catch (const InputError& e) {
+        throw InputError(origin + ": " + e.what());
+    }
+}
+
+Law load_law_file(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in)
+        throw InputError(path + ": cannot read file: " + std::strerror(errno));
+    std::ostringstream text;
+    text << in.rdbuf();
+    return parse_law_text(text.str(), path);
+}
+
+nlohmann::ordered_json law_to_json(const Law& law) {
+    using OJson = nlohmann::ordered_json;
+    auto vec = [](const Vector& v) {
+        OJson a = OJson::array();
+        for (const auto& x : v)
+            a.push_back(to_string(x));
+        return a;
+    };
+    auto mat = [&](const Matrix& m) {
+        OJson a = OJson::array();
+        for (std::size_t i = 0; i < m.rows(); ++i)
+            a.push_back(vec(m.row(i)));
+        return a;
+    };
+    OJson out;
+    out["format"] = kLawFormat;
+    out["name"] = law.name;
+    out["masses"] = vec(law.masses);
+    if (law.W)
+        out["contacts"] = OJson{{"W", mat(*law.W)}};
+    else
+        out["contacts"] = "chain";
+    OJson pieces = OJson::array();
+    for (const auto& p : law.pieces) {
+        OJson piece;
+        piece["name"] = p.name;
+        piece["Q"] = mat(p.Q);
+        if (p.rays) {
+            OJson rays = OJson::array();
+            for (const auto& r : *p.rays)
+                rays.push_back(vec(r));
+            piece["rays"] = rays;
+        }
+        pieces.push_back(piece);
+    }
+    out["pieces"] = pieces;
+    if (!law.identities.empty()) {
+        OJson ids = OJson::array();
+        for (const auto& d : law.identities)
+            ids.push_back(OJson{{"lhs", d.lhs}, {"product", d.product}});
+        out["identities"] = ids;
+    }
+    if (!law.single_impacts.empty()) {
+        OJson sis = OJson::array();
+        for (const auto& d : law.single_impacts)
+            sis.push_back(OJson{{"piece", d.piece}, {"contact", d.contact},
+                                {"restitution", to_string(d.restitution)}});
+        out["single_impacts"] = sis;
+    }
+    if (!law.outcomes.empty()) {
+        OJson os = OJson::array();
+        for (const auto& d : law.outcomes)
+            os.push_back(OJson{{"name", d.name}, {"u_minus", vec(d.u_minus)}, {"u_plus", vec(d.u_plus)}});
+        out["outcomes"] = os;
+    }
+    if (law.claims)
+        out["claims"] = *law.claims;
+    return out;
+}
+
+} // namespace impactcert

@@ -1,0 +1,70 @@
+// matrix.hpp -- small dense exact vectors and matrices.
+//
+// Contract: sizes are checked (std::logic_error on a mismatch: that is a bug, not bad input);
+// every operation is exact. Sizes are small (c <= ~8), so plain row-major storage and
+// Gauss-Jordan elimination are the right tools.
+#pragma once
+
+#include "rational.hpp"
+
+#include <cstddef>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace impactcert {
+
+using Vector = std::vector<Rational>;
+
+class Matrix {
+  public:
+    Matrix() = default;
+    Matrix(std::size_t rows, std::size_t cols) : rows_(rows), cols_(cols), a_(rows * cols) {}
+    static Matrix identity(std::size_t n);
+    static Matrix from_columns(const std::vector<Vector>& columns); // all of one length
+    static Matrix from_rows(const std::vector<Vector>& rows);
+
+    std::size_t rows() const { return rows_; }
+    std::size_t cols() const { return cols_; }
+    Rational& operator()(std::size_t i, std::size_t j) { return a_[i * cols_ + j]; }
+    const Rational& operator()(std::size_t i, std::size_t j) const { return a_[i * cols_ + j]; }
+    Vector column(std::size_t j) const;
+    Vector row(std::size_t i) const;
+    bool operator==(const Matrix& o) const;
+    bool operator!=(const Matrix& o) const { return !(*this == o); }
+
+  private:
+    std::size_t rows_ = 0; // number of rows
+    std::size_t cols_ = 0; // number of columns
+    std::vector<Rational> a_; // row-major entries
+};
+
+Matrix operator*(const Matrix& a, const Matrix& b);
+Vector operator*(const Matrix& a, const Vector& x);
+Matrix operator+(const Matrix& a, const Matrix& b);
+Matrix operator-(const Matrix& a, const Matrix& b);
+Matrix operator*(const Rational& s, const Matrix& a);
+Matrix transpose(const Matrix& a);
+
+Vector operator+(const Vector& a, const Vector& b);
+Vector operator-(const Vector& a, const Vector& b);
+Vector operator*(const Rational& s, const Vector& a);
+Rational dot(const Vector& a, const Vector& b);
+// x^T A y
+Rational bilinear(const Vector& x, const Matrix& a, const Vector& y);
+Vector unit_vector(std::size_t n, std::size_t k);
+bool is_zero(const Vector& v);
+
+// Inverse by Gauss-Jordan with exact pivots; nothing when singular.
+std::optional<Matrix> inverse(const Matrix& a);
+Rational determinant(const Matrix& a);
+// Solution of a x = b for square non-singular a; nothing when singular.
+std::optional<Vector> solve(const Matrix& a, const Vector& b);
+
+// The positive multiple of v != 0 whose entries are coprime integers. Two non-zero vectors span
+// the same ray iff their primitive representatives are equal.
+Vector primitive_ray(const Vector& v);
+
+std::string to_string(const Vector& v); // "(a, b, c)"
+
+} // namespace impactcert

@@ -1,0 +1,495 @@
+#include "obligations.hpp"
+
+#include "copositivity.hpp"
+#include "fan.hpp"
+
+#include <algorithm>
+#include <functional>
+#include <stdexcept>
+
+namespace impactcert {
+
+const char* to_string(Verdict v) {
+    switch (v) {
+    case Verdict::proved: return "proved";
+    case Verdict::refuted: return "refuted";
+    case Verdict::skipped: return "skipped";
+    }
+    return "?";
+}
+
+bool VerifyReport::passed() const {
+    return std::all_of(obligations.begin(), obligations.end(), [](const ObligationResult& o) {
+        return !o.claimed || o.verdict == Verdict::proved;
+    });
+}
+
+const ObligationResult& VerifyReport::at(const std::string& id) const {
+    for (const auto& o : obligations)
+        if (o.id == id)
+            return o;
+    throw std::out_of_range("no obligation " + id);
+}
+
+Json to_json(const Rational& x) { return to_string(x); }
+
+Json to_json(const Vector& v) {
+    Json a = Json::array();
+    for (const auto& x : v)
+        a.push_back(to_string(x));
+    return a;
+}
+
+namespace {
+
+// Internal consistency: a refutation whose witness does not witness is a bug in impactcert.
+void ensure(bool ok, const char* what) {
+    if (!ok)
+        throw std::logic_error(std::string("internal witness check failed: ") + what);
+}
+
+bool nonnegative(const Vector& v) {
+    return std::all_of(v.begin(), v.end(), [](const Rational& x) { return sign_of(x) != Sign::negative; });
+}
+
+// The outcome of one obligation before bookkeeping.
+struct Outcome {
+    bool proved = true;
+    std::size_t checks = 0;
+    std::string method;
+    Json counterexample;
+};
+
+Outcome refute(Outcome o, Json witness) {
+    o.proved = false;
+    o.counterexample = std::move(witness);
+    return o;
+}
+
+class Prover {
+  public:
+    explicit Prover(const Model& m) : m_(m), c_(m.contacts()), pieces_(m.pieces()) {}
+
+    VerifyReport run() {
+        VerifyReport report;
+        report.law = m_.law().name;
+        for (const char* id : kObligationIds) {
+            const auto start = std::chrono::steady_clock::now();
+            ObligationResult r;
+            r.id = id;
+            r.claimed = m_.claimed(id);
+            if (!m_.applies(id)) {
+                r.verdict = Verdict::skipped;
+                r.method = "nothing declared";
+            } else {
+                Outcome o = dispatch(r.id);
+                r.verdict = o.proved ? Verdict::proved : Verdict::refuted;
+                r.checks = o.checks;
+                r.method = o.method;
+                r.counterexample = std::move(o.counterexample);
+            }
+            r.elapsed = std::chrono::steady_clock::now() - start;
+            report.obligations.push_back(std::move(r));
+        }
+        return report;
+    }
+
+  private:
+    const Model& m_;
+    std::size_t c_;
+    const std::vector<Piece>& pieces_;
+    std::optional<FanResult> fan_;
+    std::optional<Outcome> p1_;
+
+    const std::string& name(std::size_t p) const { return pieces_[p].name; }
+
+    Outcome dispatch(const std::string& id) {
+        if (id == "fan") return fan();
+        if (id == "P1") return p1();
+        if (id == "P2") return p2();
+        if (id == "P3") return p3();
+        if (id == "kinematic") return kinematic();
+        if (id == "kinetic") return kinetic();
+        if (id == "energetic") return energetic();
+        if (id == "identities") return identities();
+        if (id == "single-impacts") return single_impacts();
+        if (id == "nonexpansive") return nonexpansive();
+        if (id == "nonexpansive-lemma") return nonexpansive_lemma();
+        if (id == "outcomes") return outcomes();
+        throw std::logic_error("unknown obligation " + id);
+    }
+
+    // -----------------------------------------------------------------------------------------
+    // fan
+
+    const FanResult& fan_result() {
+        if (!fan_)
+            fan_ = check_fan(m_);
+        return *fan_;
+    }
+
+    Json fan_witness() {
+        const FanResult& f = fan_result();
+        Json w;
+        w["reason"] = f.reason;
+        if (f.point) {
+            w["gamma"] = to_json(*f.point);
+            Json covering = Json::array();
+            for (auto p : f.covering)
+                covering.push_back(name(p));
+            w["interior_of"] = covering;
+        } else {
+            w["piece"] = name(*f.piece);
+            Json facet = Json::array();
+            for (const auto& r : f.facet)
+                facet.push_back(to_json(r));
+            w["facet"] = facet;
+            Json others = Json::array();
+            for (auto p : f.neighbours)
+                others.push_back(name(p));
+            w["shared_with"] = others;
+        }
+        return w;
+    }
+
+    Outcome fan() {
+        const FanResult& f = fan_result();
+        Outcome o;
+        o.checks = f.checks;
+        o.method = f.method;
+        if (!f.proved) {
+            // Re-validate a point witness: it must really be covered k != 1 times.
+            if (f.point)
+                ensure([&] {
+                    std::size_t k = 0;
+                    for (std::size_t p = 0; p < pieces_.size(); ++p)
+                        k += m_.in_interior(p, *f.point) ? 1 : 0;
+                    return k != 1 && m_.pieces_containing(*f.point).size() == k;
+                }(), "fan point");
+            return refute(o, fan_witness());
+        }
+        return o;
+    }
+
+    // Obligations that need S to be a function on R^c fall back on the fan's witness.
+    Outcome refute_via_fan(Outcome o) {
+        Json w = fan_witness();
+        w["via"] = "fan";
+        return refute(std::move(o), std::move(w));
+    }
+
+    // -----------------------------------------------------------------------------------------
+    // P1: continuity on shared rays
+
+    Outcome p1() {
+        if (p1_)
+            return *p1_;
+        Outcome o;
+        o.method = "products on shared rays";
+        for (std::size_t i = 0; i < pieces_.size() && o.proved; ++i)
+            for (std::size_t j = i + 1; j < pieces_.size() && o.proved; ++j)
+                for (std::size_t a = 0; a < c_ && o.proved; ++a) {
+                    const auto id = pieces_[i].ray_ids[a];
+                    const auto& rj = pieces_[j].ray_ids;
+                    if (std::find(rj.begin(), rj.end(), id) == rj.end())
+                        continue;
+                    const Vector& v = m_.rays()[id];
+                    const Vector qi = pieces_[i].Q * v, qj = pieces_[j].Q * v;
+                    ++o.checks;
+                    if (qi != qj)
+                        o = refute(o, Json{{"piece_a", name(i)}, {"piece_b", name(j)},
+                                           {"ray", to_json(v)}, {"image_a", to_json(qi)},
+                                           {"image_b", to_json(qj)}});
+                }
+        p1_ = o;
+        return o;
+    }
+
+    // -----------------------------------------------------------------------------------------
+    // P2: Q^T H Q = H
+
+    Outcome p2() {
+        Outcome o;
+        o.method = "Q^T H Q = H";
+        const Matrix& H = m_.H();
+        for (std::size_t p = 0; p < pieces_.size(); ++p) {
+            const Matrix& Q = pieces_[p].Q;
+            const Matrix D = transpose(Q) * H * Q - H;
+            ++o.checks;
+            if (D == Matrix(c_, c_))
+                continue;
+            // A symmetric D != 0 has x^T D x != 0 at some e_k or e_k + e_l.
+            Vector x;
+            for (std::size_t k = 0; k < c_ && x.empty(); ++k)
+                if (sign_of(D(k, k)) != Sign::zero)
+                    x = unit_vector(c_, k);
+            for (std::size_t k = 0; k < c_ && x.empty(); ++k)
+                for (std::size_t l = k + 1; l < c_ && x.empty(); ++l)
+                    if (sign_of(D(k, l)) != Sign::zero)
+                        x = unit_vector(c_, k) + unit_vector(c_, l);
+            const Rational lhs = m_.energy(Q * x), rhs = m_.energy(x);
+            ensure(lhs != rhs, "P2");
+            return refute(o, Json{{"piece", name(p)}, {"gamma", to_json(x)},
+                                  {"lhs", to_json(lhs)}, {"rhs", to_json(rhs)}});
+        }
+        return o;
+    }
+
+    // -----------------------------------------------------------------------------------------
+    // P3: each ray onto a distinct positive axis
+
+    Outcome p3() {
+        Outcome o;
+        o.method = "images of rays";
+        for (std::size_t p = 0; p < pieces_.size(); ++p) {
+            std::vector<bool> hit(c_, false);
+            for (std::size_t a = 0; a < c_; ++a) {
+                const Vector r = pieces_[p].R.column(a);
+                const Vector img = pieces_[p].Q * r;
+                ++o.checks;
+                std::size_t nonzero = 0, axis = 0;
+                for (std::size_t k = 0; k < c_; ++k)
+                    if (sign_of(img[k]) != Sign::zero) {
+                        ++nonzero;
+                        axis = k;
+                    }
+                std::string reason;
+                if (nonzero != 1 || sign_of(img[axis]) != Sign::positive)
+                    reason = "the image of the ray is not on a positive axis";
+                else if (hit[axis])
+                    reason = "two rays map to the same axis";
+                if (!reason.empty())
+                    return refute(o, Json{{"piece", name(p)}, {"ray", to_json(r)},
+                                          {"image", to_json(img)}, {"reason", reason}});
+                hit[axis] = true;
+            }
+        }
+        return o;
+    }
+
+    // -----------------------------------------------------------------------------------------
+    // kinematic: gamma+ >= 0 everywhere
+
+    Outcome kinematic() {
+        Outcome o;
+        o.method = "images of rays >= 0, with fan";
+        for (std::size_t p = 0; p < pieces_.size(); ++p)
+            for (std::size_t a = 0; a < c_; ++a) {
+                const Vector r = pieces_[p].R.column(a);
+                const Vector img = pieces_[p].Q * r;
+                ++o.checks;
+                if (!nonnegative(img))
+                    return refute(o, Json{{"piece", name(p)}, {"ray", to_json(r)},
+                                          {"image", to_json(img)}});
+            }
+        if (!fan_result().proved)
+            return refute_via_fan(o);
+        return o;
+    }
+
+    // -----------------------------------------------------------------------------------------
+    // kinetic: Lambda = H (Q - I) gamma >= 0 on each cone
+
+    Outcome kinetic() {
+        Outcome o;
+        o.method = "impulses at rays";
+        const Matrix I = Matrix::identity(c_);
+        for (std::size_t p = 0; p < pieces_.size(); ++p) {
+            const Matrix K = m_.H() * (pieces_[p].Q - I);
+            for (std::size_t a = 0; a < c_; ++a) {
+                const Vector r = pieces_[p].R.column(a);
+                const Vector impulse = K * r;
+                ++o.checks;
+                if (!nonnegative(impulse))
+                    return refute(o, Json{{"piece", name(p)}, {"ray", to_json(r)},
+                                          {"impulse", to_json(impulse)}});
+            }
+        }
+        return o;
+    }
+
+    // -----------------------------------------------------------------------------------------
+    // energetic: |Q x|_H <= |x|_H on each cone
+
+    Outcome energetic() {
+        Outcome o;
+        o.method = "copositivity of R^T (H - Q^T H Q) R";
+        for (std::size_t p = 0; p < pieces_.size(); ++p) {
+            const Piece& pc = pieces_[p];
+            const Matrix B = transpose(pc.R) * (m_.H() - transpose(pc.Q) * m_.H() * pc.Q) * pc.R;
+            const auto cop = decide_copositivity(B);
+            o.checks += cop.method == CopositivityMethod::kkt_enumeration ? cop.faces : 1;
+            if (!cop.copositive) {
+                const Vector gamma = pc.R * cop.witness;
+                const Rational lhs = m_.energy(pc.Q * gamma), rhs = m_.energy(gamma);
+                ensure(lhs > rhs && nonnegative(pc.R_inv * gamma), "energetic");
+                return refute(o, Json{{"piece", name(p)}, {"gamma", to_json(gamma)},
+                                      {"lhs", to_json(lhs)}, {"rhs", to_json(rhs)}});
+            }
+        }
+        return o;
+    }
+
+    // -----------------------------------------------------------------------------------------
+    // identities: declared factorisations
+
+    Outcome identities() {
+        Outcome o;
+        o.method = "exact matrix products";
+        const auto& decls = m_.law().identities;
+        for (std::size_t i = 0; i < decls.size(); ++i) {
+            const Matrix& lhs = pieces_[m_.piece_index(decls[i].lhs)].Q;
+            Matrix product = Matrix::identity(c_);
+            Json names = Json::array();
+            for (const auto& f : decls[i].product) {
+                product = product * pieces_[m_.piece_index(f)].Q;
+                names.push_back(f);
+            }
+            ++o.checks;
+            if (lhs == product)
+                continue;
+            std::size_t col = 0;
+            while (lhs.column(col) == product.column(col))
+                ++col;
+            const Vector e = unit_vector(c_, col);
+            return refute(o, Json{{"identity", i}, {"lhs", decls[i].lhs}, {"product", names},
+                                  {"gamma", to_json(e)}, {"lhs_image", to_json(lhs * e)},
+                                  {"product_image", to_json(product * e)}});
+        }
+        return o;
+    }
+
+    // -----------------------------------------------------------------------------------------
+    // single-impacts: piece = Q^(k)(e), derived from M and W
+
+    Outcome single_impacts() {
+        Outcome o;
+        o.method = "Q^(k)(e) = I - (1+e) G e_k e_k^T / G_kk";
+        const auto& decls = m_.law().single_impacts;
+        for (const auto& d : decls) {
+            const Matrix& Q = pieces_[m_.piece_index(d.piece)].Q;
+            const Matrix impact = m_.single_impact(static_cast<std::size_t>(d.contact - 1), d.restitution);
+            ++o.checks;
+            if (Q == impact)
+                continue;
+            std::size_t col = 0;
+            while (Q.column(col) == impact.column(col))
+                ++col;
+            const Vector e = unit_vector(c_, col);
+            return refute(o, Json{{"piece", d.piece}, {"contact", d.contact},
+                                  {"restitution", to_json(d.restitution)}, {"gamma", to_json(e)},
+                                  {"piece_image", to_json(Q * e)},
+                                  {"impact_image", to_json(impact * e)}});
+        }
+        return o;
+    }
+
+    // -----------------------------------------------------------------------------------------
+    // nonexpansive, pairwise: A copositive for every ordered pair
+
+    Json pair_witness(std::size_t i, std::size_t j, const Vector& gamma_a, const Vector& gamma_b) {
+        const Rational lhs = m_.energy(pieces_[i].Q * gamma_a - pieces_[j].Q * gamma_b);
+        const Rational rhs = m_.energy(gamma_a - gamma_b);
+        ensure(lhs > rhs, "nonexpansive lhs > rhs");
+        ensure(m_.in_interior(i, gamma_a) && m_.in_interior(j, gamma_b), "nonexpansive interiors");
+        return Json{{"piece_a", name(i)},         {"piece_b", name(j)},
+                    {"gamma_a", to_json(gamma_a)}, {"gamma_b", to_json(gamma_b)},
+                    {"lhs", to_json(lhs)},         {"rhs", to_json(rhs)}};
+    }
+
+    Outcome nonexpansive() {
+        Outcome o;
+        o.method = "copositivity of the pair form, every ordered pair";
+        const Matrix& H = m_.H();
+        for (std::size_t i = 0; i < pieces_.size(); ++i)
+            for (std::size_t j = 0; j < pieces_.size(); ++j) {
+                // z = (s, t): a = R_i s, b = R_j t;  a - b = B1 z,  S(a) - S(b) = B2 z.
+                Matrix B1(c_, 2 * c_), B2(c_, 2 * c_);
+                const Matrix QRi = pieces_[i].Q * pieces_[i].R, QRj = pieces_[j].Q * pieces_[j].R;
+                for (std::size_t r = 0; r < c_; ++r)
+                    for (std::size_t k = 0; k < c_; ++k) {
+                        B1(r, k) = pieces_[i].R(r, k);
+                        B1(r, c_ + k) = -pieces_[j].R(r, k);
+                        B2(r, k) = QRi(r, k);
+                        B2(r, c_ + k) = -QRj(r, k);
+                    }
+                const Matrix A = transpose(B1) * H * B1 - transpose(B2) * H * B2;
+                const auto cop = decide_copositivity(A);
+                o.checks += cop.method == CopositivityMethod::kkt_enumeration ? cop.faces : 1;
+                if (cop.copositive)
+                    continue;
+                const Vector z = interior_witness(A, cop.witness);
+                const Vector s(z.begin(), z.begin() + static_cast<std::ptrdiff_t>(c_));
+                const Vector t(z.begin() + static_cast<std::ptrdiff_t>(c_), z.end());
+                return refute(o, pair_witness(i, j, pieces_[i].R * s, pieces_[j].R * t));
+            }
+        if (!fan_result().proved)
+            return refute_via_fan(o);
+        return o;
+    }
+
+    // -----------------------------------------------------------------------------------------
+    // nonexpansive-lemma: fan + P1 + every piece non-expansive (H - Q^T H Q PSD)
+
+    Outcome nonexpansive_lemma() {
+        Outcome o;
+        o.method = "fan + P1 + H - Q^T H Q PSD per piece";
+        if (!fan_result().proved)
+            return refute_via_fan(o);
+        const Outcome continuity = p1();
+        o.checks += continuity.checks;
+        if (!continuity.proved) {
+            Json w = continuity.counterexample;
+            w["via"] = "P1";
+            return refute(o, std::move(w));
+        }
+        for (std::size_t p = 0; p < pieces_.size(); ++p) {
+            const Piece& pc = pieces_[p];
+            const auto ldl = ldl_psd(m_.H() - transpose(pc.Q) * m_.H() * pc.Q);
+            ++o.checks;
+            if (ldl.psd)
+                continue;
+            // Two interior points of the same cone, a - b along the expanding direction x.
+            const Vector& x = ldl.witness;
+            const Vector centre = pc.R * Vector(c_, Rational(1));
+            Rational spread = 1;
+            for (const auto& coeff : pc.R_inv * x)
+                spread = std::max(spread, abs_of(coeff) + 1);
+            const Rational eps = Rational(1) / (2 * spread);
+            return refute(o, pair_witness(p, p, centre + eps * x, centre));
+        }
+        return o;
+    }
+
+    // -----------------------------------------------------------------------------------------
+    // outcomes: declared experiments in ball velocities
+
+    Outcome outcomes() {
+        Outcome o;
+        o.method = "exact impacts in ball velocities";
+        for (const auto& decl : m_.law().outcomes) {
+            const Vector gamma = m_.contact_velocities(decl.u_minus);
+            const auto containing = m_.pieces_containing(gamma);
+            if (containing.empty())
+                return refute(o, Json{{"outcome", decl.name}, {"u_minus", to_json(decl.u_minus)},
+                                      {"gamma_minus", to_json(gamma)},
+                                      {"reason", "gamma- lies in no cone"}});
+            for (auto p : containing) {
+                const Vector u_plus =
+                    m_.post_impact_velocities(decl.u_minus, gamma, pieces_[p].Q * gamma);
+                ++o.checks;
+                if (u_plus != decl.u_plus)
+                    return refute(o, Json{{"outcome", decl.name}, {"u_minus", to_json(decl.u_minus)},
+                                          {"piece", name(p)}, {"u_plus", to_json(u_plus)},
+                                          {"u_plus_declared", to_json(decl.u_plus)}});
+            }
+        }
+        return o;
+    }
+};
+
+} // namespace
+
+VerifyReport verify(const Model& model) { return Prover(model).run(); }
+
+} // namespace impactcert

@@ -1,0 +1,51 @@
+// obligations.hpp -- every proof obligation of SPEC section 3, decided exactly.
+//
+// Contract: verify(model) evaluates all twelve obligations in kObligationIds order, claimed or
+// not (an obligation the law declares nothing for is `skipped`). Each result carries the number
+// of exact checks done and, when refuted, an exact counterexample as JSON with rationals as
+// strings (the shapes are listed in proofs/README.md). A refutation is always re-validated
+// internally before it is returned: a witness that does not witness is a std::logic_error.
+// The reductions from universal statements to these finite checks are argued in
+// proofs/README.md.
+#pragma once
+
+#include "law.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <chrono>
+#include <string>
+#include <vector>
+
+namespace impactcert {
+
+using Json = nlohmann::ordered_json;
+
+enum class Verdict { proved, refuted, skipped };
+const char* to_string(Verdict v);
+
+struct ObligationResult {
+    std::string id;
+    bool claimed = false;
+    Verdict verdict = Verdict::skipped;
+    std::size_t checks = 0;               // exact checks done
+    std::string method;                   // how the finite check was made
+    Json counterexample;                  // null unless refuted
+    std::chrono::nanoseconds elapsed{0};  // wall time of this obligation
+};
+
+struct VerifyReport {
+    std::string law;
+    std::vector<ObligationResult> obligations;
+    // The gate: every claimed obligation proved.
+    bool passed() const;
+    const ObligationResult& at(const std::string& id) const; // throws std::out_of_range
+};
+
+VerifyReport verify(const Model& model);
+
+// Helpers shared with the CLI and tests.
+Json to_json(const Rational& x);
+Json to_json(const Vector& v);
+
+} // namespace impactcert

@@ -1,0 +1,152 @@
+#include "rational.hpp"
+
+#include <cctype>
+
+namespace impactcert {
+
+Sign sign_of(const Rational& x) {
+    const int s = mpq_sgn(x.mpq());
+    return s < 0 ? Sign::negative : (s > 0 ? Sign::positive : Sign::zero);
+}
+
+Rational abs_of(const Rational& x) { return sign_of(x) == Sign::negative ? -x : x; }
+
+namespace {
+
+bool all_digits(std::string_view s, bool hex = false) {
+    if (s.empty())
+        return false;
+    for (char c : s)
+        if (!(hex ? std::isxdigit(static_cast<unsigned char>(c))
+                  : std::isdigit(static_cast<unsigned char>(c))))
+            return false;
+    return true;
+}
+
+Rational integer_from_digits(std::string_view digits, int base) {
+    Rational r;
+    mpz_set_str(mpq_numref(r.mpq()), std::string(digits).c_str(), base);
+    mpz_set_ui(mpq_denref(r.mpq()), 1);
+    return r;
+}
+
+Rational power_of(unsigned long base, unsigned long exponent) {
+    Rational r;
+    mpz_ui_pow_ui(mpq_numref(r.mpq()), base, exponent);
+    mpz_set_ui(mpq_denref(r.mpq()), 1);
+    return r;
+}
+
+void set_why(std::string* why, const char* text) {
+    if (why)
+        *why = text;
+}
+
+// Strips a leading sign; returns true when it was '-'.
+bool take_sign(std::string_view& s) {
+    if (!s.empty() && (s.front() == '+' || s.front() == '-')) {
+        const bool negative = s.front() == '-';
+        s.remove_prefix(1);
+        return negative;
+    }
+    return false;
+}
+
+std::optional<Rational> parse_hex_float(std::string_view s, bool negative, std::string* why) {
+    // s is what follows "0x".
+    std::string_view mantissa = s, exponent_text;
+    if (auto p = s.find_first_of("pP"); p != std::string_view::npos) {
+        mantissa = s.substr(0, p);
+        exponent_text = s.substr(p + 1);
+        if (exponent_text.empty()) {
+            set_why(why, "hex float has an empty exponent");
+            return std::nullopt;
+        }
+    }
+    std::string_view int_part = mantissa, frac_part;
+    if (auto d = mantissa.find('.'); d != std::string_view::npos) {
+        int_part = mantissa.substr(0, d);
+        frac_part = mantissa.substr(d + 1);
+    }
+    if ((int_part.empty() && frac_part.empty()) || (!int_part.empty() && !all_digits(int_part, true)) ||
+        (!frac_part.empty() && !all_digits(frac_part, true))) {
+        set_why(why, "malformed hex float mantissa");
+        return std::nullopt;
+    }
+    long exponent = 0;
+    if (!exponent_text.empty()) {
+        std::string_view e = exponent_text;
+        const bool e_negative = take_sign(e);
+        if (!all_digits(e) || e.size() > 6) {
+            set_why(why, "malformed hex float exponent");
+            return std::nullopt;
+        }
+        exponent = std::stol(std::string(e));
+        if (e_negative)
+            exponent = -exponent;
+    }
+    const std::string digits = std::string(int_part) + std::string(frac_part);
+    Rational value = integer_from_digits(digits, 16);
+    exponent -= 4 * static_cast<long>(frac_part.size());
+    if (exponent >= 0)
+        value *= power_of(2, static_cast<unsigned long>(exponent));
+    else
+        value /= power_of(2, static_cast<unsigned long>(-exponent));
+    return negative ? -value : value;
+}
+
+} // namespace
+
+std::optional<Rational> parse_rational(std::string_view text, std::string* why) {
+    std::string_view s = text;
+    const bool negative = take_sign(s);
+    Rational value;
+    if (auto slash = s.find('/'); slash != std::string_view::npos) {
+        const auto num = s.substr(0, slash), den = s.substr(slash + 1);
+        if (!all_digits(num) || !all_digits(den)) {
+            set_why(why, "not a rational (expected digits/digits)");
+            return std::nullopt;
+        }
+        const Rational d = integer_from_digits(den, 10);
+        if (sign_of(d) == Sign::zero) {
+            set_why(why, "zero denominator");
+            return std::nullopt;
+        }
+        value = integer_from_digits(num, 10) / d;
+    } else if (auto dot = s.find('.'); dot != std::string_view::npos) {
+        const auto int_part = s.substr(0, dot), frac_part = s.substr(dot + 1);
+        if (!all_digits(int_part) || !all_digits(frac_part)) {
+            set_why(why, "not a decimal (expected digits.digits)");
+            return std::nullopt;
+        }
+        value = integer_from_digits(std::string(int_part) + std::string(frac_part), 10) /
+                power_of(10, frac_part.size());
+    } else {
+        if (!all_digits(s)) {
+            set_why(why, "not a rational (expected [+-]digits, digits/digits or digits.digits)");
+            return std::nullopt;
+        }
+        value = integer_from_digits(s, 10);
+    }
+    return negative ? -value : value;
+}
+
+std::optional<Rational> parse_cli_number(std::string_view text, std::string* why) {
+    std::string_view s = text;
+    const bool negative = take_sign(s);
+    if (s.size() >= 2 && s[0] == '0' && (s[1] == 'x' || s[1] == 'X'))
+        return parse_hex_float(s.substr(2), negative, why);
+    return parse_rational(text, why);
+}
+
+std::string to_string(const Rational& x) {
+    // mpq_get_str writes "p" or "p/q" for a canonical mpq.
+    char* raw = mpq_get_str(nullptr, 10, x.mpq());
+    std::string out(raw);
+    void (*free_fn)(void*, size_t);
+    mp_get_memory_functions(nullptr, nullptr, &free_fn);
+    free_fn(raw, out.size() + 1);
+    return out;
+}
+
+} // namespace impactcert

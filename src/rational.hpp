@@ -1,0 +1,37 @@
+// rational.hpp -- the exact number type of impactcert.
+//
+// Contract: every value on the exact path is a `Rational` (CGAL's GMP rational, CGAL::Gmpq).
+// Nothing here converts from or to floating point; text is the only way in and out:
+//   - parse_rational:     the law-file grammar  [+-]?digits("/"digits | "."digits)?
+//   - parse_cli_number:   the command-line grammar, which adds hex floats (0x1.8p-3), read exactly
+//   - to_string:          canonical "p" or "p/q" (q > 1, lowest terms)
+// Signs are three-way (`Sign`), never a bool that hides zero.
+#pragma once
+
+#include <CGAL/Gmpq.h>
+
+#include <optional>
+#include <string>
+#include <string_view>
+
+namespace impactcert {
+
+using Rational = CGAL::Gmpq;
+
+enum class Sign { negative = -1, zero = 0, positive = 1 };
+
+Sign sign_of(const Rational& x);
+Rational abs_of(const Rational& x);
+
+// Law-file grammar. Returns nothing when `text` does not match it or the denominator is zero;
+// `why` (if given) receives a short reason.
+std::optional<Rational> parse_rational(std::string_view text, std::string* why = nullptr);
+
+// Command-line grammar: the law-file grammar plus hex floats "[+-]0x<hex>[.<hex>][p[+-]<dec>]",
+// converted exactly (a hex float is a dyadic rational).
+std::optional<Rational> parse_cli_number(std::string_view text, std::string* why = nullptr);
+
+// Canonical text: "0", "-7", "3/4", "-7/12".
+std::string to_string(const Rational& x);
+
+} // namespace impactcert

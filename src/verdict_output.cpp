@@ -1,0 +1,142 @@
+#include "verdict_output.hpp"
+
+#include <cstdio>
+
+namespace impactcert {
+
+Json verdict_json(const VerifyReport& report) {
+    Json out;
+    out["format"] = kVerdictFormat;
+    out["law"] = report.law;
+    out["verdict"] = report.passed() ? "proved" : "refuted";
+    Json list = Json::array();
+    for (const auto& o : report.obligations) {
+        Json item;
+        item["id"] = o.id;
+        item["claimed"] = o.claimed;
+        item["verdict"] = to_string(o.verdict);
+        item["checks"] = o.checks;
+        if (o.verdict == Verdict::refuted)
+            item["counterexample"] = o.counterexample;
+        list.push_back(std::move(item));
+    }
+    out["obligations"] = list;
+    return out;
+}
+
+namespace {
+
+// Milliseconds with microsecond resolution, for display only (never part of a verdict).
+std::string milliseconds(std::chrono::nanoseconds t) {
+    const long long us = std::chrono::duration_cast<std::chrono::microseconds>(t).count();
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%lld.%03lld ms", us / 1000, us % 1000);
+    return buf;
+}
+
+std::string seconds_text(std::chrono::nanoseconds t) {
+    const long long us = std::chrono::duration_cast<std::chrono::microseconds>(t).count();
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%lld.%06lld", us / 1000000, us % 1000000);
+    return buf;
+}
+
+std::string pad(std::string s, std::size_t width) {
+    if (s.size() < width)
+        s.append(width - s.size(), ' ');
+    return s;
+}
+
+std::string pad_left(std::string s, std::size_t width) {
+    if (s.size() < width)
+        s.insert(0, width - s.size(), ' ');
+    return s;
+}
+
+std::string xml_escape(const std::string& s) {
+    std::string out;
+    for (char ch : s) {
+        switch (ch) {
+        case '&': out += "&amp;"; break;
+        case '<': out += "&lt;"; break;
+        case '>': out += "&gt;"; break;
+        case '"': out += "&quot;"; break;
+        case '\'': out += "&apos;"; break;
+        default: out += ch;
+        }
+    }
+    return out;
+}
+
+} // namespace
+
+std::string verdict_table(const VerifyReport& report, const Model& model) {
+    std::string out = "impactcert verify: " + report.law + " (" + std::to_string(model.balls()) +
+                      " balls, " + std::to_string(model.contacts()) + " contacts, " +
+                      std::to_string(model.pieces().size()) + " pieces)\n";
+    out += "  " + pad("obligation", 20) + pad("claimed", 9) + pad("verdict", 9) +
+           pad_left("checks", 8) + pad_left("time", 13) + "\n";
+    std::chrono::nanoseconds total{0};
+    std::size_t claimed = 0, proved = 0;
+    for (const auto& o : report.obligations) {
+        total += o.elapsed;
+        claimed += o.claimed ? 1 : 0;
+        proved += (o.claimed && o.verdict == Verdict::proved) ? 1 : 0;
+        out += "  " + pad(o.id, 20) + pad(o.claimed ? "yes" : "no", 9) + pad(to_string(o.verdict), 9) +
+               pad_left(std::to_string(o.checks), 8) + pad_left(milliseconds(o.elapsed), 13) + "\n";
+        if (o.verdict == Verdict::refuted)
+            out += "      counterexample: " + o.counterexample.dump() + "\n";
+    }
+    out += "verdict: " + std::string(report.passed() ? "proved" : "refuted") + " (" +
+           std::to_string(proved) + "/" + std::to_string(claimed) +
+           " claimed obligations proved, " + milliseconds(total) + ")\n";
+    return out;
+}
+
+std::string verdict_junit(const VerifyReport& report) {
+    std::size_t failures = 0, skipped = 0;
+    std::chrono::nanoseconds total{0};
+    for (const auto& o : report.obligations) {
+        total += o.elapsed;
+        if (o.claimed && o.verdict != Verdict::proved)
+            ++failures;
+        else if (!o.claimed || o.verdict == Verdict::skipped)
+            ++skipped;
+    }
+    const std::string counts = " tests=\"" + std::to_string(report.obligations.size()) +
+                               "\" failures=\"" + std::to_string(failures) + "\" errors=\"0\" skipped=\"" +
+                               std::to_string(skipped) + "\" time=\"" + seconds_text(total) + "\"";
+    std::string out = "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n";
+    out += "<testsuites name=\"impactcert\"" + counts + ">\n";
+    out += "  <testsuite name=\"impactcert verify " + xml_escape(report.law) + "\"" + counts + ">\n";
+    for (const auto& o : report.obligations) {
+        out += "    <testcase classname=\"impactcert." + xml_escape(report.law) + "\" name=\"" +
+               xml_escape(o.id) + "\" time=\"" + seconds_text(o.elapsed) + "\"";
+        const bool failed = o.claimed && o.verdict != Verdict::proved;
+        const bool skip = !failed && (!o.claimed || o.verdict == Verdict::skipped);
+        if (!failed && !skip) {
+            out += "/>\n";
+            continue;
+        }
+        out += ">\n";
+        if (failed) {
+            const std::string witness = o.counterexample.dump();
+            out += "      <failure type=\"" + std::string(to_string(o.verdict)) + "\" message=\"" +
+                   xml_escape(o.id + " " + to_string(o.verdict) + ": " + witness) + "\">" +
+                   xml_escape(witness) + "</failure>\n";
+        } else {
+            const std::string why = o.verdict == Verdict::skipped
+                                        ? "nothing declared to check"
+                                        : std::string("not claimed; ") + to_string(o.verdict) +
+                                              (o.verdict == Verdict::refuted
+                                                   ? ": " + o.counterexample.dump()
+                                                   : std::string());
+            out += "      <skipped message=\"" + xml_escape(why) + "\"/>\n";
+        }
+        out += "    </testcase>\n";
+    }
+    out += "  </testsuite>\n</testsuites>\n";
+    return out;
+}
+
+} // namespace impactcert

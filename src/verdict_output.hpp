@@ -1,0 +1,24 @@
+// verdict_output.hpp -- the three ways a VerifyReport leaves the program.
+//
+// Contract:
+//   - verdict_json: `impactcert-verdict/1` exactly as SPEC section 4; deterministic (no times).
+//   - verdict_table: a human table, one line per obligation (claimed, verdict, checks, time),
+//     each refutation's counterexample underneath, the gate verdict last.
+//   - verdict_junit: JUnit XML, one testcase per obligation; a claimed refutation is a <failure>
+//     carrying the counterexample, an unclaimed or skipped obligation is <skipped> with the
+//     reason. CI systems (GitLab, Jenkins, GitHub test reporters) read this shape.
+#pragma once
+
+#include "obligations.hpp"
+
+#include <string>
+
+namespace impactcert {
+
+inline constexpr const char* kVerdictFormat = "impactcert-verdict/1";
+
+Json verdict_json(const VerifyReport& report);
+std::string verdict_table(const VerifyReport& report, const Model& model);
+std::string verdict_junit(const VerifyReport& report);
+
+} // namespace impactcert
