@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <functional>
+#include <optional>
 #include <stdexcept>
 
 namespace impactcert {
@@ -474,15 +475,23 @@ class Prover {
                 return refute(o, Json{{"outcome", decl.name}, {"u_minus", to_json(decl.u_minus)},
                                       {"gamma_minus", to_json(gamma)},
                                       {"reason", "gamma- lies in no cone"}});
+            // On a boundary every piece containing gamma- must give the declared u+.
+            Json by_piece = Json::array();
+            std::optional<std::size_t> wrong;
             for (auto p : containing) {
                 const Vector u_plus =
                     m_.post_impact_velocities(decl.u_minus, gamma, pieces_[p].Q * gamma);
                 ++o.checks;
-                if (u_plus != decl.u_plus)
-                    return refute(o, Json{{"outcome", decl.name}, {"u_minus", to_json(decl.u_minus)},
-                                          {"piece", name(p)}, {"u_plus", to_json(u_plus)},
-                                          {"u_plus_declared", to_json(decl.u_plus)}});
+                by_piece.push_back(Json{{"piece", name(p)}, {"u_plus", to_json(u_plus)}});
+                if (u_plus != decl.u_plus && !wrong)
+                    wrong = by_piece.size() - 1;
             }
+            if (wrong)
+                return refute(o, Json{{"outcome", decl.name}, {"u_minus", to_json(decl.u_minus)},
+                                      {"u_plus_declared", to_json(decl.u_plus)},
+                                      {"piece", by_piece[*wrong]["piece"]},
+                                      {"u_plus", by_piece[*wrong]["u_plus"]},
+                                      {"pieces_at_gamma", by_piece}});
         }
         return o;
     }

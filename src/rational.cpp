@@ -59,7 +59,7 @@ std::optional<Rational> parse_hex_float(std::string_view s, bool negative, std::
         mantissa = s.substr(0, p);
         exponent_text = s.substr(p + 1);
         if (exponent_text.empty()) {
-            set_why(why, "hex float has an empty exponent");
+            set_why(why, "hexadecimal literal has an empty exponent");
             return std::nullopt;
         }
     }
@@ -70,7 +70,7 @@ std::optional<Rational> parse_hex_float(std::string_view s, bool negative, std::
     }
     if ((int_part.empty() && frac_part.empty()) || (!int_part.empty() && !all_digits(int_part, true)) ||
         (!frac_part.empty() && !all_digits(frac_part, true))) {
-        set_why(why, "malformed hex float mantissa");
+        set_why(why, "malformed hexadecimal mantissa");
         return std::nullopt;
     }
     long exponent = 0;
@@ -78,7 +78,7 @@ std::optional<Rational> parse_hex_float(std::string_view s, bool negative, std::
         std::string_view e = exponent_text;
         const bool e_negative = take_sign(e);
         if (!all_digits(e) || e.size() > 6) {
-            set_why(why, "malformed hex float exponent");
+            set_why(why, "malformed hexadecimal exponent");
             return std::nullopt;
         }
         exponent = std::stol(std::string(e));

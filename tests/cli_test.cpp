@@ -1,0 +1,113 @@
+#include "support.hpp"
+
+#include <catch2/catch.hpp>
+#include <nlohmann/json.hpp>
+
+#include <cstdio>
+#include <fstream>
+
+using impactcert::test::run_cli;
+using impactcert::test::source_path;
+
+TEST_CASE("cli: verify on the embedded default proves every claim and exits 0", "[cli]") {
+    const auto run = run_cli("verify");
+    CHECK(run.status == 0);
+    CHECK(run.out.find("verdict: proved (12/12 claimed obligations proved") != std::string::npos);
+    CHECK(run.err.empty());
+}
+
+TEST_CASE("cli: verify --json prints the impactcert-verdict/1 document", "[cli]") {
+    const auto run = run_cli("verify --json");
+    REQUIRE(run.status == 0);
+    const auto j = nlohmann::json::parse(run.out);
+    CHECK(j["format"] == "impactcert-verdict/1");
+    CHECK(j["law"] == "newton3-sequential");
+    CHECK(j["verdict"] == "proved");
+    REQUIRE(j["obligations"].size() == 12);
+    for (const auto& o : j["obligations"]) {
+        CHECK(o["verdict"] == "proved");
+        CHECK(o["claimed"] == true);
+        CHECK(o["checks"].get<int>() > 0);
+        CHECK_FALSE(o.contains("counterexample"));
+    }
+    // Deterministic: byte for byte the same on a second run.
+    CHECK(run_cli("verify --json").out == run.out);
+}
+
+TEST_CASE("cli: every control exits 1 with its counterexamples in the JSON", "[cli]") {
+    for (const char* name : {"perturbed-entry", "swapped-pieces", "missing-cone", "newton-simultaneous",
+                             "discontinuous-isometric", "expansive-scaled"}) {
+        INFO(name);
+        const auto run = run_cli("verify --json --law '" + source_path(std::string("proofs/controls/") + name + ".json") + "'");
+        CHECK(run.status == 1);
+        const auto j = nlohmann::json::parse(run.out);
+        CHECK(j["verdict"] == "refuted");
+        for (const auto& o : j["obligations"])
+            CHECK(o.contains("counterexample") == (o["verdict"] == "refuted"));
+    }
+}
+
+TEST_CASE("cli: --junit writes one testcase per obligation and a failure per refuted claim", "[cli]") {
+    const std::string path = "/tmp/impactcert-cli-test-junit.xml";
+    const auto run = run_cli("verify --law '" + source_path("proofs/controls/missing-cone.json") + "' --junit " + path);
+    CHECK(run.status == 1);
+    std::ifstream in(path);
+    const std::string xml((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    std::remove(path.c_str());
+    CHECK(xml.find("<testsuites name=\"impactcert\" tests=\"12\" failures=\"4\"") != std::string::npos);
+    std::size_t cases = 0;
+    for (auto at = xml.find("<testcase "); at != std::string::npos; at = xml.find("<testcase ", at + 1))
+        ++cases;
+    CHECK(cases == 12);
+    CHECK(xml.find("name=\"fan\"") != std::string::npos);
+    CHECK(xml.find("<failure type=\"refuted\" message=\"fan refuted: {&quot;reason&quot;") != std::string::npos);
+}
+
+TEST_CASE("cli: bad input exits 2 with one line naming the file and JSON path", "[cli]") {
+    const std::string path = "/tmp/impactcert-cli-test-bad.json";
+    std::ofstream(path) << R"({"format": "impactcert-law/1", "name": "x", "masses": ["1", "1", "1"],
+        "pieces": [{"name": "a", "Q": [["1", "0"], ["0", "1/0"]]}]})";
+    const auto run = run_cli("verify --law " + path);
+    std::remove(path.c_str());
+    CHECK(run.status == 2);
+    CHECK(run.err == "impactcert: " + path + ": $.pieces[0].Q[1][1]: \"1/0\": zero denominator\n");
+    CHECK(run.out.empty());
+}
+
+TEST_CASE("cli: a missing law file and an unknown option exit 2", "[cli]") {
+    const auto missing = run_cli("verify --law /nonexistent/law.json");
+    CHECK(missing.status == 2);
+    CHECK(missing.err.find("/nonexistent/law.json: cannot read file") != std::string::npos);
+    CHECK(run_cli("verify --frobnicate").status == 2);
+    CHECK(run_cli("").status == 2);
+}
+
+TEST_CASE("cli: eval prints S exactly for arguments and stdin lines", "[cli]") {
+    auto run = run_cli("eval -- -1 0");
+    CHECK(run.status == 0);
+    CHECK(run.out == "0 1\n");
+    run = run_cli("eval", "-1/2 0x1.8p-1\n# a comment\n\n(1, 2)\n-0.1 0.3\n");
+    CHECK(run.status == 0);
+    CHECK(run.out == "1/2 1/4\n1 2\n1/10 1/5\n");
+    run = run_cli("eval --velocities", "1 0 0\n1 1 0\n1 0 -1\n3/2 -1/3 0.25\n");
+    CHECK(run.status == 0);
+    CHECK(run.out == "0 0 1\n0 1 1\n-1 0 1\n-1/3 1/4 3/2\n");
+}
+
+TEST_CASE("cli: eval shows both values where a discontinuous law is two-valued", "[cli]") {
+    const auto run = run_cli("eval --law '" + source_path("proofs/controls/newton-simultaneous.json") + "' -- -1 0");
+    CHECK(run.status == 0);
+    CHECK(run.out == "1 -1 | 1 0\n");
+}
+
+TEST_CASE("cli: eval rejects malformed numbers and uncovered points with exit 2", "[cli]") {
+    auto run = run_cli("eval", "1 2 3\n");
+    CHECK(run.status == 2);
+    CHECK(run.err == "impactcert: stdin:1: expected 2 numbers, got 3\n");
+    run = run_cli("eval", "1 1e3\n");
+    CHECK(run.status == 2);
+    CHECK(run.err.find("stdin:1: 1e3:") != std::string::npos);
+    run = run_cli("eval --law '" + source_path("proofs/controls/missing-cone.json") + "' -- 1 -2");
+    CHECK(run.status == 2);
+    CHECK(run.err.find("lies in no cone") != std::string::npos);
+}

@@ -1,0 +1,79 @@
+#include "matrix.hpp"
+#include "support.hpp"
+
+#include <catch2/catch.hpp>
+
+using namespace impactcert;
+using impactcert::test::q;
+using impactcert::test::vec;
+
+TEST_CASE("rationals: the law-file grammar reads integers, fractions and exact decimals", "[rational]") {
+    CHECK(to_string(q("3")) == "3");
+    CHECK(to_string(q("-7/12")) == "-7/12");
+    CHECK(to_string(q("+14/24")) == "7/12");
+    CHECK(to_string(q("0.25")) == "1/4");
+    CHECK(to_string(q("-0.1")) == "-1/10");      // exactly one tenth, not the double
+    CHECK(to_string(q("000.500")) == "1/2");
+    CHECK(to_string(q("6/3")) == "2");
+    CHECK(to_string(q("-0")) == "0");
+}
+
+TEST_CASE("rationals: malformed text and zero denominators are rejected with a reason", "[rational]") {
+    for (const char* bad : {"", "-", "1/", "/2", "1.", ".5", "1e3", "1.0e3", "0x10", "1/2/3", "1 /2",
+                            "1/-2", "one", "1.2.3", "--1", "inf", "nan"}) {
+        std::string why;
+        INFO("input: '" << bad << "'");
+        CHECK_FALSE(parse_rational(bad, &why));
+        CHECK_FALSE(why.empty());
+    }
+    std::string why;
+    CHECK_FALSE(parse_rational("3/0", &why));
+    CHECK(why == "zero denominator");
+    CHECK_FALSE(parse_rational("-3/000", &why));
+}
+
+TEST_CASE("rationals: hundreds of digits survive parsing and arithmetic exactly", "[rational]") {
+    const std::string big(300, '7');
+    const Rational x = q(big + "/" + big + "1");
+    const Rational y = q("1/" + big);
+    CHECK(to_string(x * (q(big + "1") / q(big))) == "1");
+    CHECK(to_string(y * q(big)) == "1");
+    CHECK(to_string(q("0." + std::string(200, '0') + "1")) == "1/1" + std::string(201, '0'));
+}
+
+TEST_CASE("rationals: command-line numbers add exact hex floats", "[rational]") {
+    CHECK(to_string(*parse_cli_number("0x1.8p-3")) == "3/16");
+    CHECK(to_string(*parse_cli_number("-0x1p+2")) == "-4");
+    CHECK(to_string(*parse_cli_number("0x.8")) == "1/2");
+    CHECK(to_string(*parse_cli_number("0x1.fffffffffffffp+1023")) ==
+          to_string(q("179769313486231570814527423731704356798070567525844996598917476803157260780028538760589558632766878171540458953514382464234321326889464182768467546703537516986049910576551282076245490090389328944075868508455133942304583236903222948165808559332123348274797826204144723168738177180919299881250404026184124858368")));
+    CHECK(to_string(*parse_cli_number("0x1p-1074")) == "1/" + to_string(q("202402253307310618352495346718917307049556649764142118356901358027430339567995346891960383701437124495187077864316811911389808737385793476867013399940738509921517424276566361364466907742093216341239767678472745068562007483424692698618103355649159556340810056512358769552333414615230502532186327508646006263307707741093494784")));
+    CHECK(to_string(*parse_cli_number("1/3")) == "1/3");
+    for (const char* bad : {"0x", "0xg", "0x1p", "0x1.8q", "0x1p+x"})
+        CHECK_FALSE(parse_cli_number(bad));
+}
+
+TEST_CASE("rationals: signs are three-way", "[rational]") {
+    CHECK(sign_of(q("-1/1000000000000000000000")) == Sign::negative);
+    CHECK(sign_of(q("0")) == Sign::zero);
+    CHECK(sign_of(q("1/1000000000000000000000")) == Sign::positive);
+}
+
+TEST_CASE("matrices: inverse, determinant and solve are exact", "[matrix]") {
+    const Matrix G = Matrix::from_rows({vec({"2", "-1"}), vec({"-1", "2"})});
+    const Matrix H = *inverse(G);
+    CHECK(H == Matrix::from_rows({vec({"2/3", "1/3"}), vec({"1/3", "2/3"})}));
+    CHECK(G * H == Matrix::identity(2));
+    CHECK(to_string(determinant(G)) == "3");
+    CHECK_FALSE(inverse(Matrix::from_rows({vec({"1", "2"}), vec({"1/2", "1"})})));
+    CHECK(to_string(determinant(Matrix::from_rows({vec({"0", "1"}), vec({"1", "0"})}))) == "-1");
+    CHECK(*solve(G, vec({"1", "1"})) == vec({"1", "1"}));
+}
+
+TEST_CASE("matrices: a ray's primitive representative identifies its direction", "[matrix]") {
+    CHECK(primitive_ray(vec({"0", "5"})) == vec({"0", "1"}));
+    CHECK(primitive_ray(vec({"-1/2", "1/3"})) == vec({"-3", "2"}));
+    CHECK(primitive_ray(vec({"-6", "4"})) == vec({"-3", "2"}));
+    CHECK(primitive_ray(vec({"-6", "4"})) != primitive_ray(vec({"6", "-4"})));
+    CHECK(primitive_ray(vec({"10000000000000000000000000000000", "0", "0"})) == vec({"1", "0", "0"}));
+}

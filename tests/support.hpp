@@ -1,0 +1,38 @@
+// support.hpp -- shared helpers for the test suite.
+//
+// Contract:
+//   - q("-7/12"), vec({...}): exact values from text, for hand-written fixtures.
+//   - sorting_law(n): the equal-mass n-ball "sort the velocities" law, built from first
+//     principles (one cone per ordering of the ball velocities), independent of the paper's table.
+//   - revalidate(model, result): re-checks a refutation's counterexample from its JSON alone,
+//     by recomputing S and the quantities it names; REQUIREs on failure.
+//   - run_cli(args, stdin): runs the built `impactcert` binary, returns exit status and output.
+#pragma once
+
+#include "law.hpp"
+#include "obligations.hpp"
+
+#include <initializer_list>
+#include <string>
+
+namespace impactcert::test {
+
+Rational q(const std::string& text);
+Vector vec(std::initializer_list<const char*> xs);
+Vector vec_of(const Json& j);
+
+std::string source_path(const std::string& relative);
+std::string read_file(const std::string& path);
+
+Law sorting_law(std::size_t n);
+
+void revalidate(const Model& model, const ObligationResult& result);
+
+struct CliRun {
+    int status = -1;
+    std::string out; // stdout
+    std::string err; // stderr
+};
+CliRun run_cli(const std::string& args, const std::string& stdin_text = "");
+
+} // namespace impactcert::test
