@@ -400,7 +400,12 @@ class Prover {
 
     Outcome nonexpansive() {
         Outcome o;
-        o.method = "copositivity of the pair form, every ordered pair";
+        std::size_t by_method[4] = {0, 0, 0, 0};
+        auto method_summary = [&] {
+            return "copositive pair forms: " + std::to_string(by_method[0]) + " A>=0, " +
+                   std::to_string(by_method[1]) + " PSD, " + std::to_string(by_method[2]) + " PSD+N, " +
+                   std::to_string(by_method[3]) + " KKT";
+        };
         const Matrix& H = m_.H();
         for (std::size_t i = 0; i < pieces_.size(); ++i)
             for (std::size_t j = 0; j < pieces_.size(); ++j) {
@@ -417,6 +422,8 @@ class Prover {
                 const Matrix A = transpose(B1) * H * B1 - transpose(B2) * H * B2;
                 const auto cop = decide_copositivity(A);
                 o.checks += cop.method == CopositivityMethod::kkt_enumeration ? cop.faces : 1;
+                ++by_method[static_cast<int>(cop.method)];
+                o.method = method_summary();
                 if (cop.copositive)
                     continue;
                 const Vector z = interior_witness(A, cop.witness);

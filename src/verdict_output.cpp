@@ -75,7 +75,7 @@ std::string verdict_table(const VerifyReport& report, const Model& model) {
                       " balls, " + std::to_string(model.contacts()) + " contacts, " +
                       std::to_string(model.pieces().size()) + " pieces)\n";
     out += "  " + pad("obligation", 20) + pad("claimed", 9) + pad("verdict", 9) +
-           pad_left("checks", 8) + pad_left("time", 13) + "\n";
+           pad_left("checks", 8) + pad_left("time", 13) + "   method\n";
     std::chrono::nanoseconds total{0};
     std::size_t claimed = 0, proved = 0;
     for (const auto& o : report.obligations) {
@@ -83,7 +83,8 @@ std::string verdict_table(const VerifyReport& report, const Model& model) {
         claimed += o.claimed ? 1 : 0;
         proved += (o.claimed && o.verdict == Verdict::proved) ? 1 : 0;
         out += "  " + pad(o.id, 20) + pad(o.claimed ? "yes" : "no", 9) + pad(to_string(o.verdict), 9) +
-               pad_left(std::to_string(o.checks), 8) + pad_left(milliseconds(o.elapsed), 13) + "\n";
+               pad_left(std::to_string(o.checks), 8) + pad_left(milliseconds(o.elapsed), 13) + "   " +
+               o.method + "\n";
         if (o.verdict == Verdict::refuted)
             out += "      counterexample: " + o.counterexample.dump() + "\n";
     }
