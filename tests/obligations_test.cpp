@@ -247,3 +247,11 @@ TEST_CASE("nonexpansive: a continuous law that expands inside one cone is refute
     test::revalidate(m, r.at("nonexpansive"));
     test::revalidate(m, r.at("nonexpansive-lemma"));
 }
+
+TEST_CASE("4-ball law: proofs/newton4/law.json is the law built from first principles", "[obligations][c3]") {
+    const Law file = load_law_file(source_path("proofs/newton4/law.json"));
+    Law built = four_ball_law();
+    built.name = file.name;
+    CHECK(law_to_json(file).dump() == law_to_json(built).dump());
+    CHECK(verify(Model(file)).passed());
+}
