@@ -2,6 +2,7 @@
 //
 // Exit status: 0 success / every claim proved; 1 a claim refuted; 2 bad input or usage.
 // Every error is one line on stderr: "impactcert: <place>: <reason>".
+#include "certificate.hpp"
 #include "law_json.hpp"
 #include "obligations.hpp"
 #include "paper_law.hpp"
@@ -37,6 +38,20 @@ int run_verify(const std::string& law_path, bool json, const std::string& junit_
         if (!out)
             throw InputError(junit_path + ": cannot write the JUnit report");
     }
+    return report.passed() ? kExitProved : kExitRefuted;
+}
+
+int run_certify(const std::string& law_path, const std::string& out_path) {
+    const Model model = load_model(law_path);
+    const VerifyReport report = verify(model);
+    const std::string text = certificate_text(make_certificate(model, report));
+    std::ofstream out(out_path, std::ios::binary);
+    out << text;
+    out.close();
+    if (!out)
+        throw InputError(out_path + ": cannot write the certificate");
+    std::cerr << "impactcert: wrote " << out_path << " (" << report.law << ": "
+              << (report.passed() ? "proved" : "refuted") << ")\n";
     return report.passed() ? kExitProved : kExitRefuted;
 }
 
@@ -133,7 +148,7 @@ int main(int argc, char** argv) {
     app.set_version_flag("--version", std::string("impactcert ") + IMPACTCERT_VERSION);
     app.require_subcommand(1);
 
-    std::string law_path, junit_path;
+    std::string law_path, junit_path, out_path;
     bool json = false, velocities = false;
     std::vector<std::string> eval_args;
 
@@ -141,6 +156,10 @@ int main(int argc, char** argv) {
     verify_cmd->add_option("--law", law_path, "law file (impactcert-law/1); default: the paper's 3-ball law");
     verify_cmd->add_flag("--json", json, "print the impactcert-verdict/1 JSON instead of the table");
     verify_cmd->add_option("--junit", junit_path, "also write a JUnit XML report to this file");
+
+    auto* certify_cmd = app.add_subcommand("certify", "write the impactcert-certificate/1 JSON; exit 0 when every claim is proved, 1 when one is refuted, 2 on bad input");
+    certify_cmd->add_option("--law", law_path, "law file (impactcert-law/1); default: the paper's 3-ball law");
+    certify_cmd->add_option("-o,--output", out_path, "certificate file to write")->required();
 
     auto* eval_cmd = app.add_subcommand("eval", "evaluate S exactly at points given as arguments or stdin lines");
     eval_cmd->add_option("--law", law_path, "law file (impactcert-law/1); default: the paper's 3-ball law");
@@ -158,6 +177,8 @@ int main(int argc, char** argv) {
     try {
         if (verify_cmd->parsed())
             return run_verify(law_path, json, junit_path);
+        if (certify_cmd->parsed())
+            return run_certify(law_path, out_path);
         return run_eval(law_path, velocities, eval_args);
     } catch (const InputError& e) {
         std::cerr << "impactcert: " << e.what() << "\n";

@@ -49,6 +49,7 @@ FanResult check_fan_planar(const Model& model) {
     r.method = "angular-sectors";
     std::vector<Vector> rays = model.rays();
     std::sort(rays.begin(), rays.end(), angle_less);
+    r.rays_by_angle = rays;
     const std::size_t m = rays.size();
     for (std::size_t k = 0; k < m; ++k) {
         const Vector& a = rays[k];
@@ -56,6 +57,7 @@ FanResult check_fan_planar(const Model& model) {
         // A direction strictly inside the open sector from a to b (counter-clockwise).
         Vector inside = (m > 1 && orientation(a, b) == Sign::positive) ? a + b
                                                                         : Vector{-a[1], a[0]};
+        r.sector_points.push_back(inside);
         auto covering = interiors_containing(model, inside);
         r.checks += model.pieces().size();
         if (covering.size() != 1) {
@@ -98,6 +100,14 @@ FanResult check_fan_facets(const Model& model) {
         }
     }
     for (const auto& [ids, sides] : facets) {
+        FanResult::Facet record;
+        for (auto id : ids)
+            record.rays.push_back(model.rays()[id]);
+        for (const auto& sd : sides)
+            record.pieces.push_back(sd.piece);
+        r.facets.push_back(std::move(record));
+    }
+    for (const auto& [ids, sides] : facets) {
         const bool ok = sides.size() == 2 && sides[0].side != sides[1].side;
         if (ok)
             continue;
@@ -131,6 +141,7 @@ FanResult check_fan_facets(const Model& model) {
         if (generic)
             break;
     }
+    r.generic_point = point;
     auto covering = interiors_containing(model, point);
     r.checks += pieces.size();
     if (covering.size() != 1) {

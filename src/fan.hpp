@@ -30,6 +30,15 @@ struct FanResult {
     std::vector<Vector> facet;            //   the facet's rays
     std::vector<std::size_t> neighbours;  //   the other pieces having that facet
     std::string reason;                   // one line, human readable
+    // Certificate data (what was checked), whichever the verdict:
+    std::vector<Vector> rays_by_angle;    // planar: the distinct rays, sorted by angle
+    std::vector<Vector> sector_points;    // planar: one direction inside each sector
+    struct Facet {
+        std::vector<Vector> rays;         // the facet's c-1 rays (sorted by ray id)
+        std::vector<std::size_t> pieces; // the pieces having it
+    };
+    std::vector<Facet> facets;            // facet method: every facet with its pieces
+    std::optional<Vector> generic_point;  // facet method: the point covered exactly once
 };
 
 FanResult check_fan_planar(const Model& model);

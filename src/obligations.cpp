@@ -41,6 +41,13 @@ Json to_json(const Vector& v) {
     return a;
 }
 
+Json to_json(const Matrix& m) {
+    Json a = Json::array();
+    for (std::size_t i = 0; i < m.rows(); ++i)
+        a.push_back(to_json(m.row(i)));
+    return a;
+}
+
 namespace {
 
 // Internal consistency: a refutation whose witness does not witness is a bug in impactcert.
@@ -59,12 +66,42 @@ struct Outcome {
     std::size_t checks = 0;
     std::string method;
     Json counterexample;
+    Json data = Json::object();
 };
 
 Outcome refute(Outcome o, Json witness) {
     o.proved = false;
     o.counterexample = std::move(witness);
     return o;
+}
+
+Json certificate_json(const CopositivityResult& r) {
+    Json c;
+    c["method"] = to_string(r.method);
+    switch (r.method) {
+    case CopositivityMethod::nonnegative_entries:
+        break;
+    case CopositivityMethod::psd_plus_nonnegative:
+        c["N"] = to_json(r.N);
+        [[fallthrough]];
+    case CopositivityMethod::psd:
+        c["L"] = to_json(r.ldl.L);
+        c["D"] = to_json(r.ldl.D);
+        break;
+    case CopositivityMethod::kkt_enumeration: {
+        Json cands = Json::array();
+        for (const auto& k : r.candidates) {
+            Json support = Json::array();
+            for (auto i : k.support)
+                support.push_back(i);
+            cands.push_back(Json{{"support", support}, {"x", to_json(k.x)}, {"value", to_json(k.value)}});
+        }
+        c["candidates"] = cands;
+        c["minimum"] = to_json(r.minimum);
+        break;
+    }
+    }
+    return c;
 }
 
 class Prover {
@@ -88,6 +125,7 @@ class Prover {
                 r.checks = o.checks;
                 r.method = o.method;
                 r.counterexample = std::move(o.counterexample);
+                r.data = std::move(o.data);
             }
             r.elapsed = std::chrono::steady_clock::now() - start;
             report.obligations.push_back(std::move(r));
@@ -158,6 +196,28 @@ class Prover {
         Outcome o;
         o.checks = f.checks;
         o.method = f.method;
+        if (f.method == "angular-sectors") {
+            Json rays = Json::array(), points = Json::array();
+            for (const auto& r : f.rays_by_angle)
+                rays.push_back(to_json(r));
+            for (const auto& p : f.sector_points)
+                points.push_back(to_json(p));
+            o.data["rays_by_angle"] = rays;
+            o.data["sector_points"] = points;
+        } else {
+            Json facets = Json::array();
+            for (const auto& fc : f.facets) {
+                Json rays = Json::array(), owners = Json::array();
+                for (const auto& r : fc.rays)
+                    rays.push_back(to_json(r));
+                for (auto p : fc.pieces)
+                    owners.push_back(name(p));
+                facets.push_back(Json{{"rays", rays}, {"pieces", owners}});
+            }
+            o.data["facets"] = facets;
+            if (f.generic_point)
+                o.data["generic_point"] = to_json(*f.generic_point);
+        }
         if (!f.proved) {
             // Re-validate a point witness: it must really be covered k != 1 times.
             if (f.point)
@@ -197,6 +257,9 @@ class Prover {
                     const Vector& v = m_.rays()[id];
                     const Vector qi = pieces_[i].Q * v, qj = pieces_[j].Q * v;
                     ++o.checks;
+                    o.data["shared"].push_back(Json{{"piece_a", name(i)}, {"piece_b", name(j)},
+                                                    {"ray", to_json(v)}, {"image_a", to_json(qi)},
+                                                    {"image_b", to_json(qj)}});
                     if (qi != qj)
                         o = refute(o, Json{{"piece_a", name(i)}, {"piece_b", name(j)},
                                            {"ray", to_json(v)}, {"image_a", to_json(qi)},
@@ -215,8 +278,10 @@ class Prover {
         const Matrix& H = m_.H();
         for (std::size_t p = 0; p < pieces_.size(); ++p) {
             const Matrix& Q = pieces_[p].Q;
-            const Matrix D = transpose(Q) * H * Q - H;
+            const Matrix QtHQ = transpose(Q) * H * Q;
+            const Matrix D = QtHQ - H;
             ++o.checks;
+            o.data["QtHQ"].push_back(Json{{"piece", name(p)}, {"matrix", to_json(QtHQ)}});
             if (D == Matrix(c_, c_))
                 continue;
             // A symmetric D != 0 has x^T D x != 0 at some e_k or e_k + e_l.
@@ -248,6 +313,7 @@ class Prover {
                 const Vector r = pieces_[p].R.column(a);
                 const Vector img = pieces_[p].Q * r;
                 ++o.checks;
+                o.data["images"].push_back(Json{{"piece", name(p)}, {"ray", to_json(r)}, {"image", to_json(img)}});
                 std::size_t nonzero = 0, axis = 0;
                 for (std::size_t k = 0; k < c_; ++k)
                     if (sign_of(img[k]) != Sign::zero) {
@@ -279,6 +345,7 @@ class Prover {
                 const Vector r = pieces_[p].R.column(a);
                 const Vector img = pieces_[p].Q * r;
                 ++o.checks;
+                o.data["images"].push_back(Json{{"piece", name(p)}, {"ray", to_json(r)}, {"image", to_json(img)}});
                 if (!nonnegative(img))
                     return refute(o, Json{{"piece", name(p)}, {"ray", to_json(r)},
                                           {"image", to_json(img)}});
@@ -301,6 +368,7 @@ class Prover {
                 const Vector r = pieces_[p].R.column(a);
                 const Vector impulse = K * r;
                 ++o.checks;
+                o.data["impulses"].push_back(Json{{"piece", name(p)}, {"ray", to_json(r)}, {"impulse", to_json(impulse)}});
                 if (!nonnegative(impulse))
                     return refute(o, Json{{"piece", name(p)}, {"ray", to_json(r)},
                                           {"impulse", to_json(impulse)}});
@@ -320,6 +388,7 @@ class Prover {
             const Matrix B = transpose(pc.R) * (m_.H() - transpose(pc.Q) * m_.H() * pc.Q) * pc.R;
             const auto cop = decide_copositivity(B);
             o.checks += cop.method == CopositivityMethod::kkt_enumeration ? cop.faces : 1;
+            o.data["pieces"].push_back(Json{{"piece", name(p)}, {"B", to_json(B)}, {"certificate", certificate_json(cop)}});
             if (!cop.copositive) {
                 const Vector gamma = pc.R * cop.witness;
                 const Rational lhs = m_.energy(pc.Q * gamma), rhs = m_.energy(gamma);
@@ -347,6 +416,8 @@ class Prover {
                 names.push_back(f);
             }
             ++o.checks;
+            o.data["products"].push_back(Json{{"lhs", decls[i].lhs}, {"product", names},
+                                              {"lhs_matrix", to_json(lhs)}, {"product_matrix", to_json(product)}});
             if (lhs == product)
                 continue;
             std::size_t col = 0;
@@ -371,6 +442,8 @@ class Prover {
             const Matrix& Q = pieces_[m_.piece_index(d.piece)].Q;
             const Matrix impact = m_.single_impact(static_cast<std::size_t>(d.contact - 1), d.restitution);
             ++o.checks;
+            o.data["impacts"].push_back(Json{{"piece", d.piece}, {"contact", d.contact},
+                                             {"restitution", to_json(d.restitution)}, {"impact", to_json(impact)}});
             if (Q == impact)
                 continue;
             std::size_t col = 0;
@@ -424,6 +497,8 @@ class Prover {
                 o.checks += cop.method == CopositivityMethod::kkt_enumeration ? cop.faces : 1;
                 ++by_method[static_cast<int>(cop.method)];
                 o.method = method_summary();
+                o.data["pairs"].push_back(Json{{"piece_a", name(i)}, {"piece_b", name(j)}, {"A", to_json(A)},
+                                               {"certificate", certificate_json(cop)}});
                 if (cop.copositive)
                     continue;
                 const Vector z = interior_witness(A, cop.witness);
@@ -453,10 +528,14 @@ class Prover {
         }
         for (std::size_t p = 0; p < pieces_.size(); ++p) {
             const Piece& pc = pieces_[p];
-            const auto ldl = ldl_psd(m_.H() - transpose(pc.Q) * m_.H() * pc.Q);
+            const Matrix B = m_.H() - transpose(pc.Q) * m_.H() * pc.Q;
+            const auto ldl = ldl_psd(B);
             ++o.checks;
-            if (ldl.psd)
+            if (ldl.psd) {
+                o.data["pieces"].push_back(Json{{"piece", name(p)}, {"matrix", to_json(B)},
+                                                {"L", to_json(ldl.L)}, {"D", to_json(ldl.D)}});
                 continue;
+            }
             // Two interior points of the same cone, a - b along the expanding direction x.
             const Vector& x = ldl.witness;
             const Vector centre = pc.R * Vector(c_, Rational(1));
@@ -493,6 +572,8 @@ class Prover {
                 if (u_plus != decl.u_plus && !wrong)
                     wrong = by_piece.size() - 1;
             }
+            o.data["outcomes"].push_back(Json{{"outcome", decl.name}, {"gamma_minus", to_json(gamma)},
+                                              {"pieces", by_piece}});
             if (wrong)
                 return refute(o, Json{{"outcome", decl.name}, {"u_minus", to_json(decl.u_minus)},
                                       {"u_plus_declared", to_json(decl.u_plus)},

@@ -31,6 +31,7 @@ struct ObligationResult {
     std::size_t checks = 0;               // exact checks done
     std::string method;                   // how the finite check was made
     Json counterexample;                  // null unless refuted
+    Json data;                            // what was checked: the certificate's evidence
     std::chrono::nanoseconds elapsed{0};  // wall time of this obligation
 };
 
@@ -44,8 +45,9 @@ struct VerifyReport {
 
 VerifyReport verify(const Model& model);
 
-// Helpers shared with the CLI and tests.
+// Helpers shared with the CLI, the certificate writer and tests.
 Json to_json(const Rational& x);
 Json to_json(const Vector& v);
+Json to_json(const Matrix& m);
 
 } // namespace impactcert

@@ -1,0 +1,25 @@
+// certificate.hpp -- the `impactcert-certificate/1` document (SPEC section 4, schema in
+// proofs/README.md).
+//
+// Contract: make_certificate(model, report) is deterministic: the same law gives the same bytes
+// (fixed key order, no times, rationals in lowest terms). It holds the law in canonical form,
+// the SHA-256 of that form's compact text, the tool version, G and H, and for every obligation
+// its statement, method, claim, verdict, the evidence it was decided on (`data`) and, when
+// refuted, the counterexample. impactcert-check (src/checker/) re-establishes all of it from
+// the law alone, sharing no code with this file.
+#pragma once
+
+#include "obligations.hpp"
+
+#include <string>
+
+namespace impactcert {
+
+inline constexpr const char* kCertificateFormat = "impactcert-certificate/1";
+
+Json make_certificate(const Model& model, const VerifyReport& report);
+std::string certificate_text(const Json& certificate); // what `certify -o` writes
+std::string sha256_hex(const std::string& bytes);
+const char* statement_of(const std::string& obligation_id);
+
+} // namespace impactcert
