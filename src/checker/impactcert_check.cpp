@@ -20,6 +20,7 @@
 #include <set>
 #include <sstream>
 #include <string>
+#include <tuple>
 #include <vector>
 
 namespace {
@@ -575,7 +576,8 @@ class Checker {
   public:
     Checker(const Law& law, const Json& obligations) : law_(law), obl_(obligations) {}
 
-    // Decides obligation k's truth from evidence and witnesses; rejects wrong evidence.
+    // Decides obligation k's truth; rejects evidence or witnesses that are wrong, and a verdict
+    // that does not follow.
     bool holds(std::size_t k) {
         if (auto it = decided_.find(kIds[k]); it != decided_.end())
             return it->second;
@@ -583,14 +585,17 @@ class Checker {
         const std::string path = at("$.obligations", k);
         const std::string verdict = str(field(o, path, "verdict"), at(path, "verdict"));
         const Json& data = field(o, path, "data");
-        const std::string dp = at(path, "data");
-        bool truth = true;
+        if (!data.is_object())
+            malformed(at(path, "data"), "expected an object");
+        // Every listed piece of evidence must be right, whatever the verdict.
+        const bool complete_and_true = evidence(kIds[k], data, at(path, "data"));
+        bool truth;
         if (verdict == "refuted") {
             check_witness(kIds[k], field(o, path, "counterexample"), at(path, "counterexample"));
             truth = false;
         } else if (verdict == "proved") {
-            truth = prove(kIds[k], data, dp);
-            require(truth, at(path, "verdict"), "\"proved\" does not follow from the evidence");
+            require(complete_and_true, at(path, "verdict"), "\"proved\" does not follow from the evidence");
+            truth = true;
         } else {
             malformed(at(path, "verdict"), "unknown verdict");
         }
@@ -606,49 +611,87 @@ class Checker {
     bool holds(const std::string& id) {
         return holds(static_cast<std::size_t>(std::find(kIds.begin(), kIds.end(), id) - kIds.begin()));
     }
+    const Piece& pc(std::size_t p) const { return law_.pieces[p]; }
+    const std::string& name(std::size_t p) const { return law_.pieces[p].name; }
+    std::size_t P() const { return law_.pieces.size(); }
 
-    // ---- proofs from evidence
-    bool prove(const std::string& id, const Json& data, const std::string& dp) {
-        const std::size_t P = law_.pieces.size(), c = law_.c;
+    static const Json& list(const Json& data, const std::string& dp, const char* key) {
+        const Json& l = field(data, dp, key);
+        if (!l.is_array())
+            malformed(at(dp, key), "expected an array");
+        return l;
+    }
+    static void expect_vec(const Json& j, const std::string& path, const char* key, const Vec& v, const char* what) {
+        require(vec(field(j, path, key), at(path, key)) == v, at(path, key), std::string("is not ") + what);
+    }
+    static void expect_mat(const Json& j, const std::string& path, const char* key, const Mat& m, const char* what) {
+        require(mat(field(j, path, key), at(path, key)) == m, at(path, key), std::string("is not ") + what);
+    }
+    void expect_piece(const Json& j, const std::string& path, const char* key, std::size_t p) const {
+        require(str(field(j, path, key), at(path, key)) == name(p), at(path, key), "expected piece \"" + name(p) + "\"");
+    }
+    Mat QtHQ(std::size_t p) const { return mul(mul(tr(pc(p).Q_), law_.H), pc(p).Q_); }
+
+    // ---- evidence: checks each listed entry; returns true when the list is complete and the
+    // obligation holds on it.
+    bool evidence(const std::string& id, const Json& data, const std::string& dp) {
+        const std::size_t c = law_.c;
         if (id == "fan")
-            return c == 2 && data.contains("rays_by_angle") ? prove_fan_planar(data, dp) : prove_fan_facets(data, dp);
+            return data.contains("rays_by_angle") ? fan_planar(data, dp) : fan_facets(data, dp);
         if (id == "P1") {
-            // Every shared ray of every pair, recomputed here; the listing must agree.
-            std::size_t listed = 0;
-            for (std::size_t i = 0; i < P; ++i)
-                for (std::size_t j = i + 1; j < P; ++j)
-                    for (const auto& v : law_.pieces[i].rays) {
-                        if (!law_.is_ray_of(j, v))
-                            continue;
-                        if (mul(law_.pieces[i].Q_, v) != mul(law_.pieces[j].Q_, v))
-                            return false;
-                        ++listed;
-                    }
-            require(field(data, dp, "shared").size() == listed, at(dp, "shared"), "does not list every shared ray");
-            return true;
+            std::vector<std::tuple<std::size_t, std::size_t, Vec>> shared;
+            for (std::size_t i = 0; i < P(); ++i)
+                for (std::size_t j = i + 1; j < P(); ++j)
+                    for (const auto& v : pc(i).rays)
+                        if (law_.is_ray_of(j, v))
+                            shared.emplace_back(i, j, v);
+            const Json& l = data.contains("shared") ? list(data, dp, "shared") : Json::array();
+            require(l.size() <= shared.size(), at(dp, "shared"), "lists more rays than are shared");
+            bool ok = l.size() == shared.size();
+            for (std::size_t k = 0; k < l.size(); ++k) {
+                const auto& [i, j, v] = shared[k];
+                const std::string ep = at(at(dp, "shared"), k);
+                expect_piece(l[k], ep, "piece_a", i);
+                expect_piece(l[k], ep, "piece_b", j);
+                expect_vec(l[k], ep, "ray", v, "the shared ray");
+                expect_vec(l[k], ep, "image_a", mul(pc(i).Q_, v), "Q_a ray");
+                expect_vec(l[k], ep, "image_b", mul(pc(j).Q_, v), "Q_b ray");
+                ok = ok && mul(pc(i).Q_, v) == mul(pc(j).Q_, v);
+            }
+            return ok;
         }
         if (id == "P2") {
-            for (std::size_t p = 0; p < P; ++p) {
-                const Mat qthq = mul(mul(tr(law_.pieces[p].Q_), law_.H), law_.pieces[p].Q_);
+            const Json& l = list(data, dp, "QtHQ");
+            require(l.size() <= P(), at(dp, "QtHQ"), "too many entries");
+            bool ok = l.size() == P();
+            for (std::size_t p = 0; p < l.size(); ++p) {
                 const std::string ep = at(at(dp, "QtHQ"), p);
-                require(mat(field(field(data, dp, "QtHQ")[p], ep, "matrix"), at(ep, "matrix")) == qthq, at(ep, "matrix"),
-                        "is not Q^T H Q");
-                if (qthq != law_.H)
-                    return false;
+                expect_piece(l[p], ep, "piece", p);
+                expect_mat(l[p], ep, "matrix", QtHQ(p), "Q^T H Q");
+                ok = ok && QtHQ(p) == law_.H;
             }
-            return true;
+            return ok;
         }
         if (id == "P3" || id == "kinematic" || id == "kinetic") {
-            for (std::size_t p = 0; p < P; ++p) {
-                std::set<std::size_t> axes;
-                for (const auto& r : law_.pieces[p].rays) {
-                    const Vec img = mul(law_.pieces[p].Q_, r);
-                    if (id == "kinetic") {
-                        if (!nonneg(mul(law_.H, sub(img, r))))
-                            return false;
-                    } else if (id == "kinematic") {
-                        if (!nonneg(img))
-                            return false;
+            const char* key = id == "kinetic" ? "impulses" : "images";
+            const Json& l = list(data, dp, key);
+            require(l.size() <= P() * c, at(dp, key), "too many entries");
+            bool ok = l.size() == P() * c;
+            for (std::size_t k = 0; k < l.size(); ++k) {
+                const std::size_t p = k / c;
+                const Vec& r = pc(p).rays[k % c];
+                const std::string ep = at(at(dp, key), k);
+                expect_piece(l[k], ep, "piece", p);
+                expect_vec(l[k], ep, "ray", r, "the piece's ray");
+                const Vec img = mul(pc(p).Q_, r);
+                if (id == "kinetic") {
+                    const Vec impulse = mul(law_.H, sub(img, r));
+                    expect_vec(l[k], ep, "impulse", impulse, "H (Q - I) ray");
+                    ok = ok && nonneg(impulse);
+                } else {
+                    expect_vec(l[k], ep, "image", img, "Q ray");
+                    if (id == "kinematic") {
+                        ok = ok && nonneg(img);
                     } else {
                         std::size_t nz = 0, axis = 0;
                         for (std::size_t i = 0; i < c; ++i)
@@ -656,114 +699,148 @@ class Checker {
                                 ++nz;
                                 axis = i;
                             }
-                        if (nz != 1 || sgn(img[axis]) < 0 || !axes.insert(axis).second)
-                            return false;
+                        bool distinct = true;
+                        for (std::size_t other = p * c; other < k; ++other)
+                            distinct = distinct && primitive(mul(pc(p).Q_, pc(p).rays[other % c])) != primitive(img);
+                        ok = ok && nz == 1 && sgn(img[axis]) > 0 && distinct;
                     }
                 }
             }
-            return id != "kinematic" || holds("fan");
+            return ok && (id != "kinematic" || holds("fan"));
         }
         if (id == "energetic") {
-            const Json& list = field(data, dp, "pieces");
-            require(list.size() == P, at(dp, "pieces"), "needs one entry per piece");
-            for (std::size_t p = 0; p < P; ++p) {
-                const auto& pc = law_.pieces[p];
+            const Json& l = list(data, dp, "pieces");
+            require(l.size() <= P(), at(dp, "pieces"), "too many entries");
+            bool ok = l.size() == P();
+            for (std::size_t p = 0; p < l.size(); ++p) {
                 const std::string ep = at(at(dp, "pieces"), p);
-                require(law_.piece(field(list[p], ep, "piece"), at(ep, "piece")) == p, at(ep, "piece"), "out of order");
-                const Mat B = mul(mul(tr(pc.R), sub(law_.H, mul(mul(tr(pc.Q_), law_.H), pc.Q_))), pc.R);
-                require(mat(field(list[p], ep, "B"), at(ep, "B")) == B, at(ep, "B"), "is not R^T (H - Q^T H Q) R");
-                if (!check_copositive_evidence(B, field(list[p], ep, "certificate"), at(ep, "certificate")))
-                    return false;
+                expect_piece(l[p], ep, "piece", p);
+                const Mat B = mul(mul(tr(pc(p).R), sub(law_.H, QtHQ(p))), pc(p).R);
+                expect_mat(l[p], ep, "B", B, "R^T (H - Q^T H Q) R");
+                ok = check_copositive_evidence(B, field(l[p], ep, "certificate"), at(ep, "certificate")) && ok;
             }
-            return true;
+            return ok;
         }
         if (id == "identities") {
-            for (std::size_t i = 0; i < law_.json["identities"].size(); ++i) {
-                const Json& d = law_.json["identities"][i];
+            const Json& decls = law_.json["identities"];
+            const Json& l = list(data, dp, "products");
+            require(l.size() <= decls.size(), at(dp, "products"), "too many entries");
+            bool ok = l.size() == decls.size();
+            for (std::size_t i = 0; i < l.size(); ++i) {
+                const std::string ep = at(at(dp, "products"), i);
+                require(field(l[i], ep, "lhs") == decls[i]["lhs"] && field(l[i], ep, "product") == decls[i]["product"], ep,
+                        "is not the declared identity");
                 Mat prod = eye(c);
-                for (const auto& f : d["product"])
-                    prod = mul(prod, law_.pieces[law_.piece(f, "$.law.identities")].Q_);
-                if (law_.pieces[law_.piece(d["lhs"], "$.law.identities")].Q_ != prod)
-                    return false;
+                for (const auto& f : decls[i]["product"])
+                    prod = mul(prod, pc(law_.piece(f, "$.law.identities")).Q_);
+                const Mat& lhs = pc(law_.piece(decls[i]["lhs"], "$.law.identities")).Q_;
+                expect_mat(l[i], ep, "lhs_matrix", lhs, "Q_lhs");
+                expect_mat(l[i], ep, "product_matrix", prod, "the product");
+                ok = ok && lhs == prod;
             }
-            return true;
+            return ok;
         }
         if (id == "single-impacts") {
-            for (const auto& d : law_.json["single_impacts"]) {
-                const std::size_t k = d["contact"].get<std::size_t>();
+            const Json& decls = law_.json["single_impacts"];
+            const Json& l = list(data, dp, "impacts");
+            require(l.size() <= decls.size(), at(dp, "impacts"), "too many entries");
+            bool ok = l.size() == decls.size();
+            for (std::size_t i = 0; i < l.size(); ++i) {
+                const std::string ep = at(at(dp, "impacts"), i);
+                require(field(l[i], ep, "piece") == decls[i]["piece"] && field(l[i], ep, "contact") == decls[i]["contact"] &&
+                            rat(field(l[i], ep, "restitution"), at(ep, "restitution")) == rat(decls[i]["restitution"], "$.law"),
+                        ep, "is not the declared single impact");
+                const std::size_t k = decls[i]["contact"].get<std::size_t>();
                 require(k >= 1 && k <= c, "$.law.single_impacts", "contact out of range");
-                if (law_.pieces[law_.piece(d["piece"], "$.law.single_impacts")].Q_ != law_.impact(k - 1, rat(d["restitution"], "$.law.single_impacts")))
-                    return false;
+                const Mat impact = law_.impact(k - 1, rat(decls[i]["restitution"], "$.law"));
+                expect_mat(l[i], ep, "impact", impact, "Q^(k)(e)");
+                ok = ok && pc(law_.piece(decls[i]["piece"], "$.law.single_impacts")).Q_ == impact;
             }
-            return true;
+            return ok;
         }
         if (id == "nonexpansive") {
-            const Json& pairs = field(data, dp, "pairs");
-            require(pairs.size() == P * P, at(dp, "pairs"), "needs every ordered pair of pieces");
-            for (std::size_t i = 0; i < P; ++i)
-                for (std::size_t j = 0; j < P; ++j) {
-                    const std::string ep = at(at(dp, "pairs"), i * P + j);
-                    const Json& e = pairs[i * P + j];
-                    require(law_.piece(field(e, ep, "piece_a"), at(ep, "piece_a")) == i &&
-                                law_.piece(field(e, ep, "piece_b"), at(ep, "piece_b")) == j,
-                            ep, "pairs out of order");
-                    const Mat A = pair_form(i, j);
-                    require(mat(field(e, ep, "A"), at(ep, "A")) == A, at(ep, "A"), "is not the pair's quadratic form");
-                    if (!check_copositive_evidence(A, field(e, ep, "certificate"), at(ep, "certificate")))
-                        return false;
-                }
-            return holds("fan");
+            const Json& l = list(data, dp, "pairs");
+            require(l.size() <= P() * P(), at(dp, "pairs"), "too many entries");
+            bool ok = l.size() == P() * P();
+            for (std::size_t k = 0; k < l.size(); ++k) {
+                const std::size_t i = k / P(), j = k % P();
+                const std::string ep = at(at(dp, "pairs"), k);
+                expect_piece(l[k], ep, "piece_a", i);
+                expect_piece(l[k], ep, "piece_b", j);
+                const Mat A = pair_form(i, j);
+                expect_mat(l[k], ep, "A", A, "the pair's quadratic form");
+                ok = check_copositive_evidence(A, field(l[k], ep, "certificate"), at(ep, "certificate")) && ok;
+            }
+            return ok && holds("fan");
         }
         if (id == "nonexpansive-lemma") {
-            if (!holds("fan") || !holds("P1"))
-                return false;
-            const Json& list = field(data, dp, "pieces");
-            require(list.size() == P, at(dp, "pieces"), "needs one LDL^T per piece");
-            for (std::size_t p = 0; p < P; ++p) {
+            const Json& l = data.contains("pieces") ? list(data, dp, "pieces") : Json::array();
+            require(l.size() <= P(), at(dp, "pieces"), "too many entries");
+            for (std::size_t p = 0; p < l.size(); ++p) {
                 const std::string ep = at(at(dp, "pieces"), p);
-                require(law_.piece(field(list[p], ep, "piece"), at(ep, "piece")) == p, at(ep, "piece"), "out of order");
-                const auto& pc = law_.pieces[p];
-                check_psd_evidence(sub(law_.H, mul(mul(tr(pc.Q_), law_.H), pc.Q_)), list[p], ep);
+                expect_piece(l[p], ep, "piece", p);
+                const Mat B = sub(law_.H, QtHQ(p));
+                expect_mat(l[p], ep, "matrix", B, "H - Q^T H Q");
+                check_psd_evidence(B, l[p], ep);
             }
-            return true;
+            return l.size() == P() && holds("fan") && holds("P1");
         }
         if (id == "outcomes") {
-            for (const auto& d : law_.json["outcomes"]) {
-                const Vec u = vec(d["u_minus"], "$.law.outcomes"), declared = vec(d["u_plus"], "$.law.outcomes");
+            const Json& decls = law_.json["outcomes"];
+            const Json& l = data.contains("outcomes") ? list(data, dp, "outcomes") : Json::array();
+            require(l.size() <= decls.size(), at(dp, "outcomes"), "too many entries");
+            bool ok = l.size() == decls.size();
+            for (std::size_t i = 0; i < l.size(); ++i) {
+                const std::string ep = at(at(dp, "outcomes"), i);
+                require(field(l[i], ep, "outcome") == decls[i]["name"], at(ep, "outcome"), "is not the declared outcome");
+                const Vec u = vec(decls[i]["u_minus"], "$.law.outcomes"), declared = vec(decls[i]["u_plus"], "$.law.outcomes");
                 const Vec g = mul(tr(law_.W), u);
-                bool any = false;
-                for (std::size_t p = 0; p < P; ++p)
-                    if (law_.in_cone(p, g)) {
-                        any = true;
-                        if (law_.u_plus(u, g, mul(law_.pieces[p].Q_, g)) != declared)
-                            return false;
-                    }
-                if (!any)
-                    return false;
+                expect_vec(l[i], ep, "gamma_minus", g, "W^T u-");
+                ok = ok && check_outcome_pieces(field(l[i], ep, "pieces"), at(ep, "pieces"), u, g, declared);
             }
-            return true;
+            return ok;
         }
         malformed(dp, "unknown obligation");
     }
 
+    // The list of (piece, u+) for every piece containing gamma-; true when all give `declared`.
+    bool check_outcome_pieces(const Json& l, const std::string& lp, const Vec& u, const Vec& g, const Vec& declared) {
+        std::vector<std::size_t> containing;
+        for (std::size_t p = 0; p < P(); ++p)
+            if (law_.in_cone(p, g))
+                containing.push_back(p);
+        require(l.is_array() && l.size() == containing.size(), lp, "is not the list of pieces containing gamma-");
+        bool ok = !containing.empty();
+        for (std::size_t k = 0; k < containing.size(); ++k) {
+            const std::string ep = at(lp, k);
+            expect_piece(l[k], ep, "piece", containing[k]);
+            const Vec up = law_.u_plus(u, g, mul(pc(containing[k]).Q_, g));
+            expect_vec(l[k], ep, "u_plus", up, "the post-impact velocities");
+            ok = ok && up == declared;
+        }
+        return ok;
+    }
+
     Mat pair_form(std::size_t i, std::size_t j) const {
         const std::size_t c = law_.c;
-        const Mat QRi = mul(law_.pieces[i].Q_, law_.pieces[i].R), QRj = mul(law_.pieces[j].Q_, law_.pieces[j].R);
+        const Mat QRi = mul(pc(i).Q_, pc(i).R), QRj = mul(pc(j).Q_, pc(j).R);
         Mat B1 = zeros(c, 2 * c), B2 = zeros(c, 2 * c);
         for (std::size_t r = 0; r < c; ++r)
             for (std::size_t k = 0; k < c; ++k) {
-                B1[r][k] = law_.pieces[i].R[r][k];
-                B1[r][c + k] = -law_.pieces[j].R[r][k];
+                B1[r][k] = pc(i).R[r][k];
+                B1[r][c + k] = -pc(j).R[r][k];
                 B2[r][k] = QRi[r][k];
                 B2[r][c + k] = -QRj[r][k];
             }
         return sub(mul(mul(tr(B1), law_.H), B1), mul(mul(tr(B2), law_.H), B2));
     }
 
-    bool prove_fan_planar(const Json& data, const std::string& dp) {
+    bool fan_planar(const Json& data, const std::string& dp) {
+        require(law_.c == 2, at(dp, "rays_by_angle"), "the angular method needs c = 2");
         std::vector<Vec> sorted;
-        for (std::size_t k = 0; k < field(data, dp, "rays_by_angle").size(); ++k)
-            sorted.push_back(vec(data["rays_by_angle"][k], at(at(dp, "rays_by_angle"), k)));
+        const Json& rl = list(data, dp, "rays_by_angle");
+        for (std::size_t k = 0; k < rl.size(); ++k)
+            sorted.push_back(vec(rl[k], at(at(dp, "rays_by_angle"), k)));
         std::vector<Vec> a = sorted, b = law_.distinct_rays;
         std::sort(a.begin(), a.end());
         std::sort(b.begin(), b.end());
@@ -771,41 +848,62 @@ class Checker {
         const std::size_t m = sorted.size();
         for (std::size_t k = 1; k < m; ++k)
             require(ccw_before(sorted[0], sorted[k - 1], sorted[k]), at(at(dp, "rays_by_angle"), k), "not in angular order");
-        const Json& points = field(data, dp, "sector_points");
-        require(points.size() == m, at(dp, "sector_points"), "needs one point per sector");
-        for (std::size_t k = 0; k < m; ++k) {
+        const Json& points = list(data, dp, "sector_points");
+        require(points.size() <= m, at(dp, "sector_points"), "more points than sectors");
+        bool ok = points.size() == m;
+        for (std::size_t k = 0; k < points.size(); ++k) {
             const Vec d = vec(points[k], at(at(dp, "sector_points"), k));
+            require(d.size() == 2, at(at(dp, "sector_points"), k), "wrong size");
             const Vec &lo = sorted[k], &hi = sorted[(k + 1) % m];
-            // d strictly inside the open counter-clockwise sector from lo to hi.
-            const bool inside = !(sign_det2(lo, d) == 0 && sgn(dot(lo, d)) > 0) && ccw_before(lo, d, hi) &&
-                                !(primitive(d) == primitive(hi));
-            require(inside, at(at(dp, "sector_points"), k), "not strictly inside its sector");
-            if (law_.interiors(d).size() != 1)
-                return false;
+            const bool on_lo = sign_det2(lo, d) == 0 && sgn(dot(lo, d)) > 0;
+            require(!on_lo && ccw_before(lo, d, hi), at(at(dp, "sector_points"), k), "not strictly inside its sector");
+            ok = ok && law_.interiors(d).size() == 1;
         }
-        return true;
+        return ok;
     }
 
-    bool prove_fan_facets(const Json& data, const std::string& dp) {
-        // Facets and their owners, recomputed here: each must have exactly two owners on
-        // opposite sides.
-        std::map<std::vector<Vec>, std::vector<int>> facets;
-        for (const auto& pc : law_.pieces)
+    std::map<std::vector<Vec>, std::vector<std::pair<std::size_t, int>>> all_facets() const {
+        std::map<std::vector<Vec>, std::vector<std::pair<std::size_t, int>>> facets;
+        for (std::size_t p = 0; p < P(); ++p)
             for (std::size_t drop = 0; drop < law_.c; ++drop) {
                 std::vector<Vec> f;
                 for (std::size_t k = 0; k < law_.c; ++k)
                     if (k != drop)
-                        f.push_back(pc.rays[k]);
+                        f.push_back(pc(p).rays[k]);
                 std::sort(f.begin(), f.end());
                 std::vector<Vec> cols = f;
-                cols.push_back(pc.rays[drop]);
-                facets[f].push_back(sgn(det(from_cols(cols))));
+                cols.push_back(pc(p).rays[drop]);
+                facets[f].push_back({p, sgn(det(from_cols(cols)))});
             }
-        for (const auto& [f, sides] : facets)
-            if (sides.size() != 2 || sides[0] == sides[1])
-                return false;
-        require(field(data, dp, "facets").size() == facets.size(), at(dp, "facets"), "does not list every facet");
-        const Vec p = vec(field(data, dp, "generic_point"), at(dp, "generic_point"));
+        return facets;
+    }
+
+    bool fan_facets(const Json& data, const std::string& dp) {
+        const auto facets = all_facets();
+        const Json& l = list(data, dp, "facets");
+        require(l.size() == facets.size(), at(dp, "facets"), "does not list every facet");
+        bool ok = true;
+        for (std::size_t k = 0; k < l.size(); ++k) {
+            const std::string ep = at(at(dp, "facets"), k);
+            std::vector<Vec> f;
+            for (std::size_t r = 0; r < field(l[k], ep, "rays").size(); ++r)
+                f.push_back(primitive(vec(l[k]["rays"][r], at(at(ep, "rays"), r))));
+            std::sort(f.begin(), f.end());
+            auto it = facets.find(f);
+            require(it != facets.end(), at(ep, "rays"), "is not a facet of any cone");
+            std::vector<std::string> owners, listed;
+            for (const auto& [p, side] : it->second)
+                owners.push_back(name(p));
+            for (const auto& o : field(l[k], ep, "pieces"))
+                listed.push_back(str(o, at(ep, "pieces")));
+            std::sort(owners.begin(), owners.end());
+            std::sort(listed.begin(), listed.end());
+            require(owners == listed, at(ep, "pieces"), "are not the cones having this facet");
+            ok = ok && it->second.size() == 2 && it->second[0].second != it->second[1].second;
+        }
+        if (!ok || !data.contains("generic_point"))
+            return false;
+        const Vec p = vec(data["generic_point"], at(dp, "generic_point"));
         require(p.size() == law_.c, at(dp, "generic_point"), "wrong size");
         for (const auto& entry : facets) {
             std::vector<Vec> cols = entry.first;
@@ -817,38 +915,46 @@ class Checker {
 
     // ---- counterexamples, re-validated from scratch
     void check_witness(const std::string& id, const Json& w, const std::string& wp) {
+        if (!w.is_object())
+            malformed(wp, "expected an object");
         const std::string via = w.contains("via") ? str(w["via"], at(wp, "via")) : "";
         if (id == "fan" || via == "fan") {
             if (w.contains("gamma")) {
                 const Vec g = vec(w["gamma"], at(wp, "gamma"));
                 require(g.size() == law_.c, at(wp, "gamma"), "wrong size");
-                require(law_.interiors(g).size() != 1, at(wp, "gamma"), "is covered by exactly one cone");
+                const auto inside = law_.interiors(g);
+                require(inside.size() != 1, at(wp, "gamma"), "is covered by exactly one cone");
+                std::vector<std::string> listed;
+                for (const auto& o : field(w, wp, "interior_of"))
+                    listed.push_back(str(o, at(wp, "interior_of")));
+                std::vector<std::string> names;
+                for (auto p : inside)
+                    names.push_back(name(p));
+                require(listed == names, at(wp, "interior_of"), "are not the cones whose interior contains gamma");
             } else {
                 const std::size_t p = law_.piece(field(w, wp, "piece"), at(wp, "piece"));
                 std::vector<Vec> f;
-                for (std::size_t k = 0; k < field(w, wp, "facet").size(); ++k) {
+                for (std::size_t k = 0; k < field(w, wp, "facet").size(); ++k)
                     f.push_back(primitive(vec(w["facet"][k], at(at(wp, "facet"), k))));
-                    require(law_.is_ray_of(p, f.back()), at(at(wp, "facet"), k), "is not a ray of the piece");
-                }
-                require(f.size() + 1 == law_.c, at(wp, "facet"), "is not a facet");
-                // Count owners and sides here.
-                std::vector<int> sides;
                 std::sort(f.begin(), f.end());
-                for (const auto& pc : law_.pieces) {
-                    std::vector<Vec> rest;
-                    bool has = true;
-                    for (const auto& r : f)
-                        has = has && std::find(pc.rays.begin(), pc.rays.end(), r) != pc.rays.end();
-                    if (!has)
-                        continue;
-                    for (const auto& r : pc.rays)
-                        if (std::find(f.begin(), f.end(), r) == f.end())
-                            rest.push_back(r);
-                    std::vector<Vec> cols = f;
-                    cols.push_back(rest.at(0));
-                    sides.push_back(sgn(det(from_cols(cols))));
+                const auto facets = all_facets();
+                auto it = facets.find(f);
+                require(it != facets.end(), at(wp, "facet"), "is not a facet");
+                bool of_p = false;
+                std::vector<std::string> others, listed;
+                for (const auto& [q, side] : it->second) {
+                    of_p = of_p || q == p;
+                    if (q != p)
+                        others.push_back(name(q));
                 }
-                require(sides.size() != 2 || sides[0] == sides[1], at(wp, "facet"), "is a well-matched facet");
+                require(of_p, at(wp, "facet"), "is not a facet of the piece");
+                for (const auto& o : field(w, wp, "shared_with"))
+                    listed.push_back(str(o, at(wp, "shared_with")));
+                std::sort(others.begin(), others.end());
+                std::sort(listed.begin(), listed.end());
+                require(others == listed, at(wp, "shared_with"), "are not the other cones having this facet");
+                require(it->second.size() != 2 || it->second[0].second == it->second[1].second, at(wp, "facet"),
+                        "is a well-matched facet");
             }
             if (via == "fan")
                 require(!holds("fan"), at(wp, "via"), "the fan is not refuted");
@@ -858,8 +964,13 @@ class Checker {
             const std::size_t a = law_.piece(field(w, wp, "piece_a"), at(wp, "piece_a"));
             const std::size_t b = law_.piece(field(w, wp, "piece_b"), at(wp, "piece_b"));
             const Vec v = vec(field(w, wp, "ray"), at(wp, "ray"));
-            require(law_.is_ray_of(a, v) && law_.is_ray_of(b, v), at(wp, "ray"), "is not shared by the two pieces");
-            require(mul(law_.pieces[a].Q_, v) != mul(law_.pieces[b].Q_, v), at(wp, "ray"), "both pieces agree on it");
+            require(v.size() == law_.c && law_.is_ray_of(a, v) && law_.is_ray_of(b, v), at(wp, "ray"),
+                    "is not shared by the two pieces");
+            expect_vec(w, wp, "image_a", mul(pc(a).Q_, v), "Q_a ray");
+            expect_vec(w, wp, "image_b", mul(pc(b).Q_, v), "Q_b ray");
+            require(mul(pc(a).Q_, v) != mul(pc(b).Q_, v), at(wp, "ray"), "both pieces agree on it");
+            if (via == "P1")
+                require(!holds("P1"), at(wp, "via"), "P1 is not refuted");
             return;
         }
         if (id == "nonexpansive" || id == "nonexpansive-lemma") {
@@ -870,7 +981,7 @@ class Checker {
             require(ga.size() == law_.c && gb.size() == law_.c, wp, "wrong size");
             require(law_.in_interior(a, ga), at(wp, "gamma_a"), "not in the interior of piece_a's cone");
             require(law_.in_interior(b, gb), at(wp, "gamma_b"), "not in the interior of piece_b's cone");
-            const Q lhs = law_.energy(sub(mul(law_.pieces[a].Q_, ga), mul(law_.pieces[b].Q_, gb)));
+            const Q lhs = law_.energy(sub(mul(pc(a).Q_, ga), mul(pc(b).Q_, gb)));
             const Q rhs = law_.energy(sub(ga, gb));
             require(rat(field(w, wp, "lhs"), at(wp, "lhs")) == lhs, at(wp, "lhs"), "is not |S(a) - S(b)|_H^2");
             require(rat(field(w, wp, "rhs"), at(wp, "rhs")) == rhs, at(wp, "rhs"), "is not |a - b|_H^2");
@@ -881,7 +992,9 @@ class Checker {
             const std::size_t p = law_.piece(field(w, wp, "piece"), at(wp, "piece"));
             const Vec g = vec(field(w, wp, "gamma"), at(wp, "gamma"));
             require(g.size() == law_.c, at(wp, "gamma"), "wrong size");
-            const Q lhs = law_.energy(mul(law_.pieces[p].Q_, g)), rhs = law_.energy(g);
+            const Q lhs = law_.energy(mul(pc(p).Q_, g)), rhs = law_.energy(g);
+            require(rat(field(w, wp, "lhs"), at(wp, "lhs")) == lhs, at(wp, "lhs"), "is not |Q gamma|_H^2");
+            require(rat(field(w, wp, "rhs"), at(wp, "rhs")) == rhs, at(wp, "rhs"), "is not |gamma|_H^2");
             if (id == "P2")
                 require(lhs != rhs, wp, "energy is conserved at gamma");
             else
@@ -891,65 +1004,85 @@ class Checker {
         if (id == "P3" || id == "kinematic" || id == "kinetic") {
             const std::size_t p = law_.piece(field(w, wp, "piece"), at(wp, "piece"));
             const Vec r = vec(field(w, wp, "ray"), at(wp, "ray"));
-            require(law_.is_ray_of(p, r), at(wp, "ray"), "is not a ray of the piece");
-            const Vec img = mul(law_.pieces[p].Q_, r);
+            require(r.size() == law_.c && law_.is_ray_of(p, r), at(wp, "ray"), "is not a ray of the piece");
+            const Vec img = mul(pc(p).Q_, r);
             if (id == "kinetic") {
-                require(!nonneg(mul(law_.H, sub(img, r))), at(wp, "ray"), "impulse is non-negative");
-            } else if (id == "kinematic") {
+                const Vec impulse = mul(law_.H, sub(img, r));
+                expect_vec(w, wp, "impulse", impulse, "H (Q - I) ray");
+                require(!nonneg(impulse), at(wp, "ray"), "impulse is non-negative");
+                return;
+            }
+            expect_vec(w, wp, "image", img, "Q ray");
+            if (id == "kinematic") {
                 require(!nonneg(img), at(wp, "ray"), "image is non-negative");
             } else {
                 std::size_t nz = 0;
                 for (const auto& x : img)
                     nz += sgn(x) != 0 ? 1 : 0;
                 bool clash = false;
-                for (const auto& other : law_.pieces[p].rays)
-                    clash = clash || (other != primitive(r) && primitive(mul(law_.pieces[p].Q_, other)) == primitive(img));
+                for (const auto& other : pc(p).rays)
+                    clash = clash || (other != primitive(r) && primitive(mul(pc(p).Q_, other)) == primitive(img));
                 require(nz != 1 || !nonneg(img) || clash, at(wp, "ray"), "maps onto a positive axis of its own");
             }
             return;
         }
         if (id == "identities") {
-            const std::size_t i = field(w, wp, "identity").get<std::size_t>();
-            require(i < law_.json["identities"].size(), at(wp, "identity"), "no such identity");
-            const Json& d = law_.json["identities"][i];
+            const Json& idx = field(w, wp, "identity");
+            require(idx.is_number_unsigned() && idx.get<std::size_t>() < law_.json["identities"].size(), at(wp, "identity"),
+                    "no such identity");
+            const Json& d = law_.json["identities"][idx.get<std::size_t>()];
+            require(field(w, wp, "lhs") == d["lhs"] && field(w, wp, "product") == d["product"], wp, "is not that identity");
             const Vec e = vec(field(w, wp, "gamma"), at(wp, "gamma"));
+            require(e.size() == law_.c, at(wp, "gamma"), "wrong size");
             Vec rhs = e;
             for (auto it = d["product"].rbegin(); it != d["product"].rend(); ++it)
-                rhs = mul(law_.pieces[law_.piece(*it, "$.law.identities")].Q_, rhs);
-            require(mul(law_.pieces[law_.piece(d["lhs"], "$.law.identities")].Q_, e) != rhs, at(wp, "gamma"),
-                    "both sides agree on it");
+                rhs = mul(pc(law_.piece(*it, "$.law.identities")).Q_, rhs);
+            const Vec lhs = mul(pc(law_.piece(d["lhs"], "$.law.identities")).Q_, e);
+            expect_vec(w, wp, "lhs_image", lhs, "Q_lhs gamma");
+            expect_vec(w, wp, "product_image", rhs, "the product applied to gamma");
+            require(lhs != rhs, at(wp, "gamma"), "both sides agree on it");
             return;
         }
         if (id == "single-impacts") {
             const std::size_t p = law_.piece(field(w, wp, "piece"), at(wp, "piece"));
             bool declared = false;
             for (const auto& d : law_.json["single_impacts"])
-                declared = declared || (d["piece"] == w["piece"] && d["contact"] == w["contact"] &&
-                                        rat(d["restitution"], "$.law") == rat(w["restitution"], at(wp, "restitution")));
+                declared = declared || (d["piece"] == w["piece"] && d["contact"] == field(w, wp, "contact") &&
+                                        rat(d["restitution"], "$.law") == rat(field(w, wp, "restitution"), at(wp, "restitution")));
             require(declared, wp, "is not a declared single impact");
-            const std::size_t k = field(w, wp, "contact").get<std::size_t>();
+            const std::size_t k = w["contact"].get<std::size_t>();
             const Vec g = vec(field(w, wp, "gamma"), at(wp, "gamma"));
-            require(mul(law_.pieces[p].Q_, g) != mul(law_.impact(k - 1, rat(w["restitution"], wp)), g), at(wp, "gamma"),
-                    "the piece and the impact agree on it");
+            require(g.size() == law_.c, at(wp, "gamma"), "wrong size");
+            const Vec piece_image = mul(pc(p).Q_, g), impact_image = mul(law_.impact(k - 1, rat(w["restitution"], wp)), g);
+            expect_vec(w, wp, "piece_image", piece_image, "Q gamma");
+            expect_vec(w, wp, "impact_image", impact_image, "Q^(k)(e) gamma");
+            require(piece_image != impact_image, at(wp, "gamma"), "the piece and the impact agree on it");
             return;
         }
         if (id == "outcomes") {
-            const std::string name = str(field(w, wp, "outcome"), at(wp, "outcome"));
+            const std::string oname = str(field(w, wp, "outcome"), at(wp, "outcome"));
             const Json* decl = nullptr;
             for (const auto& d : law_.json["outcomes"])
-                if (d["name"] == name)
+                if (d["name"] == oname)
                     decl = &d;
             require(decl != nullptr, at(wp, "outcome"), "no such outcome");
             const Vec u = vec((*decl)["u_minus"], "$.law.outcomes"), declared = vec((*decl)["u_plus"], "$.law.outcomes");
             const Vec g = mul(tr(law_.W), u);
+            expect_vec(w, wp, "u_minus", u, "the outcome's u-");
             if (!w.contains("piece")) {
-                for (std::size_t p = 0; p < law_.pieces.size(); ++p)
+                expect_vec(w, wp, "gamma_minus", g, "W^T u-");
+                for (std::size_t p = 0; p < P(); ++p)
                     require(!law_.in_cone(p, g), wp, "gamma- lies in a cone");
                 return;
             }
+            expect_vec(w, wp, "u_plus_declared", declared, "the declared u+");
             const std::size_t p = law_.piece(w["piece"], at(wp, "piece"));
             require(law_.in_cone(p, g), at(wp, "piece"), "gamma- is not in this piece's cone");
-            require(law_.u_plus(u, g, mul(law_.pieces[p].Q_, g)) != declared, at(wp, "piece"), "gives the declared u+");
+            const Vec up = law_.u_plus(u, g, mul(pc(p).Q_, g));
+            expect_vec(w, wp, "u_plus", up, "the piece's post-impact velocities");
+            require(up != declared, at(wp, "piece"), "gives the declared u+");
+            require(!check_outcome_pieces(field(w, wp, "pieces_at_gamma"), at(wp, "pieces_at_gamma"), u, g, declared),
+                    at(wp, "pieces_at_gamma"), "all give the declared u+");
             return;
         }
         malformed(wp, "unknown obligation");
