@@ -72,7 +72,7 @@ std::string xml_escape(const std::string& s) {
 
 std::string verdict_table(const VerifyReport& report, const Model& model) {
     std::string out = "impactcert verify: " + report.law + " (" + std::to_string(model.balls()) +
-                      " balls, " + std::to_string(model.contacts()) + " contacts, " +
+                      " balls, " + std::to_string(model.contacts()) + (model.contacts() == 1 ? " contact, " : " contacts, ") +
                       std::to_string(model.pieces().size()) + " pieces)\n";
     out += "  " + pad("obligation", 20) + pad("claimed", 9) + pad("verdict", 9) +
            pad_left("checks", 8) + pad_left("time", 13) + "   method\n";

@@ -9,6 +9,8 @@
 // factors multiplied back, KKT faces re-enumerated), a "refuted" one from its counterexample
 // (re-computed from scratch); and the top verdict is "proved" iff every claimed obligation is.
 // The schema is in proofs/README.md.
+#include "impactcert_check.hpp"
+
 #include <gmpxx.h>
 #include <nlohmann/json.hpp>
 
@@ -17,6 +19,7 @@
 #include <fstream>
 #include <iostream>
 #include <map>
+#include <optional>
 #include <set>
 #include <sstream>
 #include <string>
@@ -479,6 +482,9 @@ bool check_psd_evidence(const Mat& B, const Json& j, const std::string& path) {
     require(L.size() == B.size() && D.size() == B.size(), path, "L or D has the wrong size");
     require(lower_unit(L), at(path, "L"), "not unit lower triangular");
     require(nonneg(D), at(path, "D"), "negative entry in D");
+    for (std::size_t k = 0; k < D.size(); ++k)
+        for (std::size_t row = k + 1; row < D.size(); ++row)
+            require(sgn(D[k]) != 0 || sgn(L[row][k]) == 0, at(path, "L"), "a zero pivot's column must be e_k");
     require(ldlt(L, D) == B, path, "L D L^T does not reproduce the matrix");
     return true;
 }
@@ -632,6 +638,16 @@ class Checker {
     }
     Mat QtHQ(std::size_t p) const { return mul(mul(tr(pc(p).Q_), law_.H), pc(p).Q_); }
 
+    // Evidence lists are canonical: in order, up to and including the first failing entry, or
+    // complete when nothing fails. A failing entry anywhere but last is rejected here; a list
+    // that stops early without a failure is rejected by the callers' completeness checks.
+    static void ends_at_first_failure(bool entry_ok, std::size_t index, std::size_t listed, const std::string& path) {
+        require(entry_ok || index + 1 == listed, at(path, index), "evidence must end at the first failing entry");
+    }
+    static void complete_unless_failed(bool any_failed, std::size_t listed, std::size_t total, const std::string& path) {
+        require(any_failed || listed == total, path, "is incomplete");
+    }
+
     // ---- evidence: checks each listed entry; returns true when the list is complete and the
     // obligation holds on it.
     bool evidence(const std::string& id, const Json& data, const std::string& dp) {
@@ -647,7 +663,7 @@ class Checker {
                             shared.emplace_back(i, j, v);
             const Json& l = data.contains("shared") ? list(data, dp, "shared") : Json::array();
             require(l.size() <= shared.size(), at(dp, "shared"), "lists more rays than are shared");
-            bool ok = l.size() == shared.size();
+            bool ok = true;
             for (std::size_t k = 0; k < l.size(); ++k) {
                 const auto& [i, j, v] = shared[k];
                 const std::string ep = at(at(dp, "shared"), k);
@@ -656,27 +672,33 @@ class Checker {
                 expect_vec(l[k], ep, "ray", v, "the shared ray");
                 expect_vec(l[k], ep, "image_a", mul(pc(i).Q_, v), "Q_a ray");
                 expect_vec(l[k], ep, "image_b", mul(pc(j).Q_, v), "Q_b ray");
-                ok = ok && mul(pc(i).Q_, v) == mul(pc(j).Q_, v);
+                const bool this_ok = mul(pc(i).Q_, v) == mul(pc(j).Q_, v);
+                ends_at_first_failure(this_ok, k, l.size(), at(dp, "shared"));
+                ok = ok && this_ok;
             }
+            complete_unless_failed(!ok, l.size(), shared.size(), at(dp, "shared"));
             return ok;
         }
         if (id == "P2") {
             const Json& l = list(data, dp, "QtHQ");
             require(l.size() <= P(), at(dp, "QtHQ"), "too many entries");
-            bool ok = l.size() == P();
+            bool ok = true;
             for (std::size_t p = 0; p < l.size(); ++p) {
                 const std::string ep = at(at(dp, "QtHQ"), p);
                 expect_piece(l[p], ep, "piece", p);
                 expect_mat(l[p], ep, "matrix", QtHQ(p), "Q^T H Q");
-                ok = ok && QtHQ(p) == law_.H;
+                const bool this_ok = QtHQ(p) == law_.H;
+                ends_at_first_failure(this_ok, p, l.size(), at(dp, "QtHQ"));
+                ok = ok && this_ok;
             }
+            complete_unless_failed(!ok, l.size(), P(), at(dp, "QtHQ"));
             return ok;
         }
         if (id == "P3" || id == "kinematic" || id == "kinetic") {
             const char* key = id == "kinetic" ? "impulses" : "images";
             const Json& l = list(data, dp, key);
             require(l.size() <= P() * c, at(dp, key), "too many entries");
-            bool ok = l.size() == P() * c;
+            bool ok = true;
             for (std::size_t k = 0; k < l.size(); ++k) {
                 const std::size_t p = k / c;
                 const Vec& r = pc(p).rays[k % c];
@@ -684,14 +706,15 @@ class Checker {
                 expect_piece(l[k], ep, "piece", p);
                 expect_vec(l[k], ep, "ray", r, "the piece's ray");
                 const Vec img = mul(pc(p).Q_, r);
+                bool this_ok = true;
                 if (id == "kinetic") {
                     const Vec impulse = mul(law_.H, sub(img, r));
                     expect_vec(l[k], ep, "impulse", impulse, "H (Q - I) ray");
-                    ok = ok && nonneg(impulse);
+                    this_ok = nonneg(impulse);
                 } else {
                     expect_vec(l[k], ep, "image", img, "Q ray");
                     if (id == "kinematic") {
-                        ok = ok && nonneg(img);
+                        this_ok = nonneg(img);
                     } else {
                         std::size_t nz = 0, axis = 0;
                         for (std::size_t i = 0; i < c; ++i)
@@ -702,30 +725,36 @@ class Checker {
                         bool distinct = true;
                         for (std::size_t other = p * c; other < k; ++other)
                             distinct = distinct && primitive(mul(pc(p).Q_, pc(p).rays[other % c])) != primitive(img);
-                        ok = ok && nz == 1 && sgn(img[axis]) > 0 && distinct;
+                        this_ok = nz == 1 && sgn(img[axis]) > 0 && distinct;
                     }
                 }
+                ends_at_first_failure(this_ok, k, l.size(), at(dp, key));
+                ok = ok && this_ok;
             }
+            complete_unless_failed(!ok, l.size(), P() * c, at(dp, key));
             return ok && (id != "kinematic" || holds("fan"));
         }
         if (id == "energetic") {
             const Json& l = list(data, dp, "pieces");
             require(l.size() <= P(), at(dp, "pieces"), "too many entries");
-            bool ok = l.size() == P();
+            bool ok = true;
             for (std::size_t p = 0; p < l.size(); ++p) {
                 const std::string ep = at(at(dp, "pieces"), p);
                 expect_piece(l[p], ep, "piece", p);
                 const Mat B = mul(mul(tr(pc(p).R), sub(law_.H, QtHQ(p))), pc(p).R);
                 expect_mat(l[p], ep, "B", B, "R^T (H - Q^T H Q) R");
-                ok = check_copositive_evidence(B, field(l[p], ep, "certificate"), at(ep, "certificate")) && ok;
+                const bool this_ok = check_copositive_evidence(B, field(l[p], ep, "certificate"), at(ep, "certificate"));
+                ends_at_first_failure(this_ok, p, l.size(), at(dp, "pieces"));
+                ok = ok && this_ok;
             }
+            complete_unless_failed(!ok, l.size(), P(), at(dp, "pieces"));
             return ok;
         }
         if (id == "identities") {
             const Json& decls = law_.json["identities"];
             const Json& l = list(data, dp, "products");
             require(l.size() <= decls.size(), at(dp, "products"), "too many entries");
-            bool ok = l.size() == decls.size();
+            bool ok = true;
             for (std::size_t i = 0; i < l.size(); ++i) {
                 const std::string ep = at(at(dp, "products"), i);
                 require(field(l[i], ep, "lhs") == decls[i]["lhs"] && field(l[i], ep, "product") == decls[i]["product"], ep,
@@ -736,15 +765,17 @@ class Checker {
                 const Mat& lhs = pc(law_.piece(decls[i]["lhs"], "$.law.identities")).Q_;
                 expect_mat(l[i], ep, "lhs_matrix", lhs, "Q_lhs");
                 expect_mat(l[i], ep, "product_matrix", prod, "the product");
+                ends_at_first_failure(lhs == prod, i, l.size(), at(dp, "products"));
                 ok = ok && lhs == prod;
             }
+            complete_unless_failed(!ok, l.size(), decls.size(), at(dp, "products"));
             return ok;
         }
         if (id == "single-impacts") {
             const Json& decls = law_.json["single_impacts"];
             const Json& l = list(data, dp, "impacts");
             require(l.size() <= decls.size(), at(dp, "impacts"), "too many entries");
-            bool ok = l.size() == decls.size();
+            bool ok = true;
             for (std::size_t i = 0; i < l.size(); ++i) {
                 const std::string ep = at(at(dp, "impacts"), i);
                 require(field(l[i], ep, "piece") == decls[i]["piece"] && field(l[i], ep, "contact") == decls[i]["contact"] &&
@@ -754,14 +785,17 @@ class Checker {
                 require(k >= 1 && k <= c, "$.law.single_impacts", "contact out of range");
                 const Mat impact = law_.impact(k - 1, rat(decls[i]["restitution"], "$.law"));
                 expect_mat(l[i], ep, "impact", impact, "Q^(k)(e)");
-                ok = ok && pc(law_.piece(decls[i]["piece"], "$.law.single_impacts")).Q_ == impact;
+                const bool this_ok = pc(law_.piece(decls[i]["piece"], "$.law.single_impacts")).Q_ == impact;
+                ends_at_first_failure(this_ok, i, l.size(), at(dp, "impacts"));
+                ok = ok && this_ok;
             }
+            complete_unless_failed(!ok, l.size(), decls.size(), at(dp, "impacts"));
             return ok;
         }
         if (id == "nonexpansive") {
             const Json& l = list(data, dp, "pairs");
             require(l.size() <= P() * P(), at(dp, "pairs"), "too many entries");
-            bool ok = l.size() == P() * P();
+            bool ok = true;
             for (std::size_t k = 0; k < l.size(); ++k) {
                 const std::size_t i = k / P(), j = k % P();
                 const std::string ep = at(at(dp, "pairs"), k);
@@ -769,8 +803,11 @@ class Checker {
                 expect_piece(l[k], ep, "piece_b", j);
                 const Mat A = pair_form(i, j);
                 expect_mat(l[k], ep, "A", A, "the pair's quadratic form");
-                ok = check_copositive_evidence(A, field(l[k], ep, "certificate"), at(ep, "certificate")) && ok;
+                const bool this_ok = check_copositive_evidence(A, field(l[k], ep, "certificate"), at(ep, "certificate"));
+                ends_at_first_failure(this_ok, k, l.size(), at(dp, "pairs"));
+                ok = ok && this_ok;
             }
+            complete_unless_failed(!ok, l.size(), P() * P(), at(dp, "pairs"));
             return ok && holds("fan");
         }
         if (id == "nonexpansive-lemma") {
@@ -783,20 +820,37 @@ class Checker {
                 expect_mat(l[p], ep, "matrix", B, "H - Q^T H Q");
                 check_psd_evidence(B, l[p], ep);
             }
-            return l.size() == P() && holds("fan") && holds("P1");
+            if (!holds("fan") || !holds("P1")) {
+                require(l.empty(), at(dp, "pieces"), "listed although fan or P1 fails");
+                return false;
+            }
+            if (l.size() < P()) {
+                require(psd_witness(sub(law_.H, QtHQ(l.size()))).has_value(), at(dp, "pieces"), "is incomplete");
+                return false;
+            }
+            return true;
         }
         if (id == "outcomes") {
             const Json& decls = law_.json["outcomes"];
             const Json& l = data.contains("outcomes") ? list(data, dp, "outcomes") : Json::array();
             require(l.size() <= decls.size(), at(dp, "outcomes"), "too many entries");
-            bool ok = l.size() == decls.size();
+            bool ok = true;
             for (std::size_t i = 0; i < l.size(); ++i) {
                 const std::string ep = at(at(dp, "outcomes"), i);
                 require(field(l[i], ep, "outcome") == decls[i]["name"], at(ep, "outcome"), "is not the declared outcome");
                 const Vec u = vec(decls[i]["u_minus"], "$.law.outcomes"), declared = vec(decls[i]["u_plus"], "$.law.outcomes");
                 const Vec g = mul(tr(law_.W), u);
                 expect_vec(l[i], ep, "gamma_minus", g, "W^T u-");
-                ok = ok && check_outcome_pieces(field(l[i], ep, "pieces"), at(ep, "pieces"), u, g, declared);
+                const bool this_ok = check_outcome_pieces(field(l[i], ep, "pieces"), at(ep, "pieces"), u, g, declared);
+                ends_at_first_failure(this_ok, i, l.size(), at(dp, "outcomes"));
+                ok = ok && this_ok;
+            }
+            if (l.size() < decls.size() && ok) {
+                // Only an outcome whose gamma- lies in no cone ends the list without an entry.
+                const Vec g = mul(tr(law_.W), vec(decls[l.size()]["u_minus"], "$.law.outcomes"));
+                for (std::size_t q = 0; q < P(); ++q)
+                    require(!law_.in_cone(q, g), at(dp, "outcomes"), "is incomplete");
+                return false;
             }
             return ok;
         }
@@ -821,6 +875,66 @@ class Checker {
         return ok;
     }
 
+    // The canonical negative direction of a symmetric matrix (the congruence elimination of
+    // proofs/README.md, "Exact copositivity", step 2), or nothing when it is PSD.
+    static std::optional<Vec> psd_witness(const Mat& A) {
+        const std::size_t n = A.size();
+        Mat C = A, X = eye(n);
+        for (std::size_t k = 0; k < n; ++k) {
+            const Q p = C[k][k];
+            if (sgn(p) < 0)
+                return col(X, k);
+            if (sgn(p) == 0) {
+                for (std::size_t j = k + 1; j < n; ++j)
+                    if (sgn(C[k][j]) != 0) {
+                        const Q t = -(abs(C[j][j]) + 1) / C[k][j];
+                        Vec x = col(X, j);
+                        for (std::size_t i = 0; i < n; ++i)
+                            x[i] += t * X[i][k];
+                        return x;
+                    }
+                continue;
+            }
+            const Vec row = C[k];
+            for (std::size_t j = k + 1; j < n; ++j) {
+                if (sgn(row[j]) == 0)
+                    continue;
+                const Q m = row[j] / p;
+                for (std::size_t i = 0; i < n; ++i)
+                    X[i][j] -= m * X[i][k];
+                for (std::size_t l = k + 1; l < n; ++l)
+                    C[j][l] -= m * row[l];
+                C[j][k] = 0;
+                C[k][j] = 0;
+            }
+        }
+        return std::nullopt;
+    }
+
+    // The minimiser of the last listed KKT certificate: the first candidate attaining the
+    // minimum, padded with zeros.
+    static Vec kkt_minimiser(const Json& cert, const std::string& path, std::size_t n) {
+        const Json& cands = field(cert, path, "candidates");
+        const Q minimum = rat(field(cert, path, "minimum"), at(path, "minimum"));
+        for (std::size_t k = 0; k < cands.size(); ++k)
+            if (rat(cands[k]["value"], at(at(path, "candidates"), k)) == minimum) {
+                Vec z(n, Q(0));
+                const Vec x = vec(cands[k]["x"], at(at(path, "candidates"), k));
+                for (std::size_t a = 0; a < x.size(); ++a)
+                    z[cands[k]["support"][a].get<std::size_t>()] = x[a];
+                return z;
+            }
+        reject(path, "no candidate attains the minimum");
+    }
+
+    const Json& last_entry(const std::string& id, const char* key) const {
+        const std::size_t k = static_cast<std::size_t>(std::find(kIds.begin(), kIds.end(), id) - kIds.begin());
+        const Json& l = obl_[k]["data"][key];
+        if (!l.is_array() || l.empty())
+            reject(at(at("$.obligations", k), "data"), "the refutation's evidence is missing");
+        return l.back();
+    }
+
     Mat pair_form(std::size_t i, std::size_t j) const {
         const std::size_t c = law_.c;
         const Mat QRi = mul(pc(i).Q_, pc(i).R), QRj = mul(pc(j).Q_, pc(j).R);
@@ -833,6 +947,26 @@ class Checker {
                 B2[r][c + k] = -QRj[r][k];
             }
         return sub(mul(mul(tr(B1), law_.H), B1), mul(mul(tr(B2), law_.H), B2));
+    }
+
+    // The test direction of the sector from lo to hi: lo + hi when the sector spans less than
+    // pi, else the quarter turn of lo.
+    static Vec sector_point(const Vec& lo, const Vec& hi, std::size_t m) {
+        if (m > 1 && sign_det2(lo, hi) > 0)
+            return Vec{lo[0] + hi[0], lo[1] + hi[1]};
+        return Vec{-lo[1], lo[0]};
+    }
+
+    std::vector<Vec> sector_points() const {
+        std::vector<Vec> sorted = law_.distinct_rays, out;
+        // Angular order from the positive x axis, as the prover sorts.
+        auto half = [](const Vec& v) { return (sgn(v[1]) > 0 || (sgn(v[1]) == 0 && sgn(v[0]) > 0)) ? 0 : 1; };
+        std::sort(sorted.begin(), sorted.end(), [&](const Vec& a, const Vec& b) {
+            return half(a) != half(b) ? half(a) < half(b) : sign_det2(a, b) > 0;
+        });
+        for (std::size_t k = 0; k < sorted.size(); ++k)
+            out.push_back(sector_point(sorted[k], sorted[(k + 1) % sorted.size()], sorted.size()));
+        return out;
     }
 
     bool fan_planar(const Json& data, const std::string& dp) {
@@ -850,32 +984,82 @@ class Checker {
             require(ccw_before(sorted[0], sorted[k - 1], sorted[k]), at(at(dp, "rays_by_angle"), k), "not in angular order");
         const Json& points = list(data, dp, "sector_points");
         require(points.size() <= m, at(dp, "sector_points"), "more points than sectors");
-        bool ok = points.size() == m;
+        bool ok = true;
         for (std::size_t k = 0; k < points.size(); ++k) {
             const Vec d = vec(points[k], at(at(dp, "sector_points"), k));
             require(d.size() == 2, at(at(dp, "sector_points"), k), "wrong size");
             const Vec &lo = sorted[k], &hi = sorted[(k + 1) % m];
+            require(d == sector_point(lo, hi, m), at(at(dp, "sector_points"), k), "is not the sector's test direction");
             const bool on_lo = sign_det2(lo, d) == 0 && sgn(dot(lo, d)) > 0;
             require(!on_lo && ccw_before(lo, d, hi), at(at(dp, "sector_points"), k), "not strictly inside its sector");
-            ok = ok && law_.interiors(d).size() == 1;
+            const bool this_ok = law_.interiors(d).size() == 1;
+            ends_at_first_failure(this_ok, k, points.size(), at(dp, "sector_points"));
+            ok = ok && this_ok;
         }
+        complete_unless_failed(!ok, points.size(), m, at(dp, "sector_points"));
         return ok;
     }
 
-    std::map<std::vector<Vec>, std::vector<std::pair<std::size_t, int>>> all_facets() const {
-        std::map<std::vector<Vec>, std::vector<std::pair<std::size_t, int>>> facets;
+    // Facets keyed by their ray ids (first appearance in the law), owners in piece order.
+    std::size_t ray_id(const Vec& r) const {
+        return static_cast<std::size_t>(std::find(law_.distinct_rays.begin(), law_.distinct_rays.end(), r) -
+                                        law_.distinct_rays.begin());
+    }
+    std::map<std::vector<std::size_t>, std::vector<std::pair<std::size_t, int>>> all_facets() const {
+        std::map<std::vector<std::size_t>, std::vector<std::pair<std::size_t, int>>> facets;
         for (std::size_t p = 0; p < P(); ++p)
             for (std::size_t drop = 0; drop < law_.c; ++drop) {
-                std::vector<Vec> f;
+                std::vector<std::size_t> ids;
                 for (std::size_t k = 0; k < law_.c; ++k)
                     if (k != drop)
-                        f.push_back(pc(p).rays[k]);
-                std::sort(f.begin(), f.end());
-                std::vector<Vec> cols = f;
+                        ids.push_back(ray_id(pc(p).rays[k]));
+                std::sort(ids.begin(), ids.end());
+                std::vector<Vec> cols;
+                for (auto id : ids)
+                    cols.push_back(law_.distinct_rays[id]);
                 cols.push_back(pc(p).rays[drop]);
-                facets[f].push_back({p, sgn(det(from_cols(cols)))});
+                facets[ids].push_back({p, sgn(det(from_cols(cols)))});
             }
         return facets;
+    }
+    std::vector<Vec> facet_rays(const std::vector<std::size_t>& ids) const {
+        std::vector<Vec> out;
+        for (auto id : ids)
+            out.push_back(law_.distinct_rays[id]);
+        return out;
+    }
+    std::vector<Vec> listed_rays(const Json& l, const std::string& path) const {
+        std::vector<Vec> out;
+        if (!l.is_array())
+            malformed(path, "expected an array of rays");
+        for (std::size_t r = 0; r < l.size(); ++r)
+            out.push_back(vec(l[r], at(path, r)));
+        return out;
+    }
+    std::vector<std::string> listed_names(const Json& l, const std::string& path) const {
+        std::vector<std::string> out;
+        if (!l.is_array())
+            malformed(path, "expected an array of piece names");
+        for (const auto& o : l)
+            out.push_back(str(o, path));
+        return out;
+    }
+    Vec generic_point() const {
+        const auto facets = all_facets();
+        for (long t = 1;; ++t) {
+            Vec p(law_.c);
+            Q power = 1;
+            for (std::size_t i = 0; i < law_.c; ++i, power *= t)
+                p[i] = power;
+            bool generic = true;
+            for (const auto& entry : facets) {
+                std::vector<Vec> cols = facet_rays(entry.first);
+                cols.push_back(p);
+                generic = generic && sgn(det(from_cols(cols))) != 0;
+            }
+            if (generic)
+                return p;
+        }
     }
 
     bool fan_facets(const Json& data, const std::string& dp) {
@@ -883,33 +1067,25 @@ class Checker {
         const Json& l = list(data, dp, "facets");
         require(l.size() == facets.size(), at(dp, "facets"), "does not list every facet");
         bool ok = true;
-        for (std::size_t k = 0; k < l.size(); ++k) {
+        std::size_t k = 0;
+        for (const auto& [ids, owners] : facets) {
             const std::string ep = at(at(dp, "facets"), k);
-            std::vector<Vec> f;
-            for (std::size_t r = 0; r < field(l[k], ep, "rays").size(); ++r)
-                f.push_back(primitive(vec(l[k]["rays"][r], at(at(ep, "rays"), r))));
-            std::sort(f.begin(), f.end());
-            auto it = facets.find(f);
-            require(it != facets.end(), at(ep, "rays"), "is not a facet of any cone");
-            std::vector<std::string> owners, listed;
-            for (const auto& [p, side] : it->second)
-                owners.push_back(name(p));
-            for (const auto& o : field(l[k], ep, "pieces"))
-                listed.push_back(str(o, at(ep, "pieces")));
-            std::sort(owners.begin(), owners.end());
-            std::sort(listed.begin(), listed.end());
-            require(owners == listed, at(ep, "pieces"), "are not the cones having this facet");
-            ok = ok && it->second.size() == 2 && it->second[0].second != it->second[1].second;
+            require(listed_rays(field(l[k], ep, "rays"), at(ep, "rays")) == facet_rays(ids), at(ep, "rays"),
+                    "is not the next facet");
+            std::vector<std::string> names;
+            for (const auto& [p, side] : owners)
+                names.push_back(name(p));
+            require(listed_names(field(l[k], ep, "pieces"), at(ep, "pieces")) == names, at(ep, "pieces"),
+                    "are not the cones having this facet");
+            ok = ok && owners.size() == 2 && owners[0].second != owners[1].second;
+            ++k;
         }
-        if (!ok || !data.contains("generic_point"))
+        if (!ok) {
+            require(!data.contains("generic_point"), at(dp, "generic_point"), "listed although a facet is unmatched");
             return false;
-        const Vec p = vec(data["generic_point"], at(dp, "generic_point"));
-        require(p.size() == law_.c, at(dp, "generic_point"), "wrong size");
-        for (const auto& entry : facets) {
-            std::vector<Vec> cols = entry.first;
-            cols.push_back(p);
-            require(sgn(det(from_cols(cols))) != 0, at(dp, "generic_point"), "lies on a facet hyperplane");
         }
+        const Vec p = vec(field(data, dp, "generic_point"), at(dp, "generic_point"));
+        require(p == generic_point(), at(dp, "generic_point"), "is not the first generic point of the moment curve");
         return law_.interiors(p).size() == 1;
     }
 
@@ -924,6 +1100,14 @@ class Checker {
                 require(g.size() == law_.c, at(wp, "gamma"), "wrong size");
                 const auto inside = law_.interiors(g);
                 require(inside.size() != 1, at(wp, "gamma"), "is covered by exactly one cone");
+                bool canonical;
+                if (law_.c == 2) {
+                    const auto points = sector_points();
+                    canonical = std::find(points.begin(), points.end(), g) != points.end();
+                } else {
+                    canonical = g == generic_point();
+                }
+                require(canonical, at(wp, "gamma"), "is not a test point of the fan check");
                 std::vector<std::string> listed;
                 for (const auto& o : field(w, wp, "interior_of"))
                     listed.push_back(str(o, at(wp, "interior_of")));
@@ -933,26 +1117,18 @@ class Checker {
                 require(listed == names, at(wp, "interior_of"), "are not the cones whose interior contains gamma");
             } else {
                 const std::size_t p = law_.piece(field(w, wp, "piece"), at(wp, "piece"));
-                std::vector<Vec> f;
-                for (std::size_t k = 0; k < field(w, wp, "facet").size(); ++k)
-                    f.push_back(primitive(vec(w["facet"][k], at(at(wp, "facet"), k))));
-                std::sort(f.begin(), f.end());
+                const std::vector<Vec> f = listed_rays(field(w, wp, "facet"), at(wp, "facet"));
                 const auto facets = all_facets();
-                auto it = facets.find(f);
-                require(it != facets.end(), at(wp, "facet"), "is not a facet");
-                bool of_p = false;
-                std::vector<std::string> others, listed;
-                for (const auto& [q, side] : it->second) {
-                    of_p = of_p || q == p;
-                    if (q != p)
-                        others.push_back(name(q));
-                }
-                require(of_p, at(wp, "facet"), "is not a facet of the piece");
-                for (const auto& o : field(w, wp, "shared_with"))
-                    listed.push_back(str(o, at(wp, "shared_with")));
-                std::sort(others.begin(), others.end());
-                std::sort(listed.begin(), listed.end());
-                require(others == listed, at(wp, "shared_with"), "are not the other cones having this facet");
+                auto it = facets.begin();
+                while (it != facets.end() && facet_rays(it->first) != f)
+                    ++it;
+                require(it != facets.end(), at(wp, "facet"), "is not a facet (rays in the order of first appearance)");
+                require(it->second.front().first == p, at(wp, "piece"), "is not the facet's first cone");
+                std::vector<std::string> others;
+                for (std::size_t k = 1; k < it->second.size(); ++k)
+                    others.push_back(name(it->second[k].first));
+                require(listed_names(field(w, wp, "shared_with"), at(wp, "shared_with")) == others, at(wp, "shared_with"),
+                        "are not the other cones having this facet");
                 require(it->second.size() != 2 || it->second[0].second == it->second[1].second, at(wp, "facet"),
                         "is a well-matched facet");
             }
@@ -986,12 +1162,67 @@ class Checker {
             require(rat(field(w, wp, "lhs"), at(wp, "lhs")) == lhs, at(wp, "lhs"), "is not |S(a) - S(b)|_H^2");
             require(rat(field(w, wp, "rhs"), at(wp, "rhs")) == rhs, at(wp, "rhs"), "is not |a - b|_H^2");
             require(lhs > rhs, wp, "lhs <= rhs: not a violation");
+            Vec ca, cb;
+            if (id == "nonexpansive") {
+                const Json& entry = last_entry("nonexpansive", "pairs");
+                require(entry["piece_a"] == w["piece_a"] && entry["piece_b"] == w["piece_b"], wp,
+                        "is not the first pair that fails");
+                const Mat A = pair_form(a, b);
+                Vec z = kkt_minimiser(entry["certificate"], wp, 2 * law_.c);
+                for (Q eps = 1;; eps /= 2) {
+                    Vec moved = z;
+                    for (auto& x : moved)
+                        x += eps;
+                    if (sgn(form(A, moved)) < 0) {
+                        z = moved;
+                        break;
+                    }
+                }
+                ca = mul(pc(a).R, Vec(z.begin(), z.begin() + static_cast<std::ptrdiff_t>(law_.c)));
+                cb = mul(pc(b).R, Vec(z.begin() + static_cast<std::ptrdiff_t>(law_.c), z.end()));
+            } else {
+                require(a == b, wp, "the lemma's witness lies in one cone");
+                const auto x = psd_witness(sub(law_.H, QtHQ(a)));
+                require(x.has_value(), at(wp, "piece_a"), "H - Q^T H Q is PSD for this piece");
+                const Vec centre = mul(pc(a).R, Vec(law_.c, Q(1)));
+                Q spread = 1;
+                for (const auto& coeff : mul(pc(a).R_inv, *x))
+                    spread = std::max(spread, Q(abs(coeff) + 1));
+                const Q eps = 1 / (2 * spread);
+                ca = centre;
+                for (std::size_t i = 0; i < law_.c; ++i)
+                    ca[i] += eps * (*x)[i];
+                cb = centre;
+            }
+            require(ga == ca && gb == cb, wp, "is not the canonical witness");
             return;
         }
         if (id == "P2" || id == "energetic") {
             const std::size_t p = law_.piece(field(w, wp, "piece"), at(wp, "piece"));
             const Vec g = vec(field(w, wp, "gamma"), at(wp, "gamma"));
             require(g.size() == law_.c, at(wp, "gamma"), "wrong size");
+            Vec canonical;
+            if (id == "P2") {
+                require(p + 1 == field(obl_[2]["data"], "$.obligations[2].data", "QtHQ").size(), at(wp, "piece"),
+                        "is not the first piece that fails");
+                const Mat D = sub(QtHQ(p), law_.H);
+                for (std::size_t k = 0; k < law_.c && canonical.empty(); ++k)
+                    if (sgn(D[k][k]) != 0) {
+                        canonical.assign(law_.c, Q(0));
+                        canonical[k] = 1;
+                    }
+                for (std::size_t k = 0; k < law_.c && canonical.empty(); ++k)
+                    for (std::size_t l = k + 1; l < law_.c && canonical.empty(); ++l)
+                        if (sgn(D[k][l]) != 0) {
+                            canonical.assign(law_.c, Q(0));
+                            canonical[k] = canonical[l] = 1;
+                        }
+            } else {
+                const Json& entry = last_entry("energetic", "pieces");
+                require(entry["piece"] == w["piece"], at(wp, "piece"), "is not the first piece that fails");
+                canonical = mul(pc(p).R, kkt_minimiser(entry["certificate"], wp, law_.c));
+            }
+            require(g == canonical, at(wp, "gamma"), "is not the canonical witness");
             const Q lhs = law_.energy(mul(pc(p).Q_, g)), rhs = law_.energy(g);
             require(rat(field(w, wp, "lhs"), at(wp, "lhs")) == lhs, at(wp, "lhs"), "is not |Q gamma|_H^2");
             require(rat(field(w, wp, "rhs"), at(wp, "rhs")) == rhs, at(wp, "rhs"), "is not |gamma|_H^2");
@@ -1139,6 +1370,31 @@ int check(const Json& cert) {
 
 } // namespace
 
+namespace impactcert_check {
+
+Outcome check_text(const std::string& text) {
+    Json cert;
+    try {
+        cert = Json::parse(text);
+    } catch (const Json::exception& e) {
+        return {kMalformed, std::string("malformed JSON: ") + e.what()};
+    }
+    try {
+        check(cert);
+        return {kVerified, "verified (" + cert["law"]["name"].get<std::string>() + ": " +
+                               cert["verdict"].get<std::string>() + ")"};
+    } catch (const Rejected& r) {
+        return {kRejected, "rejected: " + r.path + ": " + r.why};
+    } catch (const Malformed& m) {
+        return {kMalformed, "malformed: " + m.path + ": " + m.why};
+    } catch (const Json::exception& e) {
+        return {kMalformed, std::string("malformed: ") + e.what()};
+    }
+}
+
+} // namespace impactcert_check
+
+#ifndef IMPACTCERT_CHECK_NO_MAIN
 int main(int argc, char** argv) {
     if (argc != 2 || std::string(argv[1]) == "--help") {
         std::cerr << "usage: impactcert-check CERTIFICATE.json\n"
@@ -1149,28 +1405,13 @@ int main(int argc, char** argv) {
     std::ifstream in(file, std::ios::binary);
     if (!in) {
         std::cerr << "impactcert-check: " << file << ": cannot read file\n";
-        return 2;
+        return impactcert_check::kMalformed;
     }
-    Json cert;
-    try {
-        cert = Json::parse(in);
-    } catch (const Json::exception& e) {
-        std::cerr << "impactcert-check: " << file << ": malformed JSON: " << e.what() << "\n";
-        return 2;
-    }
-    try {
-        check(cert);
-        std::cout << "impactcert-check: " << file << ": verified (" << cert["law"]["name"].get<std::string>() << ": "
-                  << cert["verdict"].get<std::string>() << ")\n";
-        return 0;
-    } catch (const Rejected& r) {
-        std::cerr << "impactcert-check: " << file << ": rejected: " << r.path << ": " << r.why << "\n";
-        return 1;
-    } catch (const Malformed& m) {
-        std::cerr << "impactcert-check: " << file << ": malformed: " << m.path << ": " << m.why << "\n";
-        return 2;
-    } catch (const Json::exception& e) {
-        std::cerr << "impactcert-check: " << file << ": malformed: " << e.what() << "\n";
-        return 2;
-    }
+    std::ostringstream text;
+    text << in.rdbuf();
+    const auto outcome = impactcert_check::check_text(text.str());
+    (outcome.status == impactcert_check::kVerified ? std::cout : std::cerr)
+        << "impactcert-check: " << file << ": " << outcome.message << "\n";
+    return outcome.status;
 }
+#endif
