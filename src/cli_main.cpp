@@ -6,10 +6,12 @@
 #include "law_json.hpp"
 #include "obligations.hpp"
 #include "paper_law.hpp"
+#include "smt.hpp"
 #include "verdict_output.hpp"
 
 #include <CLI/CLI.hpp>
 
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <sstream>
@@ -53,6 +55,24 @@ int run_certify(const std::string& law_path, const std::string& out_path) {
     std::cerr << "impactcert: wrote " << out_path << " (" << report.law << ": "
               << (report.passed() ? "proved" : "refuted") << ")\n";
     return report.passed() ? kExitProved : kExitRefuted;
+}
+
+int run_smt(const std::string& law_path, const std::string& dir) {
+    const Model model = load_model(law_path);
+    std::error_code ec;
+    std::filesystem::create_directories(dir, ec);
+    if (ec)
+        throw InputError(dir + ": cannot create directory: " + ec.message());
+    for (const auto& problem : smt_problems(model)) {
+        const std::string path = dir + "/" + problem.id + ".smt2";
+        std::ofstream out(path, std::ios::binary);
+        out << problem.script;
+        out.close();
+        if (!out)
+            throw InputError(path + ": cannot write");
+        std::cout << path << "\n";
+    }
+    return kExitProved;
 }
 
 // Splits on white space and commas; parentheses and brackets are decoration.
@@ -161,6 +181,10 @@ int main(int argc, char** argv) {
     certify_cmd->add_option("--law", law_path, "law file (impactcert-law/1); default: the paper's 3-ball law");
     certify_cmd->add_option("-o,--output", out_path, "certificate file to write")->required();
 
+    auto* smt_cmd = app.add_subcommand("smt", "write one SMT-LIB2 file per universal claim (the claim negated: unsat = holds)");
+    smt_cmd->add_option("--law", law_path, "law file (impactcert-law/1); default: the paper's 3-ball law");
+    smt_cmd->add_option("-o,--output", out_path, "directory to write the .smt2 files into")->required();
+
     auto* eval_cmd = app.add_subcommand("eval", "evaluate S exactly at points given as arguments or stdin lines");
     eval_cmd->add_option("--law", law_path, "law file (impactcert-law/1); default: the paper's 3-ball law");
     eval_cmd->add_flag("--velocities", velocities, "points are ball velocities u- (print u+)");
@@ -179,6 +203,8 @@ int main(int argc, char** argv) {
             return run_verify(law_path, json, junit_path);
         if (certify_cmd->parsed())
             return run_certify(law_path, out_path);
+        if (smt_cmd->parsed())
+            return run_smt(law_path, out_path);
         return run_eval(law_path, velocities, eval_args);
     } catch (const InputError& e) {
         std::cerr << "impactcert: " << e.what() << "\n";
