@@ -6,6 +6,7 @@
 #include "law_json.hpp"
 #include "obligations.hpp"
 #include "paper_law.hpp"
+#include "report.hpp"
 #include "smt.hpp"
 #include "verdict_output.hpp"
 
@@ -55,6 +56,27 @@ int run_certify(const std::string& law_path, const std::string& out_path) {
     std::cerr << "impactcert: wrote " << out_path << " (" << report.law << ": "
               << (report.passed() ? "proved" : "refuted") << ")\n";
     return report.passed() ? kExitProved : kExitRefuted;
+}
+
+void write_file(const std::string& path, const std::string& text) {
+    std::ofstream out(path, std::ios::binary);
+    out << text;
+    out.close();
+    if (!out)
+        throw InputError(path + ": cannot write");
+}
+
+int run_report(const std::string& law_path, const std::string& dir) {
+    const Model model = load_model(law_path);
+    const VerifyReport report = verify(model);
+    std::error_code ec;
+    std::filesystem::create_directories(dir, ec);
+    if (ec)
+        throw InputError(dir + ": cannot create directory: " + ec.message());
+    write_file(dir + "/report.md", report_markdown(model, report));
+    write_file(dir + "/report.html", report_html(model, report));
+    std::cout << dir << "/report.md\n" << dir << "/report.html\n";
+    return kExitProved; // a report is written whatever the verdict
 }
 
 int run_smt(const std::string& law_path, const std::string& dir) {
@@ -181,6 +203,10 @@ int main(int argc, char** argv) {
     certify_cmd->add_option("--law", law_path, "law file (impactcert-law/1); default: the paper's 3-ball law");
     certify_cmd->add_option("-o,--output", out_path, "certificate file to write")->required();
 
+    auto* report_cmd = app.add_subcommand("report", "write report.md (CI job summary) and a self-contained report.html with a picture of the cones");
+    report_cmd->add_option("--law", law_path, "law file (impactcert-law/1); default: the paper's 3-ball law");
+    report_cmd->add_option("-o,--output", out_path, "directory to write report.md and report.html into")->required();
+
     auto* smt_cmd = app.add_subcommand("smt", "write one SMT-LIB2 file per universal claim (the claim negated: unsat = holds)");
     smt_cmd->add_option("--law", law_path, "law file (impactcert-law/1); default: the paper's 3-ball law");
     smt_cmd->add_option("-o,--output", out_path, "directory to write the .smt2 files into")->required();
@@ -203,6 +229,8 @@ int main(int argc, char** argv) {
             return run_verify(law_path, json, junit_path);
         if (certify_cmd->parsed())
             return run_certify(law_path, out_path);
+        if (report_cmd->parsed())
+            return run_report(law_path, out_path);
         if (smt_cmd->parsed())
             return run_smt(law_path, out_path);
         return run_eval(law_path, velocities, eval_args);

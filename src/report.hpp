@@ -1,0 +1,24 @@
+// report.hpp -- human-readable reports of a verification.
+//
+// Contract:
+//   - report_markdown: fits a CI job summary (GitHub's $GITHUB_STEP_SUMMARY): the verdict, a
+//     table of the obligations, every counterexample, and the law's pieces.
+//   - report_html: one self-contained page (inline CSS and SVG, no script, no external
+//     resource) with the same content and, for c = 2, the picture of the cones.
+//   - cones_svg: for c = 2, an SVG redrawing Leine & Winandy's Figure 1(b): the cones in the
+//     (gamma1-, gamma2-) plane, labelled, with their boundary rays, and beside it one small panel
+//     per piece showing its image Q_i C_i. Empty for c != 2. Valid XML.
+// Drawing coordinates are doubles (presentation only; no verdict depends on them).
+#pragma once
+
+#include "obligations.hpp"
+
+#include <string>
+
+namespace impactcert {
+
+std::string cones_svg(const Model& model);
+std::string report_markdown(const Model& model, const VerifyReport& report);
+std::string report_html(const Model& model, const VerifyReport& report);
+
+} // namespace impactcert

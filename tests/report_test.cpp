@@ -1,0 +1,163 @@
+#include "law_json.hpp"
+#include "paper_law.hpp"
+#include "report.hpp"
+#include "support.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <cctype>
+#include <cstdio>
+#include <vector>
+
+using namespace impactcert;
+using impactcert::test::source_path;
+
+namespace {
+
+// A small XML well-formedness check: balanced, properly nested tags; quoted attributes with no
+// raw '<' or '&'; character data with only the five predefined or numeric entities. Returns
+// the element names in document order, or throws std::runtime_error naming the offset.
+std::vector<std::string> xml_elements(const std::string& x) {
+    std::vector<std::string> open, seen;
+    auto fail = [&](std::size_t at, const std::string& why) {
+        throw std::runtime_error("offset " + std::to_string(at) + ": " + why);
+    };
+    auto check_entities = [&](std::size_t from, std::size_t to) {
+        for (std::size_t i = from; i < to; ++i) {
+            if (x[i] == '<')
+                fail(i, "raw '<'");
+            if (x[i] != '&')
+                continue;
+            const auto semi = x.find(';', i);
+            if (semi == std::string::npos || semi > to)
+                fail(i, "unterminated entity");
+            const std::string e = x.substr(i + 1, semi - i - 1);
+            const bool named = e == "amp" || e == "lt" || e == "gt" || e == "quot" || e == "apos";
+            const bool numeric = e.size() > 1 && e[0] == '#' &&
+                                 std::all_of(e.begin() + 1, e.end(), [](char ch) { return std::isdigit(static_cast<unsigned char>(ch)); });
+            if (!named && !numeric)
+                fail(i, "unknown entity &" + e + ";");
+        }
+    };
+    std::size_t i = 0;
+    while (i < x.size()) {
+        const auto lt = x.find('<', i);
+        check_entities(i, lt == std::string::npos ? x.size() : lt);
+        if (lt == std::string::npos)
+            break;
+        if (x.compare(lt, 4, "<!--") == 0) {
+            i = x.find("-->", lt) + 3;
+            continue;
+        }
+        if (x.compare(lt, 2, "<?") == 0) {
+            i = x.find("?>", lt) + 2;
+            continue;
+        }
+        const auto gt = x.find('>', lt);
+        if (gt == std::string::npos)
+            fail(lt, "unterminated tag");
+        std::string tag = x.substr(lt + 1, gt - lt - 1);
+        if (!tag.empty() && tag[0] == '/') {
+            const std::string name = tag.substr(1);
+            if (open.empty() || open.back() != name)
+                fail(lt, "mismatched </" + name + ">");
+            open.pop_back();
+        } else {
+            const bool self_closing = !tag.empty() && tag.back() == '/';
+            if (self_closing)
+                tag.pop_back();
+            std::size_t k = 0;
+            while (k < tag.size() && !std::isspace(static_cast<unsigned char>(tag[k])))
+                ++k;
+            const std::string name = tag.substr(0, k);
+            if (name.empty())
+                fail(lt, "empty tag name");
+            // Attributes: name="value" pairs.
+            while (k < tag.size()) {
+                while (k < tag.size() && std::isspace(static_cast<unsigned char>(tag[k])))
+                    ++k;
+                if (k == tag.size())
+                    break;
+                const auto eq = tag.find('=', k);
+                if (eq == std::string::npos || eq + 1 >= tag.size() || tag[eq + 1] != '"')
+                    fail(lt, "attribute without a quoted value in <" + name + ">");
+                const auto close = tag.find('"', eq + 2);
+                if (close == std::string::npos)
+                    fail(lt, "unterminated attribute value");
+                check_entities(lt + 1 + eq + 2, lt + 1 + close);
+                k = close + 1;
+            }
+            seen.push_back(name);
+            if (!self_closing)
+                open.push_back(name);
+        }
+        i = gt + 1;
+    }
+    if (!open.empty())
+        fail(x.size(), "unclosed <" + open.back() + ">");
+    return seen;
+}
+
+std::size_t count(const std::string& hay, const std::string& needle) {
+    std::size_t n = 0;
+    for (auto at = hay.find(needle); at != std::string::npos; at = hay.find(needle, at + 1))
+        ++n;
+    return n;
+}
+
+} // namespace
+
+TEST_CASE("report: the SVG of the paper's law is well-formed XML with six labelled cones and six images", "[report]") {
+    const Model m(paper_law());
+    const std::string svg = cones_svg(m);
+    std::vector<std::string> elements;
+    REQUIRE_NOTHROW(elements = xml_elements(svg));
+    REQUIRE(elements.front() == "svg");
+    CHECK(std::count(elements.begin(), elements.end(), "polygon") == 12); // 6 cones + 6 images
+    for (const char* name : {"I", "IIa", "IIb", "III", "IVb", "IVa"})
+        CHECK(svg.find("class=\"cone-label\">" + std::string(name) + "</text>") != std::string::npos);
+    CHECK(count(svg, "class=\"image-label\"") == 6);
+}
+
+TEST_CASE("report: the XML checker itself rejects broken markup", "[report]") {
+    CHECK_THROWS(xml_elements("<svg><g></svg></g>"));
+    CHECK_THROWS(xml_elements("<svg><text>a < b</text></svg>"));
+    CHECK_THROWS(xml_elements("<svg width=3></svg>"));
+    CHECK_THROWS(xml_elements("<svg><text>&nbsp;</text></svg>"));
+    CHECK_THROWS(xml_elements("<svg>"));
+    CHECK_NOTHROW(xml_elements("<svg a=\"1\"><text>&#947;1 &amp; 2</text><rect/></svg>"));
+}
+
+TEST_CASE("report: markdown lists every obligation and every counterexample", "[report]") {
+    const Model m(load_law_file(source_path("proofs/controls/missing-cone.json")));
+    const VerifyReport r = verify(m);
+    const std::string md = report_markdown(m, r);
+    CHECK(md.find("**Verdict: refuted**") != std::string::npos);
+    for (const auto& o : r.obligations)
+        CHECK(md.find("| `" + o.id + "` |") != std::string::npos);
+    CHECK(count(md, "```json") == 4); // fan, kinematic, nonexpansive, nonexpansive-lemma
+    CHECK(md.find("\"gamma\": [") != std::string::npos);
+}
+
+TEST_CASE("report: the HTML page is self-contained and embeds the SVG for c = 2 only", "[report]") {
+    const Model paper(paper_law());
+    const std::string html = report_html(paper, verify(paper));
+    CHECK(html.find("<svg") != std::string::npos);
+    CHECK(html.find("src=") == std::string::npos);   // no external resources
+    CHECK(html.find("href=") == std::string::npos);
+    CHECK(html.find("<script") == std::string::npos);
+    const Model four(load_law_file(source_path("proofs/newton4/law.json")));
+    CHECK(report_html(four, verify(four)).find("<svg") == std::string::npos);
+    CHECK(cones_svg(four).empty());
+}
+
+TEST_CASE("report: impactcert report writes both files and exits 0 even for a refuted law", "[report][cli]") {
+    const std::string dir = "/tmp/impactcert-report-test";
+    const auto run = test::run_cli("report --law '" + source_path("proofs/controls/expansive-scaled.json") + "' -o " + dir);
+    CHECK(run.status == 0);
+    CHECK(test::read_file(dir + "/report.md").find("# impactcert report: control-expansive-scaled") == 0);
+    CHECK(test::read_file(dir + "/report.html").find("<!DOCTYPE html>") == 0);
+    std::remove((dir + "/report.md").c_str());
+    std::remove((dir + "/report.html").c_str());
+}
