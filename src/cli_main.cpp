@@ -3,6 +3,7 @@
 // Exit status: 0 success / every claim proved; 1 a claim refuted; 2 bad input or usage.
 // Every error is one line on stderr: "impactcert: <place>: <reason>".
 #include "certificate.hpp"
+#include "fuzz.hpp"
 #include "law_json.hpp"
 #include "obligations.hpp"
 #include "paper_law.hpp"
@@ -11,11 +12,22 @@
 #include "verdict_output.hpp"
 
 #include <CLI/CLI.hpp>
+#include <impactcert/float_law.hpp>
+
+#include <dlfcn.h>
+#include <unistd.h>
 
 #include <filesystem>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <iostream>
 #include <sstream>
+#include <thread>
+#include <chrono>
+#include <cerrno>
+#include <cstring>
 
 namespace impactcert {
 namespace {
@@ -138,7 +150,178 @@ std::string evaluate_point(const Model& model, const Vector& x, bool velocities,
     return out;
 }
 
-int run_eval(const std::string& law_path, bool velocities, const std::vector<std::string>& args) {
+// "LIB.so:SYMBOL" -> a C-ABI `void f(const double* gamma_minus, double* gamma_plus)`.
+fuzz::Impl load_impl(const std::string& spec) {
+    const auto colon = spec.rfind(':');
+    if (colon == std::string::npos || colon == 0 || colon + 1 == spec.size())
+        throw InputError("--impl " + spec + ": expected LIB.so:SYMBOL");
+    const std::string lib = spec.substr(0, colon), symbol = spec.substr(colon + 1);
+    void* handle = dlopen(lib.find('/') == std::string::npos ? ("./" + lib).c_str() : lib.c_str(), RTLD_NOW);
+    if (!handle)
+        throw InputError("--impl " + spec + ": cannot load: " + dlerror());
+    void* f = dlsym(handle, symbol.c_str());
+    if (!f)
+        throw InputError("--impl " + spec + ": no symbol " + symbol);
+    fuzz::Impl impl;
+    static_assert(sizeof impl == sizeof f);
+    std::memcpy(&impl, &f, sizeof f);
+    return impl;
+}
+
+// Finite doubles from text: decimals correctly rounded (strtod), hex floats exactly.
+double parse_double(const std::string& text, const std::string& where) {
+    char* end = nullptr;
+    errno = 0;
+    const double d = std::strtod(text.c_str(), &end);
+    if (text.empty() || end != text.c_str() + text.size())
+        throw InputError(where + ": " + text + ": not a number");
+    if (!std::isfinite(d))
+        throw InputError(where + ": " + text + ": not a finite double (NaN and infinities are outside the domain)");
+    return d;
+}
+
+int run_eval_float(const std::string& law_path, bool velocities, const std::string& impl_spec,
+                   const std::vector<std::vector<std::string>>& points) {
+    if (!law_path.empty())
+        throw InputError("--float: the float law is the paper's law; evaluate a law file exactly (without --float)");
+    const fuzz::Impl impl = impl_spec.empty() ? nullptr : load_impl(impl_spec);
+    for (const auto& toks : points) {
+        std::vector<double> x;
+        for (const auto& t : toks)
+            x.push_back(parse_double(t, "input"));
+        if (velocities) {
+            fp::sort_velocities(x.data());
+            std::printf("%a %a %a\n", x[0], x[1], x[2]);
+            continue;
+        }
+        double law[2];
+        fp::S(x[0], x[1], law);
+        if (!impl) {
+            std::printf("%a %a\n", law[0], law[1]);
+            continue;
+        }
+        double out[2];
+        impl(x.data(), out);
+        const Vector gamma = {Rational(0), Rational(0)}; // exact values, for the record
+        (void)gamma;
+        const auto ref = fuzz::reference_fast(x[0], x[1]);
+        std::printf("impl %a %a\nlaw  %a %a  (error %llu, %llu ulp)\n", out[0], out[1], ref.value[0], ref.value[1],
+                    static_cast<unsigned long long>(fuzz::ulp_distance(out[0], ref.value[0])),
+                    static_cast<unsigned long long>(fuzz::ulp_distance(out[1], ref.value[1])));
+    }
+    return kExitProved;
+}
+
+std::string count_text(std::uint64_t n) {
+    char buf[32];
+    if (n >= 1000000)
+        std::snprintf(buf, sizeof buf, "%.1fM", static_cast<double>(n) / 1e6);
+    else
+        std::snprintf(buf, sizeof buf, "%llu", static_cast<unsigned long long>(n));
+    return buf;
+}
+
+int run_fuzz(const fuzz::Options& options, bool json) {
+    const fuzz::Impl impl = options.impl_spec.empty() ? nullptr : load_impl(options.impl_spec);
+    const bool tty = !json && isatty(STDERR_FILENO);
+    const auto start = std::chrono::steady_clock::now();
+    auto progress = [&](std::uint64_t done) {
+        if (!tty)
+            return;
+        const double frac = options.samples ? std::min(1.0, static_cast<double>(done) / static_cast<double>(options.samples)) : 1.0;
+        const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        const int width = 30, filled = static_cast<int>(frac * width);
+        std::fprintf(stderr, "\r[%s%s] %3.0f%% %s/%s samples, %.1f M/s ", std::string(static_cast<std::size_t>(filled), '#').c_str(),
+                     std::string(static_cast<std::size_t>(width - filled), '.').c_str(), frac * 100, count_text(done).c_str(),
+                     count_text(options.samples).c_str(), secs > 0 ? static_cast<double>(done) / secs / 1e6 : 0.0);
+    };
+    const fuzz::Summary sum = fuzz::run(options, impl, progress);
+    if (tty)
+        std::fprintf(stderr, "\r%80s\r", "");
+    const double rate = sum.seconds > 0 ? static_cast<double>(sum.samples) / sum.seconds : 0;
+    const std::string target = options.impl_spec.empty() ? "built-in float law" : options.impl_spec;
+    if (json) {
+        Json j;
+        j["format"] = "impactcert-fuzz/1";
+        j["implementation"] = target;
+        j["seed"] = options.seed;
+        j["jobs"] = options.jobs;
+        j["samples"] = sum.samples;
+        j["pairs"] = sum.pairs;
+        j["seconds"] = sum.seconds;
+        j["samples_per_second"] = rate;
+        j["max_error_ulps"] = {sum.max_ulps[0], sum.max_ulps[1]};
+        j["violations"] = {{"classification", sum.misclassified}, {"error_above_max_ulps", sum.not_rounded},
+                           {"negative_output", sum.negative}, {"energy", sum.energy},
+                           {"nonexpansive", sum.nonexpansive}, {"non_finite", sum.non_finite}};
+        Json examples = Json::array();
+        for (const auto& v : sum.examples) {
+            Json input = {fuzz::hex(v.sample.a.g[0]), fuzz::hex(v.sample.a.g[1])};
+            examples.push_back({{"index", v.index}, {"what", v.what}, {"generator", v.sample.kind}, {"input", input},
+                                {"output", {fuzz::hex(v.output[0]), fuzz::hex(v.output[1])}},
+                                {"expected", {fuzz::hex(v.expected[0]), fuzz::hex(v.expected[1])}},
+                                {"replay", v.replay}});
+        }
+        j["examples"] = examples;
+        j["verdict"] = sum.violations() ? "violations" : "no violation";
+        std::cout << j.dump(2) << "\n";
+    } else {
+        std::printf("impactcert fuzz: %s vs the exact law (seed %llu, %u job%s)\n", target.c_str(),
+                    static_cast<unsigned long long>(options.seed), options.jobs, options.jobs == 1 ? "" : "s");
+        std::printf("  samples                        %llu (%llu close pairs)\n",
+                    static_cast<unsigned long long>(sum.samples), static_cast<unsigned long long>(sum.pairs));
+        std::printf("  time                           %.2f s (%.1f M samples/s, %.1f M/s per job)\n", sum.seconds,
+                    rate / 1e6, rate / 1e6 / std::max(1u, options.jobs));
+        std::printf("  max error                      %llu ulp (gamma1+), %llu ulp (gamma2+)\n",
+                    static_cast<unsigned long long>(sum.max_ulps[0]), static_cast<unsigned long long>(sum.max_ulps[1]));
+        std::printf("  classification disagreements   %llu\n", static_cast<unsigned long long>(sum.misclassified));
+        std::printf("  errors above %llu ulp            %llu\n", static_cast<unsigned long long>(options.max_ulps),
+                    static_cast<unsigned long long>(sum.not_rounded));
+        std::printf("  negative outputs (gamma+ < 0)  %llu\n", static_cast<unsigned long long>(sum.negative));
+        std::printf("  energy increases               %llu\n", static_cast<unsigned long long>(sum.energy));
+        std::printf("  non-expansivity violations     %llu\n", static_cast<unsigned long long>(sum.nonexpansive));
+        std::printf("  non-finite outputs             %llu\n", static_cast<unsigned long long>(sum.non_finite));
+        for (const auto& v : sum.examples)
+            std::printf("  violation at sample %llu (%s): %s\n    input %a %a -> output %a %a, exact %a %a\n    replay: %s\n",
+                        static_cast<unsigned long long>(v.index), v.sample.kind, v.what.c_str(), v.sample.a.g[0],
+                        v.sample.a.g[1], v.output[0], v.output[1], v.expected[0], v.expected[1], v.replay.c_str());
+        std::printf("verdict: %s\n", sum.violations() ? "violations found" : "no violation");
+    }
+    return sum.violations() ? kExitRefuted : kExitProved;
+}
+
+int run_eval(const std::string& law_path, bool velocities, const std::vector<std::string>& args, bool as_float,
+             const std::string& impl_spec) {
+    if (!impl_spec.empty() && !as_float)
+        throw InputError("--impl needs --float");
+    if (as_float) {
+        const std::size_t dim = velocities ? 3 : 2;
+        std::vector<std::vector<std::string>> points;
+        std::vector<std::string> toks;
+        for (const auto& a : args)
+            for (auto& t : tokens_of(a))
+                toks.push_back(t);
+        if (args.empty()) {
+            std::string line;
+            for (std::size_t lineno = 1; std::getline(std::cin, line); ++lineno) {
+                const auto lt = tokens_of(line);
+                if (lt.empty() || lt.front().front() == '#')
+                    continue;
+                if (lt.size() != dim)
+                    throw InputError("stdin:" + std::to_string(lineno) + ": expected " + std::to_string(dim) +
+                                     " numbers, got " + std::to_string(lt.size()));
+                points.push_back(lt);
+            }
+        } else {
+            if (toks.empty() || toks.size() % dim != 0)
+                throw InputError("arguments: expected a multiple of " + std::to_string(dim) + " numbers, got " +
+                                 std::to_string(toks.size()));
+            for (std::size_t i = 0; i < toks.size(); i += dim)
+                points.emplace_back(toks.begin() + static_cast<std::ptrdiff_t>(i),
+                                    toks.begin() + static_cast<std::ptrdiff_t>(i + dim));
+        }
+        return run_eval_float(law_path, velocities, impl_spec, points);
+    }
     const Model model = load_model(law_path);
     const std::size_t dim = velocities ? model.balls() : model.contacts();
     auto read_point = [&](const std::vector<std::string>& toks, std::size_t first, const std::string& where) {
@@ -191,7 +374,10 @@ int main(int argc, char** argv) {
     app.require_subcommand(1);
 
     std::string law_path, junit_path, out_path;
-    bool json = false, velocities = false;
+    bool json = false, velocities = false, as_float = false;
+    std::string impl_spec;
+    fuzz::Options fuzz_options;
+    fuzz_options.jobs = std::max(1u, std::thread::hardware_concurrency());
     std::vector<std::string> eval_args;
 
     auto* verify_cmd = app.add_subcommand("verify", "decide every proof obligation; exit 0 when every claim is proved, 1 when one is refuted, 2 on bad input");
@@ -214,7 +400,18 @@ int main(int argc, char** argv) {
     auto* eval_cmd = app.add_subcommand("eval", "evaluate S exactly at points given as arguments or stdin lines");
     eval_cmd->add_option("--law", law_path, "law file (impactcert-law/1); default: the paper's 3-ball law");
     eval_cmd->add_flag("--velocities", velocities, "points are ball velocities u- (print u+)");
+    eval_cmd->add_flag("--float", as_float, "evaluate the float law in double (inputs read with strtod; output in hex, %a)");
+    eval_cmd->add_option("--impl", impl_spec, "with --float: also run LIB.so:SYMBOL and show its error in ulps");
     eval_cmd->add_option("points", eval_args, "numbers: rationals (-3/4), decimals (0.1), hex floats (0x1.8p-3)");
+
+    auto* fuzz_cmd = app.add_subcommand("fuzz", "fuzz a float implementation against the exact law; exit 0 no violation, 1 violation, 2 bad input");
+    fuzz_cmd->add_option("--seed", fuzz_options.seed, "seed (a run is a pure function of seed and sample index)");
+    fuzz_cmd->add_option("--samples", fuzz_options.samples, "number of samples")->check(CLI::PositiveNumber);
+    fuzz_cmd->add_option("--seconds", fuzz_options.seconds, "stop after this many seconds")->check(CLI::NonNegativeNumber);
+    fuzz_cmd->add_option("--jobs", fuzz_options.jobs, "threads")->check(CLI::Range(1u, 256u));
+    fuzz_cmd->add_option("--max-ulps", fuzz_options.max_ulps, "allowed error per component (default 0: correctly rounded)");
+    fuzz_cmd->add_option("--impl", fuzz_options.impl_spec, "LIB.so:SYMBOL, a C function void f(const double* in, double* out)");
+    fuzz_cmd->add_flag("--json", json, "print the summary as impactcert-fuzz/1 JSON");
 
     try {
         app.parse(argc, argv);
@@ -233,7 +430,9 @@ int main(int argc, char** argv) {
             return run_report(law_path, out_path);
         if (smt_cmd->parsed())
             return run_smt(law_path, out_path);
-        return run_eval(law_path, velocities, eval_args);
+        if (fuzz_cmd->parsed())
+            return run_fuzz(fuzz_options, json);
+        return run_eval(law_path, velocities, eval_args, as_float, impl_spec);
     } catch (const InputError& e) {
         std::cerr << "impactcert: " << e.what() << "\n";
         return 2;
