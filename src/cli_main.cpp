@@ -3,6 +3,7 @@
 // Exit status: 0 success / every claim proved; 1 a claim refuted; 2 bad input or usage.
 // Every error is one line on stderr: "impactcert: <place>: <reason>".
 #include "certificate.hpp"
+#include "float_eval.hpp"
 #include "fuzz.hpp"
 #include "law_json.hpp"
 #include "obligations.hpp"
@@ -182,8 +183,29 @@ double parse_double(const std::string& text, const std::string& where) {
 
 int run_eval_float(const std::string& law_path, bool velocities, const std::string& impl_spec,
                    const std::vector<std::vector<std::string>>& points) {
-    if (!law_path.empty())
-        throw InputError("--float: the float law is the paper's law; evaluate a law file exactly (without --float)");
+    if (!law_path.empty()) {
+        // Any law file: the general float evaluator, with its error bound.
+        if (velocities || !impl_spec.empty())
+            throw InputError("--float --law: --velocities and --impl apply to the built-in float law only");
+        const Model model = load_model(law_path);
+        const FloatLaw law(model);
+        for (const auto& toks : points) {
+            std::vector<double> x;
+            for (const auto& t : toks)
+                x.push_back(parse_double(t, "input"));
+            const auto r = law.eval(x);
+            if (!r.ok)
+                throw InputError("input: " + r.error);
+            std::string line, bound;
+            for (std::size_t i = 0; i < r.value.size(); ++i) {
+                line += (i ? " " : "") + fuzz::hex(r.value[i]);
+                bound += " " + fuzz::hex(r.bound[i]);
+            }
+            std::printf("%s  # piece %s, |error| <=%s%s\n", line.c_str(), model.pieces()[r.piece].name.c_str(),
+                        bound.c_str(), r.exact_fallback ? ", classified exactly" : "");
+        }
+        return kExitProved;
+    }
     const fuzz::Impl impl = impl_spec.empty() ? nullptr : load_impl(impl_spec);
     for (const auto& toks : points) {
         std::vector<double> x;
@@ -295,7 +317,7 @@ int run_eval(const std::string& law_path, bool velocities, const std::vector<std
     if (!impl_spec.empty() && !as_float)
         throw InputError("--impl needs --float");
     if (as_float) {
-        const std::size_t dim = velocities ? 3 : 2;
+        const std::size_t dim = !law_path.empty() ? load_model(law_path).contacts() : velocities ? 3 : 2;
         std::vector<std::vector<std::string>> points;
         std::vector<std::string> toks;
         for (const auto& a : args)
