@@ -297,7 +297,7 @@ int run_fuzz(const fuzz::Options& options, bool json) {
         std::printf("  max error                      %llu ulp (gamma1+), %llu ulp (gamma2+)\n",
                     static_cast<unsigned long long>(sum.max_ulps[0]), static_cast<unsigned long long>(sum.max_ulps[1]));
         std::printf("  classification disagreements   %llu\n", static_cast<unsigned long long>(sum.misclassified));
-        std::printf("  errors above %llu ulp            %llu\n", static_cast<unsigned long long>(options.max_ulps),
+        std::printf("  errors above %llu ulp             %llu\n", static_cast<unsigned long long>(options.max_ulps),
                     static_cast<unsigned long long>(sum.not_rounded));
         std::printf("  negative outputs (gamma+ < 0)  %llu\n", static_cast<unsigned long long>(sum.negative));
         std::printf("  energy increases               %llu\n", static_cast<unsigned long long>(sum.energy));

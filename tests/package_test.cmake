@@ -1,0 +1,16 @@
+# Installs the build tree into a scratch prefix, then configures, builds and runs a downstream
+# project that uses find_package(impactcert) and impactcert::float_law.
+set(prefix "${BUILD_DIR}/package-test/prefix")
+set(consumer "${BUILD_DIR}/package-test/consumer")
+file(REMOVE_RECURSE "${BUILD_DIR}/package-test")
+foreach(step
+    "${CMAKE_COMMAND};--install;${BUILD_DIR};--prefix;${prefix}"
+    "${CMAKE_COMMAND};-S;${SOURCE_DIR}/tests/package_consumer;-B;${consumer};-DCMAKE_PREFIX_PATH=${prefix}"
+    "${CMAKE_COMMAND};--build;${consumer}"
+    "${consumer}/consumer")
+  execute_process(COMMAND ${step} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  if(NOT rc EQUAL 0)
+    message(FATAL_ERROR "step failed (${rc}): ${step}\n${out}\n${err}")
+  endif()
+endforeach()
+message(STATUS "find_package(impactcert) works from an installed prefix")
