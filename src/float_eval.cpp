@@ -1,42 +1,45 @@
 #include "float_eval.hpp"
 
 #include <cmath>
+#include <cstring>
 #include <limits>
 
 namespace impactcert {
 
 namespace {
 
-double to_double(const Rational& q) {
-    // Nearest double, by exact comparison of the truncation and its neighbours.
-    const double t = mpq_get_d(q.mpq());
+// x rounded up a little: a safe upper bound for a non-negative double computed with a few
+// roundings (each at most a relative u; a factor 1 + 16u covers them with room).
+double up(double x) { return x * (1 + 16 * std::ldexp(1.0, -53)) + std::numeric_limits<double>::denorm_min(); }
+
+} // namespace
+
+double nearest_double(const Rational& q) {
+    const double t = mpq_get_d(q.mpq()); // truncation toward zero
     double best = t;
-    Rational err = abs_of(Rational(t) - q);
+    Rational best_err = abs_of(Rational(t) - q);
     for (double c : {std::nextafter(t, -INFINITY), std::nextafter(t, INFINITY)}) {
         if (!std::isfinite(c))
             continue;
-        const Rational e = abs_of(Rational(c) - q);
-        if (e < err) {
+        const Rational err = abs_of(Rational(c) - q);
+        std::uint64_t cb, bb;
+        std::memcpy(&cb, &c, 8);
+        std::memcpy(&bb, &best, 8);
+        if (err < best_err || (err == best_err && (cb & 1) == 0 && (bb & 1) == 1)) {
             best = c;
-            err = e;
+            best_err = err;
         }
     }
     return best;
 }
-
-// x rounded up a little: a safe upper bound for a non-negative double computed with a few
-// roundings (each at most a relative u; 8 ulps cover them with room).
-double up(double x) { return x * (1 + 16 * std::ldexp(1.0, -53)) + std::numeric_limits<double>::denorm_min(); }
-
-} // namespace
 
 FloatLaw::FloatLaw(const Model& model) : model_(model), c_(model.contacts()) {
     for (const auto& p : model.pieces()) {
         std::vector<double> r, q;
         for (std::size_t i = 0; i < c_; ++i)
             for (std::size_t j = 0; j < c_; ++j) {
-                r.push_back(to_double(p.R_inv(i, j)));
-                q.push_back(to_double(p.Q(i, j)));
+                r.push_back(nearest_double(p.R_inv(i, j)));
+                q.push_back(nearest_double(p.Q(i, j)));
             }
         r_inv_.push_back(std::move(r));
         q_.push_back(std::move(q));

@@ -22,6 +22,10 @@
 
 namespace impactcert {
 
+// The double nearest to q (ties to even), by exact comparison of the truncation and its two
+// neighbours. q must lie within the finite double range.
+double nearest_double(const Rational& q);
+
 class FloatLaw {
   public:
     explicit FloatLaw(const Model& model);

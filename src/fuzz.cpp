@@ -1,5 +1,6 @@
 #include "fuzz.hpp"
 
+#include "float_eval.hpp"
 #include "paper_law.hpp"
 
 #include <impactcert/float_law.hpp>
@@ -139,30 +140,6 @@ Reference reference_fast(double g1, double g2) {
     return {{s, -g2}, {e, 0}, 5}; // 0 <= g1+g2 < g1: (0, g1+g2, g1)
 }
 
-namespace {
-
-// Round a rational to the nearest double, ties to even, by exact comparison.
-double round_nearest(const Rational& q) {
-    const double t = mpq_get_d(q.mpq()); // truncation toward zero
-    double best = t;
-    Rational best_err = abs_of(Rational(t) - q);
-    for (double c : {std::nextafter(t, -INFINITY), std::nextafter(t, INFINITY)}) {
-        if (!std::isfinite(c))
-            continue;
-        const Rational err = abs_of(Rational(c) - q);
-        std::uint64_t cb, bb;
-        std::memcpy(&cb, &c, 8);
-        std::memcpy(&bb, &best, 8);
-        if (err < best_err || (err == best_err && (cb & 1) == 0 && (bb & 1) == 1)) {
-            best = c;
-            best_err = err;
-        }
-    }
-    return best;
-}
-
-} // namespace
-
 Reference reference_naive(const Model& paper, double g1, double g2) {
     const Vector gamma = {Rational(g1), Rational(g2)};
     const auto pieces = paper.pieces_containing(gamma);
@@ -170,8 +147,8 @@ Reference reference_naive(const Model& paper, double g1, double g2) {
     r.residual[0] = r.residual[1] = 0;
     r.cone = static_cast<int>(pieces.front());
     const Vector exact = paper.pieces()[pieces.front()].Q * gamma;
-    r.value[0] = round_nearest(exact[0]);
-    r.value[1] = round_nearest(exact[1]);
+    r.value[0] = nearest_double(exact[0]);
+    r.value[1] = nearest_double(exact[1]);
     return r;
 }
 

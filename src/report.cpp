@@ -2,6 +2,7 @@
 
 #include "certificate.hpp"
 #include "law_json.hpp"
+#include "verdict_output.hpp"
 
 #include <cmath>
 #include <cstdio>
@@ -12,20 +13,6 @@ namespace {
 
 const char* const kPalette[] = {"#4e79a7", "#f28e2b", "#59a14f", "#e15759", "#b07aa1",
                                 "#76b7b2", "#edc948", "#9c755f", "#ff9da7", "#bab0ac"};
-
-std::string escape(const std::string& s) {
-    std::string out;
-    for (char ch : s) {
-        switch (ch) {
-        case '&': out += "&amp;"; break;
-        case '<': out += "&lt;"; break;
-        case '>': out += "&gt;"; break;
-        case '"': out += "&quot;"; break;
-        default: out += ch;
-        }
-    }
-    return out;
-}
 
 std::string fmt(double x) {
     char buf[32];
@@ -79,9 +66,9 @@ std::string cones_svg(const Model& model) {
                  height = std::max(main, 30 + rows * cell) + 10;
     std::string s = "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" + fmt(width) + "\" height=\"" +
                     fmt(height) + "\" viewBox=\"0 0 " + fmt(width) + " " + fmt(height) +
-                    "\" font-family=\"sans-serif\" role=\"img\" aria-label=\"cones of " + escape(model.law().name) +
+                    "\" font-family=\"sans-serif\" role=\"img\" aria-label=\"cones of " + xml_escape(model.law().name) +
                     "\">\n";
-    s += "<title>" + escape(model.law().name) + ": the cones C_i in the (gamma1-, gamma2-) plane and their images "
+    s += "<title>" + xml_escape(model.law().name) + ": the cones C_i in the (gamma1-, gamma2-) plane and their images "
          "Q_i C_i</title>\n";
     // Main panel: the cones.
     const double cx = main / 2, cy = main / 2 + 10, r = 160;
@@ -115,7 +102,7 @@ std::string cones_svg(const Model& model) {
         mid = {mid.x / n, mid.y / n};
         s += "<text x=\"" + fmt(cx + mid.x * r * 0.62) + "\" y=\"" + fmt(cy - mid.y * r * 0.62 + 5) +
              "\" text-anchor=\"middle\" font-size=\"16\" font-weight=\"bold\" class=\"cone-label\">" +
-             escape(pieces[p].name) + "</text>\n";
+             xml_escape(pieces[p].name) + "</text>\n";
     }
     s += "<text x=\"" + fmt(cx + r - 4) + "\" y=\"" + fmt(cy - 6) + "\" text-anchor=\"end\" font-size=\"12\">&#947;1-</text>\n";
     s += "<text x=\"" + fmt(cx + 6) + "\" y=\"" + fmt(cy - r + 14) + "\" font-size=\"12\">&#947;2-</text>\n";
@@ -143,7 +130,7 @@ std::string cones_svg(const Model& model) {
         s += "<line x1=\"" + fmt(icx) + "\" y1=\"" + fmt(y0 + 5) + "\" x2=\"" + fmt(icx) + "\" y2=\"" +
              fmt(y0 + cell - 5) + "\" stroke=\"#888\" stroke-dasharray=\"3 3\"/>\n";
         s += "<text x=\"" + fmt(x0 + 10) + "\" y=\"" + fmt(y0 + cell - 10) + "\" font-size=\"12\" class=\"image-label\">" +
-             escape("Q_" + pieces[p].name + " C_" + pieces[p].name) + "</text>\n";
+             xml_escape("Q_" + pieces[p].name + " C_" + pieces[p].name) + "</text>\n";
     }
     s += "</svg>\n";
     return s;
@@ -213,14 +200,14 @@ std::string report_markdown(const Model& model, const VerifyReport& report) {
 std::string report_html(const Model& model, const VerifyReport& report) {
     const bool ok = report.passed();
     std::string s = "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>impactcert: " +
-                    escape(report.law) + "</title>\n<style>\n"
+                    xml_escape(report.law) + "</title>\n<style>\n"
                     "body{font-family:sans-serif;max-width:1100px;margin:2em auto;padding:0 1em;color:#222}\n"
                     "table{border-collapse:collapse;margin:1em 0}td,th{border:1px solid #ccc;padding:4px 8px;text-align:left}\n"
                     "th{background:#f0f0f0}.proved{color:#1a7f37;font-weight:bold}.refuted{color:#cf222e;font-weight:bold}\n"
                     ".skipped{color:#777}.badge{display:inline-block;padding:4px 12px;border-radius:4px;color:#fff}\n"
                     "pre{background:#f6f8fa;padding:8px;overflow-x:auto}code{font-size:90%}\n"
                     "</style>\n</head>\n<body>\n";
-    s += "<h1>impactcert report: " + escape(report.law) + "</h1>\n";
+    s += "<h1>impactcert report: " + xml_escape(report.law) + "</h1>\n";
     s += std::string("<p><span class=\"badge\" style=\"background:") + (ok ? "#1a7f37" : "#cf222e") + "\">" +
          (ok ? "proved" : "refuted") + "</span> " + std::to_string(claimed_count(report, true)) + " of " +
          std::to_string(claimed_count(report, false)) + " claimed obligations proved; " +
@@ -234,9 +221,9 @@ std::string report_html(const Model& model, const VerifyReport& report) {
     s += "<h2>Obligations</h2>\n<table>\n<tr><th>obligation</th><th>claimed</th><th>verdict</th><th>exact "
          "checks</th><th>method</th></tr>\n";
     for (const auto& o : report.obligations)
-        s += "<tr><td><code>" + escape(o.id) + "</code></td><td>" + (o.claimed ? "yes" : "no") +
+        s += "<tr><td><code>" + xml_escape(o.id) + "</code></td><td>" + (o.claimed ? "yes" : "no") +
              "</td><td class=\"" + verdict_word(o) + "\">" + verdict_word(o) + "</td><td>" +
-             std::to_string(o.checks) + "</td><td>" + escape(o.method) + "</td></tr>\n";
+             std::to_string(o.checks) + "</td><td>" + xml_escape(o.method) + "</td></tr>\n";
     s += "</table>\n";
     bool any = false;
     for (const auto& o : report.obligations) {
@@ -245,13 +232,13 @@ std::string report_html(const Model& model, const VerifyReport& report) {
         if (!any)
             s += "<h2>Counterexamples</h2>\n";
         any = true;
-        s += "<h3><code>" + escape(o.id) + "</code></h3>\n<pre>" + escape(o.counterexample.dump(2)) + "</pre>\n";
+        s += "<h3><code>" + xml_escape(o.id) + "</code></h3>\n<pre>" + xml_escape(o.counterexample.dump(2)) + "</pre>\n";
     }
     s += "<h2>The law</h2>\n<table>\n<tr><th>piece</th><th>rays</th><th>Q</th></tr>\n";
     for (const auto& p : model.pieces())
-        s += "<tr><td>" + escape(p.name) + "</td><td>" + escape(rays_text(p)) + "</td><td><code>" +
-             escape(matrix_text(p.Q)) + "</code></td></tr>\n";
-    s += "</table>\n<p>H = G<sup>-1</sup> = <code>" + escape(matrix_text(model.H())) +
+        s += "<tr><td>" + xml_escape(p.name) + "</td><td>" + xml_escape(rays_text(p)) + "</td><td><code>" +
+             xml_escape(matrix_text(p.Q)) + "</code></td></tr>\n";
+    s += "</table>\n<p>H = G<sup>-1</sup> = <code>" + xml_escape(matrix_text(model.H())) +
          "</code>. Every check is exact (GMP rationals); the reductions are argued in proofs/README.md.</p>\n";
     s += "</body>\n</html>\n";
     return s;

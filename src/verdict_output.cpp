@@ -53,6 +53,8 @@ std::string pad_left(std::string s, std::size_t width) {
     return s;
 }
 
+} // namespace
+
 std::string xml_escape(const std::string& s) {
     std::string out;
     for (char ch : s) {
@@ -67,8 +69,6 @@ std::string xml_escape(const std::string& s) {
     }
     return out;
 }
-
-} // namespace
 
 std::string verdict_table(const VerifyReport& report, const Model& model) {
     std::string out = "impactcert verify: " + report.law + " (" + std::to_string(model.balls()) +

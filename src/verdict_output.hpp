@@ -21,4 +21,7 @@ Json verdict_json(const VerifyReport& report);
 std::string verdict_table(const VerifyReport& report, const Model& model);
 std::string verdict_junit(const VerifyReport& report);
 
+// Escapes & < > " ' for XML/HTML text and attribute values.
+std::string xml_escape(const std::string& s);
+
 } // namespace impactcert
