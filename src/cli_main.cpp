@@ -18,17 +18,17 @@
 #include <dlfcn.h>
 #include <unistd.h>
 
-#include <filesystem>
+#include <cerrno>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <sstream>
 #include <thread>
-#include <chrono>
-#include <cerrno>
-#include <cstring>
 
 namespace impactcert {
 namespace {
@@ -224,8 +224,6 @@ int run_eval_float(const std::string& law_path, bool velocities, const std::stri
         }
         double out[2];
         impl(x.data(), out);
-        const Vector gamma = {Rational(0), Rational(0)}; // exact values, for the record
-        (void)gamma;
         const auto ref = fuzz::reference_fast(x[0], x[1]);
         std::printf("impl %a %a\nlaw  %a %a  (error %llu, %llu ulp)\n", out[0], out[1], ref.value[0], ref.value[1],
                     static_cast<unsigned long long>(fuzz::ulp_distance(out[0], ref.value[0])),
@@ -441,7 +439,7 @@ int main(int argc, char** argv) {
         return app.exit(e);
     } catch (const CLI::ParseError& e) {
         app.exit(e);
-        return 2;
+        return kExitBadInput;
     }
     try {
         if (verify_cmd->parsed())
@@ -457,7 +455,7 @@ int main(int argc, char** argv) {
         return run_eval(law_path, velocities, eval_args, as_float, impl_spec);
     } catch (const InputError& e) {
         std::cerr << "impactcert: " << e.what() << "\n";
-        return 2;
+        return kExitBadInput;
     } catch (const std::exception& e) {
         std::cerr << "impactcert: internal error (please report): " << e.what() << "\n";
         return 3;
