@@ -155,9 +155,12 @@ Model::Model(Law law) : law_(std::move(law)) {
             input_error(path + ".restitution",
                         "restitution must be in [0, 1], got " + to_string(si.restitution));
     }
+    std::set<std::string> outcome_names;
     for (std::size_t i = 0; i < law_.outcomes.size(); ++i) {
         const auto& o = law_.outcomes[i];
         const std::string path = idx("$.outcomes", i);
+        if (!outcome_names.insert(o.name).second)
+            input_error(path + ".name", "duplicate outcome name " + in_quotes(o.name));
         if (o.u_minus.size() != n)
             input_error(path + ".u_minus", "expected " + std::to_string(n) + " ball velocities, got " +
                                                std::to_string(o.u_minus.size()));

@@ -103,6 +103,8 @@ TEST_CASE("law file: bad input is rejected with one line naming the JSON path", 
          "$.single_impacts[0].restitution: restitution must be in [0, 1]"},
         {"contact out of range", mutated("\"contact\": 2", "\"contact\": 3"), "$.single_impacts[1].contact: contact must be in 1..2"},
         {"contact given as a string", mutated("\"contact\": 2", "\"contact\": \"2\""), "$.single_impacts[1].contact: expected an integer"},
+        {"duplicate outcome name", mutated("\"name\": \"two balls in, two balls out\"", "\"name\": \"one ball in, one ball out\""),
+         "$.outcomes[1].name: duplicate outcome name \"one ball in, one ball out\""},
         {"note that is not text", mutated("\"description\": \"Leine", "\"note\": 3, \"description\": \"Leine"),
          "$.note: free text must be a string"},
     };
