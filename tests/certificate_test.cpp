@@ -159,6 +159,8 @@ TEST_CASE("certificates: every fixture gives its registered exit status and reas
         {"fail/witness_lhs_equals_rhs.json", "$.obligations[9].counterexample.lhs: is not |S(a) - S(b)|_H^2"},
         {"fail/witness_outside_its_cone.json", "$.obligations[9].counterexample.gamma_b: not in the interior"},
         {"parse/decimal_in_matrix.json", "$.system.G[0][0]: \"2.0\" is not a rational"},
+        {"parse/law_outcome_without_u_plus.json", "$.law.outcomes[0]: missing key \"u_plus\""},
+        {"parse/law_outcome_wrong_size.json", "$.law.outcomes[0].u_minus: expected one velocity per ball"},
         {"parse/missing_obligation.json", "$.obligations: expected the 12 obligations"},
         {"parse/missing_system.json", "missing key \"system\""},
         {"parse/not_json.json", "malformed JSON"},

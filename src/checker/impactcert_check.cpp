@@ -449,8 +449,45 @@ Law read_law(const Json& j, const std::string& path) {
                 law.distinct_rays.push_back(r);
         law.pieces.push_back(std::move(piece));
     }
+    // Declarations: their shape is checked here once, so that no later step reads a missing
+    // key or a vector of the wrong length (a hash can be recomputed for any law).
+    auto entries = [&](const char* key) {
+        const Json& l = j.contains(key) ? j[key] : Json::array();
+        if (!l.is_array())
+            malformed(at(path, key), "expected an array");
+        return l;
+    };
+    const Json identities = entries("identities");
+    for (std::size_t i = 0; i < identities.size(); ++i) {
+        const std::string ip = at(at(path, "identities"), i);
+        law.piece(field(identities[i], ip, "lhs"), at(ip, "lhs"));
+        const Json& product = field(identities[i], ip, "product");
+        if (!product.is_array() || product.empty())
+            malformed(at(ip, "product"), "expected a non-empty array of piece names");
+        for (std::size_t k = 0; k < product.size(); ++k)
+            law.piece(product[k], at(at(ip, "product"), k));
+    }
+    const Json impacts = entries("single_impacts");
+    for (std::size_t i = 0; i < impacts.size(); ++i) {
+        const std::string ip = at(at(path, "single_impacts"), i);
+        law.piece(field(impacts[i], ip, "piece"), at(ip, "piece"));
+        const Json& contact = field(impacts[i], ip, "contact");
+        if (!contact.is_number_unsigned() || contact.get<std::size_t>() < 1 || contact.get<std::size_t>() > law.c)
+            malformed(at(ip, "contact"), "expected a contact number in 1..c");
+        rat(field(impacts[i], ip, "restitution"), at(ip, "restitution"));
+    }
+    const Json outcomes = entries("outcomes");
+    for (std::size_t i = 0; i < outcomes.size(); ++i) {
+        const std::string op = at(at(path, "outcomes"), i);
+        str(field(outcomes[i], op, "name"), at(op, "name"));
+        for (const char* key : {"u_minus", "u_plus"})
+            if (vec(field(outcomes[i], op, key), at(op, key)).size() != law.n)
+                malformed(at(op, key), "expected one velocity per ball");
+    }
     if (j.contains("claims")) {
         law.claims_given = true;
+        if (!j["claims"].is_array())
+            malformed(at(path, "claims"), "expected an array");
         for (const auto& id : j["claims"])
             law.claimed_ids.insert(str(id, at(path, "claims")));
     }
