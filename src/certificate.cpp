@@ -46,7 +46,7 @@ Json make_certificate(const Model& model, const VerifyReport& report) {
     cert["tool"] = std::string("impactcert ") + IMPACTCERT_VERSION;
     cert["law_sha256"] = sha256_hex(law.dump());
     cert["law"] = law;
-    cert["verdict"] = report.passed() ? "proved" : "refuted";
+    cert["verdict"] = report.verdict();
     cert["system"] = Json{{"G", to_json(model.G())}, {"H", to_json(model.H())}};
     Json obligations = Json::array();
     for (const auto& o : report.obligations) {
@@ -60,6 +60,8 @@ Json make_certificate(const Model& model, const VerifyReport& report) {
         item["data"] = o.data.is_null() ? Json::object() : o.data;
         if (o.verdict == Verdict::refuted)
             item["counterexample"] = o.counterexample;
+        if (o.verdict == Verdict::undecided)
+            item["limit"] = o.limit;
         obligations.push_back(std::move(item));
     }
     cert["obligations"] = obligations;

@@ -41,9 +41,47 @@ Model load_model(const std::string& law_path) {
     return Model(law_path.empty() ? paper_law() : load_law_file(law_path));
 }
 
-int run_verify(const std::string& law_path, bool json, const std::string& junit_path) {
+constexpr int kExitUndecided = 3;
+constexpr int kExitInternal = 4;
+
+// Progress on a terminal for runs over a second: one line on stderr, rewritten in place.
+class TerminalProgress {
+  public:
+    TerminalProgress() : enabled_(isatty(2) != 0), start_(std::chrono::steady_clock::now()) {}
+    ~TerminalProgress() {
+        if (shown_)
+            std::fprintf(stderr, "\r\033[K");
+    }
+    TerminalProgress(const TerminalProgress&) = delete;
+    TerminalProgress& operator=(const TerminalProgress&) = delete;
+    Progress callback() {
+        if (!enabled_)
+            return {};
+        return [this](const std::string& id, const std::string& status) {
+            const auto now = std::chrono::steady_clock::now();
+            if (now - start_ < std::chrono::seconds(1) || now - last_ < std::chrono::milliseconds(200))
+                return;
+            last_ = now;
+            shown_ = true;
+            std::fprintf(stderr, "\r\033[Kimpactcert: %s %s", id.c_str(), status.c_str());
+            std::fflush(stderr);
+        };
+    }
+
+  private:
+    bool enabled_;
+    bool shown_ = false;
+    std::chrono::steady_clock::time_point start_, last_{};
+};
+
+VerifyReport verify_with_progress(const Model& model, const Limits& limits) {
+    TerminalProgress progress;
+    return verify(model, limits, progress.callback());
+}
+
+int run_verify(const std::string& law_path, bool json, const std::string& junit_path, const Limits& limits) {
     const Model model = load_model(law_path);
-    const VerifyReport report = verify(model);
+    const VerifyReport report = verify_with_progress(model, limits);
     if (json)
         std::cout << verdict_json(report).dump(2) << "\n";
     else
@@ -54,12 +92,12 @@ int run_verify(const std::string& law_path, bool json, const std::string& junit_
         if (!out)
             throw InputError(junit_path + ": cannot write the JUnit report");
     }
-    return report.passed() ? kExitProved : kExitRefuted;
+    return report.exit_status();
 }
 
-int run_certify(const std::string& law_path, const std::string& out_path) {
+int run_certify(const std::string& law_path, const std::string& out_path, const Limits& limits) {
     const Model model = load_model(law_path);
-    const VerifyReport report = verify(model);
+    const VerifyReport report = verify_with_progress(model, limits);
     const std::string text = certificate_text(make_certificate(model, report));
     std::ofstream out(out_path, std::ios::binary);
     out << text;
@@ -67,8 +105,8 @@ int run_certify(const std::string& law_path, const std::string& out_path) {
     if (!out)
         throw InputError(out_path + ": cannot write the certificate");
     std::cerr << "impactcert: wrote " << out_path << " (" << report.law << ": "
-              << (report.passed() ? "proved" : "refuted") << ")\n";
-    return report.passed() ? kExitProved : kExitRefuted;
+              << report.verdict() << ")\n";
+    return report.exit_status();
 }
 
 void write_file(const std::string& path, const std::string& text) {
@@ -79,9 +117,9 @@ void write_file(const std::string& path, const std::string& text) {
         throw InputError(path + ": cannot write");
 }
 
-int run_report(const std::string& law_path, const std::string& dir) {
+int run_report(const std::string& law_path, const std::string& dir, const Limits& limits) {
     const Model model = load_model(law_path);
-    const VerifyReport report = verify(model);
+    const VerifyReport report = verify_with_progress(model, limits);
     std::error_code ec;
     std::filesystem::create_directories(dir, ec);
     if (ec)
@@ -412,6 +450,12 @@ int main(int argc, char** argv) {
     auto* report_cmd = app.add_subcommand("report", "write report.md (CI job summary) and a self-contained report.html with a picture of the cones");
     report_cmd->add_option("--law", law_path, "law file (impactcert-law/1); default: the paper's 3-ball law");
     report_cmd->add_option("-o,--output", out_path, "directory to write report.md and report.html into")->required();
+    Limits limits;
+    for (auto* cmd : {verify_cmd, certify_cmd, report_cmd}) {
+        cmd->add_option("--max-faces", limits.max_faces, "limit: simplex faces of one KKT enumeration (copositivity); beyond it an obligation is undecided")->capture_default_str();
+        cmd->add_option("--max-chambers", limits.max_chambers, "limit: steps of the chamber enumeration that decides a fan not meeting face to face")->capture_default_str();
+        cmd->add_option("--max-subsets", limits.max_subsets, "limit: constraint subsets for the extreme rays of cone intersections (P1, not face to face)")->capture_default_str();
+    }
 
     auto* smt_cmd = app.add_subcommand("smt", "write one SMT-LIB2 file per universal claim (the claim negated: unsat = holds)");
     smt_cmd->add_option("--law", law_path, "law file (impactcert-law/1); default: the paper's 3-ball law");
@@ -443,11 +487,11 @@ int main(int argc, char** argv) {
     }
     try {
         if (verify_cmd->parsed())
-            return run_verify(law_path, json, junit_path);
+            return run_verify(law_path, json, junit_path, limits);
         if (certify_cmd->parsed())
-            return run_certify(law_path, out_path);
+            return run_certify(law_path, out_path, limits);
         if (report_cmd->parsed())
-            return run_report(law_path, out_path);
+            return run_report(law_path, out_path, limits);
         if (smt_cmd->parsed())
             return run_smt(law_path, out_path);
         if (fuzz_cmd->parsed())
@@ -458,6 +502,6 @@ int main(int argc, char** argv) {
         return kExitBadInput;
     } catch (const std::exception& e) {
         std::cerr << "impactcert: internal error (please report): " << e.what() << "\n";
-        return 3;
+        return kExitInternal;
     }
 }

@@ -86,7 +86,7 @@ bool all_nonnegative(const Matrix& A) {
 
 } // namespace
 
-CopositivityResult decide_copositivity(const Matrix& A) {
+CopositivityResult decide_copositivity(const Matrix& A, std::size_t max_faces) {
     require_symmetric(A);
     const std::size_t n = A.rows();
     CopositivityResult out;
@@ -123,6 +123,12 @@ CopositivityResult decide_copositivity(const Matrix& A) {
     // Complete decision: the minimum of z^T A z over the simplex is the least KKT candidate.
     out.method = CopositivityMethod::kkt_enumeration;
     bool have_minimum = false;
+    // 2^n - 1 faces: refuse before exceeding the limit (and before 1 << n could overflow).
+    if (n >= 63 || (std::size_t{1} << n) - 1 > max_faces)
+        throw LimitExceeded("copositivity of a " + std::to_string(n) + "x" + std::to_string(n) +
+                                " form needs the KKT enumeration of 2^" + std::to_string(n) +
+                                " - 1 faces, more than " + std::to_string(max_faces),
+                            "--max-faces");
     const std::size_t subsets = std::size_t{1} << n;
     for (std::size_t mask = 1; mask < subsets; ++mask) {
         std::vector<std::size_t> J;

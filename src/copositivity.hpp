@@ -13,6 +13,7 @@
 // No floating point anywhere.
 #pragma once
 
+#include "limits.hpp"
 #include "matrix.hpp"
 
 #include <vector>
@@ -48,7 +49,9 @@ struct CopositivityResult {
     Rational minimum;                    // kkt_enumeration: min of z^T A z over the simplex
 };
 
-CopositivityResult decide_copositivity(const Matrix& A);
+// Throws LimitExceeded (limits.hpp) when the KKT enumeration would examine more than
+// `max_faces` faces (the cheap certificates are tried first, whatever the size).
+CopositivityResult decide_copositivity(const Matrix& A, std::size_t max_faces = Limits{}.max_faces);
 
 Vector interior_witness(const Matrix& A, const Vector& z);
 

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <map>
+#include <set>
 #include <stdexcept>
 
 namespace impactcert {
@@ -31,21 +32,20 @@ std::vector<std::size_t> interiors_containing(const Model& model, const Vector& 
     return out;
 }
 
-void fail_at_point(FanResult& r, const Vector& x, std::vector<std::size_t> covering) {
-    r.proved = false;
-    r.point = x;
-    r.reason = covering.empty() ? "a direction lies in no cone (the cones do not cover R^c)"
-                                : "a direction lies in the interior of " +
-                                      std::to_string(covering.size()) + " cones (they overlap)";
-    r.covering = std::move(covering);
+// Records the covering of every test point and the first one covered k != 1 times.
+void cover(const Model& model, FanResult& r) {
+    r.covering.clear();
+    r.failing.reset();
+    for (std::size_t k = 0; k < r.test_points.size(); ++k) {
+        r.covering.push_back(interiors_containing(model, r.test_points[k]));
+        r.checks += model.pieces().size();
+        if (r.covering.back().size() != 1 && !r.failing)
+            r.failing = k;
+    }
+    r.proved = !r.failing;
 }
 
-} // namespace
-
-FanResult check_fan_planar(const Model& model) {
-    if (model.contacts() != 2)
-        throw std::logic_error("check_fan_planar needs c = 2");
-    FanResult r;
+void check_planar(const Model& model, FanResult& r) {
     r.method = "angular-sectors";
     std::vector<Vector> rays = model.rays();
     std::sort(rays.begin(), rays.end(), angle_less);
@@ -55,30 +55,22 @@ FanResult check_fan_planar(const Model& model) {
         const Vector& a = rays[k];
         const Vector& b = rays[(k + 1) % m];
         // A direction strictly inside the open sector from a to b (counter-clockwise).
-        Vector inside = (m > 1 && orientation(a, b) == Sign::positive) ? a + b
-                                                                        : Vector{-a[1], a[0]};
-        r.sector_points.push_back(inside);
-        auto covering = interiors_containing(model, inside);
-        r.checks += model.pieces().size();
-        if (covering.size() != 1) {
-            fail_at_point(r, inside, std::move(covering));
-            return r;
-        }
+        r.test_points.push_back((m > 1 && orientation(a, b) == Sign::positive) ? a + b
+                                                                                : Vector{-a[1], a[0]});
     }
-    r.proved = true;
-    return r;
+    cover(model, r);
+    r.fast_path = r.proved;
 }
 
-FanResult check_fan_facets(const Model& model) {
-    FanResult r;
-    r.method = "facet-matching";
+// The facet criterion: true when every facet is shared by exactly two cones on opposite sides
+// and the first generic point of the moment curve is covered once.
+bool check_facets(const Model& model, FanResult& r) {
     const std::size_t c = model.contacts();
     const auto& pieces = model.pieces();
     struct Side {
         std::size_t piece;
         Sign side;
     };
-    // Facet (sorted ray ids) -> the pieces having it, with the side of their remaining ray.
     std::map<std::vector<std::size_t>, std::vector<Side>> facets;
     auto facet_matrix = [&](const std::vector<std::size_t>& ids, const Vector& last) {
         std::vector<Vector> cols;
@@ -87,18 +79,16 @@ FanResult check_fan_facets(const Model& model) {
         cols.push_back(last);
         return Matrix::from_columns(cols);
     };
-    for (std::size_t p = 0; p < pieces.size(); ++p) {
+    for (std::size_t p = 0; p < pieces.size(); ++p)
         for (std::size_t drop = 0; drop < c; ++drop) {
             std::vector<std::size_t> ids;
             for (std::size_t k = 0; k < c; ++k)
                 if (k != drop)
                     ids.push_back(pieces[p].ray_ids[k]);
             std::sort(ids.begin(), ids.end());
-            const Sign side = sign_of(determinant(facet_matrix(ids, pieces[p].R.column(drop))));
-            facets[ids].push_back({p, side});
+            facets[ids].push_back({p, sign_of(determinant(facet_matrix(ids, pieces[p].R.column(drop))))});
             ++r.checks;
         }
-    }
     for (const auto& [ids, sides] : facets) {
         FanResult::Facet record;
         for (auto id : ids)
@@ -106,25 +96,11 @@ FanResult check_fan_facets(const Model& model) {
         for (const auto& sd : sides)
             record.pieces.push_back(sd.piece);
         r.facets.push_back(std::move(record));
+        if (sides.size() != 2 || sides[0].side == sides[1].side)
+            return false;
     }
-    for (const auto& [ids, sides] : facets) {
-        const bool ok = sides.size() == 2 && sides[0].side != sides[1].side;
-        if (ok)
-            continue;
-        r.proved = false;
-        r.piece = sides.front().piece;
-        for (auto id : ids)
-            r.facet.push_back(model.rays()[id]);
-        for (std::size_t k = 1; k < sides.size(); ++k)
-            r.neighbours.push_back(sides[k].piece);
-        r.reason = sides.size() == 1 ? "a facet belongs to no other cone (the cones leave a gap)"
-                   : sides.size() > 2 ? "a facet belongs to more than two cones (they overlap)"
-                                      : "two cones sharing a facet lie on the same side of it "
-                                        "(they overlap)";
-        return r;
-    }
-    // One generic point: on the moment curve (1, t, t^2, ...), off every facet hyperplane. Each
-    // hyperplane meets the curve in at most c-1 values of t, so the search terminates.
+    // One generic point on the moment curve (1, t, t^2, ...): each facet hyperplane meets the
+    // curve in at most c-1 values of t, so the search ends.
     Vector point(c);
     for (long t = 1;; ++t) {
         Rational power = 1;
@@ -141,19 +117,212 @@ FanResult check_fan_facets(const Model& model) {
         if (generic)
             break;
     }
-    r.generic_point = point;
-    auto covering = interiors_containing(model, point);
-    r.checks += pieces.size();
-    if (covering.size() != 1) {
-        fail_at_point(r, point, std::move(covering));
-        return r;
-    }
-    r.proved = true;
-    return r;
+    r.test_points = {point};
+    cover(model, r);
+    return r.proved;
 }
 
-FanResult check_fan(const Model& model) {
-    return model.contacts() == 2 ? check_fan_planar(model) : check_fan_facets(model);
+std::vector<int> sign_vector(const std::vector<Vector>& normals, const Vector& x) {
+    std::vector<int> s;
+    s.reserve(normals.size());
+    for (const auto& n : normals)
+        s.push_back(static_cast<int>(sign_of(dot(n, x))));
+    return s;
+}
+
+void charge(std::size_t& steps, std::size_t max_steps) {
+    if (++steps > max_steps)
+        throw LimitExceeded("the facet arrangement needs more than " + std::to_string(max_steps) +
+                                " chamber-enumeration steps",
+                            "--max-chambers");
+}
+
+} // namespace
+
+std::vector<Vector> chamber_points(const std::vector<Vector>& normals, std::size_t d,
+                                   std::size_t max_steps, std::size_t& steps) {
+    charge(steps, max_steps);
+    if (d == 1)
+        return normals.empty() ? std::vector<Vector>{Vector{1}} : std::vector<Vector>{Vector{1}, Vector{-1}};
+    if (normals.empty())
+        return {unit_vector(d, 0)};
+    // Deletion and restriction of the last hyperplane h (proofs/README.md, "Chambers").
+    const Vector& n = normals.back();
+    const std::vector<Vector> rest(normals.begin(), normals.end() - 1);
+    std::vector<Vector> points;
+    for (auto& p : chamber_points(rest, d, max_steps, steps))
+        if (sign_of(dot(n, p)) != Sign::zero)
+            points.push_back(std::move(p));
+    const std::vector<Vector> basis = null_space({n}, d); // d-1 vectors spanning h
+    std::vector<Vector> restricted;
+    for (const auto& m : rest) {
+        Vector local(d - 1);
+        for (std::size_t k = 0; k + 1 < d; ++k)
+            local[k] = dot(basis[k], m);
+        Vector line = canonical_line(local); // non-zero: m is not a multiple of n
+        if (std::find(restricted.begin(), restricted.end(), line) == restricted.end())
+            restricted.push_back(std::move(line));
+    }
+    for (const auto& local : chamber_points(restricted, d - 1, max_steps, steps)) {
+        Vector y(d);
+        for (std::size_t k = 0; k + 1 < d; ++k)
+            y = y + local[k] * basis[k];
+        // Step off h by less than any other hyperplane allows: the two points lie in the two
+        // chambers on either side of the chamber of h that contains y.
+        Rational eps = 1;
+        for (const auto& m : rest) {
+            const Rational mn = dot(m, n);
+            if (sign_of(mn) != Sign::zero)
+                eps = std::min(eps, abs_of(dot(m, y)) / (2 * abs_of(mn)));
+        }
+        points.push_back(primitive_ray(y + eps * n));
+        points.push_back(primitive_ray(y - eps * n));
+        charge(steps, max_steps);
+    }
+    std::set<std::vector<int>> seen;
+    std::vector<Vector> out;
+    for (auto& p : points)
+        if (seen.insert(sign_vector(normals, p)).second)
+            out.push_back(std::move(p));
+    return out;
+}
+
+std::vector<Vector> facet_hyperplanes(const Model& model) {
+    const std::size_t c = model.contacts();
+    std::set<Vector> lines;
+    for (const auto& piece : model.pieces())
+        for (std::size_t drop = 0; drop < c; ++drop) {
+            std::vector<Vector> rows;
+            for (std::size_t k = 0; k < c; ++k)
+                if (k != drop)
+                    rows.push_back(piece.R.column(k));
+            const auto normal = null_space(rows, c); // one vector: the rays are independent
+            lines.insert(canonical_line(normal.at(0)));
+        }
+    return {lines.begin(), lines.end()};
+}
+
+FanResult check_fan(const Model& model, const Limits& limits) {
+    FanResult r;
+    if (model.contacts() == 2) {
+        check_planar(model, r);
+        return r;
+    }
+    r.method = "facet-matching";
+    if (check_facets(model, r)) {
+        r.fast_path = true;
+        return r;
+    }
+    // Complete decision: one point in every chamber of the facet arrangement.
+    FanResult full;
+    full.method = "chambers";
+    full.checks = r.checks;
+    full.hyperplanes = facet_hyperplanes(model);
+    std::size_t steps = 0;
+    full.test_points = chamber_points(full.hyperplanes, model.contacts(), limits.max_chambers, steps);
+    full.checks += steps;
+    cover(model, full);
+    return full;
+}
+
+DomainResult check_domain(const Model& model, const FanResult& fan) {
+    DomainResult d;
+    if (fan.proved)
+        return d;
+    const auto& pieces = model.pieces();
+    const std::size_t c = model.contacts();
+    for (std::size_t k = 0; k < fan.test_points.size(); ++k) {
+        const Vector& x = fan.test_points[k];
+        const auto& cov = fan.covering[k];
+        if (cov.empty()) {
+            d.function = false;
+            d.point = x;
+            d.reason = "S is undefined at gamma: it lies in no cone";
+            return d;
+        }
+        for (std::size_t u = 0; u < cov.size(); ++u)
+            for (std::size_t v = u + 1; v < cov.size(); ++v) {
+                const std::size_t a = cov[u], b = cov[v];
+                if (pieces[a].Q == pieces[b].Q)
+                    continue;
+                // A point of int C_a ∩ int C_b where the matrices differ: x itself, or x moved
+                // along a unit vector by less than the cone coordinates allow.
+                const Matrix diff = pieces[a].Q - pieces[b].Q;
+                Vector y = x;
+                for (std::size_t e = 0; e < c && is_zero(diff * y); ++e) {
+                    Rational delta = 1;
+                    for (std::size_t p : {a, b}) {
+                        const Vector s = pieces[p].R_inv * x, dir = pieces[p].R_inv.column(e);
+                        for (std::size_t i = 0; i < c; ++i)
+                            if (sign_of(dir[i]) == Sign::negative)
+                                delta = std::min(delta, s[i] / (2 * abs_of(dir[i])));
+                    }
+                    y = primitive_ray(x + delta * unit_vector(c, e));
+                }
+                if (is_zero(diff * y))
+                    throw std::logic_error("check_domain: the matrices differ but agree on a basis");
+                d.function = false;
+                d.point = y;
+                d.interior_of = interiors_containing(model, y);
+                d.reason = "S is two-valued near gamma: it is interior to two cones whose matrices differ there";
+                return d;
+            }
+    }
+    return d;
+}
+
+std::size_t intersection_subsets(std::size_t c) {
+    // C(2c, c-1), exactly (the running product of binomials stays integral).
+    std::size_t n = 2 * c, k = c - 1, out = 1;
+    for (std::size_t i = 1; i <= k; ++i)
+        out = out * (n - k + i) / i;
+    return out;
+}
+
+std::vector<Vector> intersection_rays(const Model& model, std::size_t i, std::size_t j,
+                                      std::size_t& subsets) {
+    const std::size_t c = model.contacts();
+    const Piece& a = model.pieces()[i];
+    const Piece& b = model.pieces()[j];
+    // x = R_a s with s >= 0 and t = R_b^-1 R_a s >= 0: 2c constraints on s.
+    const Matrix T = b.R_inv * a.R;
+    std::vector<Vector> constraints;
+    for (std::size_t k = 0; k < c; ++k)
+        constraints.push_back(unit_vector(c, k));
+    for (std::size_t k = 0; k < c; ++k)
+        constraints.push_back(T.row(k));
+    auto feasible = [&](const Vector& s) {
+        return std::all_of(constraints.begin(), constraints.end(),
+                           [&](const Vector& g) { return sign_of(dot(g, s)) != Sign::negative; });
+    };
+    // Every extreme ray of the pointed cone {s : constraints >= 0} is the one-dimensional
+    // solution set of c-1 independent tight constraints: try every such subset.
+    std::set<Vector> rays;
+    std::vector<std::size_t> pick(c - 1);
+    for (std::size_t k = 0; k + 1 < c; ++k)
+        pick[k] = k;
+    const std::size_t total = constraints.size();
+    while (true) {
+        ++subsets;
+        std::vector<Vector> rows;
+        for (auto k : pick)
+            rows.push_back(constraints[k]);
+        const auto ns = null_space(rows, c);
+        if (ns.size() == 1)
+            for (const Vector& s : {ns[0], Rational(-1) * ns[0]})
+                if (feasible(s))
+                    rays.insert(primitive_ray(a.R * s));
+        // Next (c-1)-subset of {0..2c-1} in lexicographic order.
+        std::size_t k = c - 1;
+        while (k > 0 && pick[k - 1] == total - (c - 1) + (k - 1))
+            --k;
+        if (k == 0)
+            break;
+        ++pick[k - 1];
+        for (std::size_t l = k; l < c - 1; ++l)
+            pick[l] = pick[l - 1] + 1;
+    }
+    return {rays.begin(), rays.end()};
 }
 
 } // namespace impactcert

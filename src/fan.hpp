@@ -1,17 +1,27 @@
-// fan.hpp -- does the set of cones form a fan that covers R^c exactly once?
+// fan.hpp -- do the cones tile R^c, is S a function on R^c, and where do two cones meet?
 //
-// Contract (proofs/README.md, obligation `fan`):
-//   - check_fan_planar (c = 2 only): sorts the distinct rays by angle with exact orientation
-//     predicates; between two angularly consecutive rays lies an open sector that no ray cuts,
-//     so the number of cones containing it is constant there; one exact test direction per
-//     sector must be covered by exactly one cone.
-//   - check_fan_facets (any c): every facet (c-1 rays) of every cone is the facet of exactly one
-//     other cone, the two on opposite sides of the facet's hyperplane, and one generic point (on
-//     no facet hyperplane) lies in exactly one cone.
-// Both return a witness on failure: a point covered k != 1 times, or a facet and its defect.
+// Contract (proofs/README.md, obligations `fan` and `P1`, argues each step):
+//   - check_fan decides exactly whether the cones tile R^c (union R^c, interiors pairwise
+//     disjoint; they need not meet face to face):
+//       c = 2: method `angular-sectors`: one direction inside each open sector between angularly
+//              consecutive rays; the count of cones containing it is constant on the sector.
+//       c != 2: method `facet-matching` (fast path): every facet shared by exactly one other cone
+//              on the opposite side, and one generic point covered once. When it does not
+//              apply, method `chambers`: one point in every chamber of the arrangement of all
+//              facet hyperplanes (chamber_points); the count is constant on each chamber.
+//     Every test point lies on no cone boundary, so "in a closed cone" and "in its interior"
+//     agree there; `covering` lists the interiors containing each point, and the first point
+//     covered k != 1 times is the witness (k = 0: a gap, k >= 2: an overlap).
+//   - check_domain: from a complete list of test points, whether S is a function on R^c (no gap,
+//     and overlapping interiors carry equal matrices); otherwise the first point where S is
+//     undefined or two-valued on an open set.
+//   - intersection_rays: the extreme rays of C_i ∩ C_j (a pointed cone), sorted.
+// Limits: LimitExceeded (limits.hpp) before the chamber enumeration or the intersection work
+// exceeds its limit.
 #pragma once
 
 #include "law.hpp"
+#include "limits.hpp"
 
 #include <optional>
 #include <string>
@@ -21,29 +31,49 @@ namespace impactcert {
 
 struct FanResult {
     bool proved = false;
+    bool fast_path = false;    // proved by sectors or by facet matching: a fan meeting face to face
     std::size_t checks = 0;
-    std::string method; // "angular-sectors" or "facet-matching"
-    // Failure witness, one of:
-    std::optional<Vector> point;          // a gamma covered covering.size() != 1 times
-    std::vector<std::size_t> covering;    //   the pieces whose interior contains it
-    std::optional<std::size_t> piece;     // a piece with a defective facet ...
-    std::vector<Vector> facet;            //   the facet's rays
-    std::vector<std::size_t> neighbours;  //   the other pieces having that facet
-    std::string reason;                   // one line, human readable
-    // Certificate data (what was checked), whichever the verdict:
-    std::vector<Vector> rays_by_angle;    // planar: the distinct rays, sorted by angle
-    std::vector<Vector> sector_points;    // planar: one direction inside each sector
+    std::string method;        // "angular-sectors", "facet-matching" or "chambers"
+    std::vector<Vector> rays_by_angle; // angular-sectors: the distinct rays, sorted by angle
     struct Facet {
-        std::vector<Vector> rays;         // the facet's c-1 rays (sorted by ray id)
-        std::vector<std::size_t> pieces; // the pieces having it
+        std::vector<Vector> rays;         // the facet's c-1 rays (in ray-id order)
+        std::vector<std::size_t> pieces;  // the pieces having it
     };
-    std::vector<Facet> facets;            // facet method: every facet with its pieces
-    std::optional<Vector> generic_point;  // facet method: the point covered exactly once
+    std::vector<Facet> facets;         // facet-matching: every facet with its pieces
+    std::vector<Vector> hyperplanes;   // chambers: the distinct facet hyperplanes (normals)
+    // angular-sectors: one direction per sector; facet-matching: the generic point;
+    // chambers: one point per chamber. None lies on a facet hyperplane.
+    std::vector<Vector> test_points;
+    std::vector<std::vector<std::size_t>> covering; // the interiors containing each test point
+    std::optional<std::size_t> failing;             // first test point covered != 1 times
 };
 
-FanResult check_fan_planar(const Model& model);
-FanResult check_fan_facets(const Model& model);
-// The method of SPEC section 3 for this dimension: planar for c = 2, facets otherwise.
-FanResult check_fan(const Model& model);
+FanResult check_fan(const Model& model, const Limits& limits);
+
+struct DomainResult {
+    bool function = true;                // S is defined and single-valued off the boundaries
+    std::optional<Vector> point;         // otherwise: in no cone, or interior to two cones ...
+    std::vector<std::size_t> interior_of; // ... the interiors containing it
+    std::string reason;
+};
+
+// `fan` must come from check_fan; when it is proved S is a function.
+DomainResult check_domain(const Model& model, const FanResult& fan);
+
+// The extreme rays of C_i ∩ C_j (primitive, sorted); empty when the cones meet only in 0.
+// `subsets` counts the constraint subsets examined.
+std::vector<Vector> intersection_rays(const Model& model, std::size_t i, std::size_t j,
+                                      std::size_t& subsets);
+// Constraint subsets intersection_rays examines for one pair: C(2c, c-1).
+std::size_t intersection_subsets(std::size_t c);
+
+// One point in every chamber of the central arrangement {x in R^d : n.x = 0}, n in `normals`
+// (distinct canonical lines, see canonical_line), none on a hyperplane, one per chamber, in a
+// deterministic order. `steps` counts the work; LimitExceeded beyond `max_steps`.
+std::vector<Vector> chamber_points(const std::vector<Vector>& normals, std::size_t d,
+                                   std::size_t max_steps, std::size_t& steps);
+
+// The distinct facet hyperplanes of all cones, as sorted canonical normals.
+std::vector<Vector> facet_hyperplanes(const Model& model);
 
 } // namespace impactcert

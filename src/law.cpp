@@ -169,6 +169,8 @@ Model::Model(Law law) : law_(std::move(law)) {
                                               std::to_string(o.u_plus.size()));
     }
     if (law_.claims) {
+        if (law_.claims->empty())
+            input_error("$.claims", "no obligation claimed (omit \"claims\" to claim every one that applies)");
         std::set<std::string> seen;
         for (std::size_t i = 0; i < law_.claims->size(); ++i) {
             const std::string& id = (*law_.claims)[i];

@@ -1,5 +1,7 @@
 #include "matrix.hpp"
 
+#include <algorithm>
+
 #include <stdexcept>
 #include <utility>
 
@@ -271,6 +273,57 @@ Vector primitive_ray(const Vector& v) {
     mpz_clear(scale);
     mpz_clear(g);
     return out;
+}
+
+Vector canonical_line(const Vector& v) {
+    Vector p = primitive_ray(v);
+    for (const auto& x : p) {
+        const Sign s = sign_of(x);
+        if (s == Sign::zero)
+            continue;
+        if (s == Sign::negative)
+            for (auto& y : p)
+                y = -y;
+        break;
+    }
+    return p;
+}
+
+std::vector<Vector> null_space(const std::vector<Vector>& rows, std::size_t dim) {
+    std::vector<Vector> m = rows;
+    std::vector<std::size_t> pivot_cols;
+    std::size_t r = 0;
+    for (std::size_t col = 0; col < dim && r < m.size(); ++col) {
+        std::size_t p = r;
+        while (p < m.size() && sign_of(m[p][col]) == Sign::zero)
+            ++p;
+        if (p == m.size())
+            continue;
+        std::swap(m[p], m[r]);
+        const Rational inv = Rational(1) / m[r][col];
+        for (auto& x : m[r])
+            x *= inv;
+        for (std::size_t i = 0; i < m.size(); ++i) {
+            if (i == r || sign_of(m[i][col]) == Sign::zero)
+                continue;
+            const Rational f = m[i][col];
+            for (std::size_t j = 0; j < dim; ++j)
+                m[i][j] -= f * m[r][j];
+        }
+        pivot_cols.push_back(col);
+        ++r;
+    }
+    std::vector<Vector> basis;
+    for (std::size_t free = 0; free < dim; ++free) {
+        if (std::find(pivot_cols.begin(), pivot_cols.end(), free) != pivot_cols.end())
+            continue;
+        Vector x(dim);
+        x[free] = 1;
+        for (std::size_t k = 0; k < pivot_cols.size(); ++k)
+            x[pivot_cols[k]] = -m[k][free];
+        basis.push_back(primitive_ray(x));
+    }
+    return basis;
 }
 
 std::string to_string(const Vector& v) {

@@ -64,6 +64,14 @@ std::optional<Vector> solve(const Matrix& a, const Vector& b);
 // The positive multiple of v != 0 whose entries are coprime integers. Two non-zero vectors span
 // the same ray iff their primitive representatives are equal.
 Vector primitive_ray(const Vector& v);
+// The primitive representative of the line through v != 0 whose first non-zero entry is
+// positive: two non-zero vectors span the same line (or hyperplane normal) iff these are equal.
+Vector canonical_line(const Vector& v);
+
+// A basis of {x in R^dim : r . x = 0 for every r in rows}, by reduced row echelon form: one
+// primitive integer vector per free column, in column order (deterministic). Empty when the rows
+// have rank dim.
+std::vector<Vector> null_space(const std::vector<Vector>& rows, std::size_t dim);
 
 std::string to_string(const Vector& v); // "(a, b, c)"
 

@@ -15,6 +15,7 @@ const char* to_string(Verdict v) {
     case Verdict::proved: return "proved";
     case Verdict::refuted: return "refuted";
     case Verdict::skipped: return "skipped";
+    case Verdict::undecided: return "undecided";
     }
     return "?";
 }
@@ -23,6 +24,23 @@ bool VerifyReport::passed() const {
     return std::all_of(obligations.begin(), obligations.end(), [](const ObligationResult& o) {
         return !o.claimed || o.verdict == Verdict::proved;
     });
+}
+
+const char* VerifyReport::verdict() const {
+    bool undecided = false;
+    for (const auto& o : obligations) {
+        if (!o.claimed)
+            continue;
+        if (o.verdict == Verdict::refuted)
+            return "refuted";
+        undecided = undecided || o.verdict != Verdict::proved;
+    }
+    return undecided ? "undecided" : "proved";
+}
+
+int VerifyReport::exit_status() const {
+    const std::string v = verdict();
+    return v == "proved" ? 0 : v == "refuted" ? 1 : 3;
 }
 
 const ObligationResult& VerifyReport::at(const std::string& id) const {
@@ -106,7 +124,8 @@ Json certificate_json(const CopositivityResult& r) {
 
 class Prover {
   public:
-    explicit Prover(const Model& m) : m_(m), c_(m.contacts()), pieces_(m.pieces()) {}
+    Prover(const Model& m, const Limits& limits, const Progress& progress)
+        : m_(m), c_(m.contacts()), pieces_(m.pieces()), limits_(limits), progress_(progress) {}
 
     VerifyReport run() {
         VerifyReport report;
@@ -120,12 +139,19 @@ class Prover {
                 r.verdict = Verdict::skipped;
                 r.method = "nothing declared";
             } else {
-                Outcome o = dispatch(r.id);
-                r.verdict = o.proved ? Verdict::proved : Verdict::refuted;
-                r.checks = o.checks;
-                r.method = o.method;
-                r.counterexample = std::move(o.counterexample);
-                r.data = std::move(o.data);
+                try {
+                    Outcome o = dispatch(r.id);
+                    r.verdict = o.proved ? Verdict::proved : Verdict::refuted;
+                    r.checks = o.checks;
+                    r.method = o.method;
+                    r.counterexample = std::move(o.counterexample);
+                    r.data = std::move(o.data);
+                } catch (const LimitExceeded& e) {
+                    r.verdict = Verdict::undecided;
+                    r.method = "exact decision beyond a limit";
+                    r.limit = std::string(e.what()) + " (raise it with " + e.option + ")";
+                    r.data = Json::object();
+                }
             }
             r.elapsed = std::chrono::steady_clock::now() - start;
             report.obligations.push_back(std::move(r));
@@ -137,8 +163,18 @@ class Prover {
     const Model& m_;
     std::size_t c_;
     const std::vector<Piece>& pieces_;
+    const Limits& limits_;
+    const Progress& progress_;
     std::optional<FanResult> fan_;
+    std::optional<LimitExceeded> fan_limit_; // the fan's decision exceeded a limit
     std::optional<Outcome> p1_;
+    std::optional<LimitExceeded> p1_limit_;
+    std::optional<DomainResult> domain_;
+
+    void report_progress(const std::string& id, std::size_t done, std::size_t total) const {
+        if (progress_)
+            progress_(id, std::to_string(done) + "/" + std::to_string(total));
+    }
 
     const std::string& name(std::size_t p) const { return pieces_[p].name; }
 
@@ -162,33 +198,30 @@ class Prover {
     // fan
 
     const FanResult& fan_result() {
-        if (!fan_)
-            fan_ = check_fan(m_);
+        if (fan_limit_)
+            throw *fan_limit_;
+        if (!fan_) {
+            try {
+                fan_ = check_fan(m_, limits_);
+            } catch (const LimitExceeded& e) {
+                fan_limit_ = e;
+                throw;
+            }
+        }
         return *fan_;
     }
 
-    Json fan_witness() {
-        const FanResult& f = fan_result();
-        Json w;
-        w["reason"] = f.reason;
-        if (f.point) {
-            w["gamma"] = to_json(*f.point);
-            Json covering = Json::array();
-            for (auto p : f.covering)
-                covering.push_back(name(p));
-            w["interior_of"] = covering;
-        } else {
-            w["piece"] = name(*f.piece);
-            Json facet = Json::array();
-            for (const auto& r : f.facet)
-                facet.push_back(to_json(r));
-            w["facet"] = facet;
-            Json others = Json::array();
-            for (auto p : f.neighbours)
-                others.push_back(name(p));
-            w["shared_with"] = others;
-        }
-        return w;
+    const DomainResult& domain() {
+        if (!domain_)
+            domain_ = check_domain(m_, fan_result());
+        return *domain_;
+    }
+
+    Json names_of(const std::vector<std::size_t>& ps) const {
+        Json out = Json::array();
+        for (auto p : ps)
+            out.push_back(name(p));
+        return out;
     }
 
     Outcome fan() {
@@ -196,55 +229,96 @@ class Prover {
         Outcome o;
         o.checks = f.checks;
         o.method = f.method;
+        Json points = Json::array();
+        for (const auto& p : f.test_points)
+            points.push_back(to_json(p));
         if (f.method == "angular-sectors") {
-            Json rays = Json::array(), points = Json::array();
+            Json rays = Json::array();
             for (const auto& r : f.rays_by_angle)
                 rays.push_back(to_json(r));
-            for (const auto& p : f.sector_points)
-                points.push_back(to_json(p));
             o.data["rays_by_angle"] = rays;
             o.data["sector_points"] = points;
-        } else {
+        } else if (f.method == "facet-matching") {
             Json facets = Json::array();
             for (const auto& fc : f.facets) {
-                Json rays = Json::array(), owners = Json::array();
+                Json rays = Json::array();
                 for (const auto& r : fc.rays)
                     rays.push_back(to_json(r));
-                for (auto p : fc.pieces)
-                    owners.push_back(name(p));
-                facets.push_back(Json{{"rays", rays}, {"pieces", owners}});
+                facets.push_back(Json{{"rays", rays}, {"pieces", names_of(fc.pieces)}});
             }
             o.data["facets"] = facets;
-            if (f.generic_point)
-                o.data["generic_point"] = to_json(*f.generic_point);
+            o.data["generic_point"] = points.at(0);
+        } else {
+            Json planes = Json::array();
+            for (const auto& n : f.hyperplanes)
+                planes.push_back(to_json(n));
+            o.data["hyperplanes"] = planes;
+            o.data["chamber_points"] = points;
         }
         if (!f.proved) {
-            // Re-validate a point witness: it must really be covered k != 1 times.
-            if (f.point)
-                ensure([&] {
-                    std::size_t k = 0;
-                    for (std::size_t p = 0; p < pieces_.size(); ++p)
-                        k += m_.in_interior(p, *f.point) ? 1 : 0;
-                    return k != 1 && m_.pieces_containing(*f.point).size() == k;
-                }(), "fan point");
-            return refute(o, fan_witness());
+            const std::size_t k = *f.failing;
+            const Vector& x = f.test_points[k];
+            const auto& cov = f.covering[k];
+            // Re-validate: a point in no closed cone, or in two interiors.
+            ensure(cov.size() >= 2 || m_.pieces_containing(x).empty(), "fan point");
+            return refute(o, Json{{"gamma", to_json(x)}, {"interior_of", names_of(cov)},
+                                  {"reason", cov.empty() ? "gamma lies in no cone (the cones leave a gap)"
+                                                         : "gamma lies in the interiors of " +
+                                                               std::to_string(cov.size()) +
+                                                               " cones (they overlap)"}});
         }
         return o;
     }
 
-    // Obligations that need S to be a function on R^c fall back on the fan's witness.
-    Outcome refute_via_fan(Outcome o) {
-        Json w = fan_witness();
-        w["via"] = "fan";
-        return refute(std::move(o), std::move(w));
+    // Obligations that need S to be a function on R^c: refuted by a point where S is undefined
+    // or two-valued on an open set (SPEC section 3, witness rules); nothing when S is one.
+    std::optional<Json> domain_witness() {
+        const DomainResult& d = domain();
+        if (d.function)
+            return std::nullopt;
+        const Vector& x = *d.point;
+        if (d.interior_of.empty()) {
+            ensure(m_.pieces_containing(x).empty(), "domain gap");
+        } else {
+            bool differ = false;
+            for (auto a : d.interior_of)
+                for (auto b : d.interior_of)
+                    differ = differ || pieces_[a].Q * x != pieces_[b].Q * x;
+            ensure(differ, "domain two-valued");
+        }
+        return Json{{"via", "fan"}, {"gamma", to_json(x)}, {"interior_of", names_of(d.interior_of)},
+                    {"reason", d.reason}};
     }
 
     // -----------------------------------------------------------------------------------------
-    // P1: continuity on shared rays
+    // P1: continuity wherever two cones meet
+
+    Json p1_witness(std::size_t i, std::size_t j, const Vector& x) {
+        const Vector qi = pieces_[i].Q * x, qj = pieces_[j].Q * x;
+        ensure(qi != qj, "P1 values differ");
+        const auto in = m_.pieces_containing(x);
+        ensure(std::find(in.begin(), in.end(), i) != in.end() && std::find(in.begin(), in.end(), j) != in.end(),
+               "P1 point in both cones");
+        return Json{{"piece_a", name(i)}, {"piece_b", name(j)}, {"gamma", to_json(x)},
+                    {"image_a", to_json(qi)}, {"image_b", to_json(qj)}};
+    }
 
     Outcome p1() {
+        if (p1_limit_)
+            throw *p1_limit_;
         if (p1_)
             return *p1_;
+        try {
+            p1_ = fan_result().fast_path ? p1_shared_rays() : p1_intersections();
+        } catch (const LimitExceeded& e) {
+            p1_limit_ = e;
+            throw;
+        }
+        return *p1_;
+    }
+
+    // The cones form a fan meeting face to face: agreement on shared rays.
+    Outcome p1_shared_rays() {
         Outcome o;
         o.method = "products on shared rays";
         for (std::size_t i = 0; i < pieces_.size() && o.proved; ++i)
@@ -261,11 +335,41 @@ class Prover {
                                                     {"ray", to_json(v)}, {"image_a", to_json(qi)},
                                                     {"image_b", to_json(qj)}});
                     if (qi != qj)
-                        o = refute(o, Json{{"piece_a", name(i)}, {"piece_b", name(j)},
-                                           {"ray", to_json(v)}, {"image_a", to_json(qi)},
-                                           {"image_b", to_json(qj)}});
+                        o = refute(o, p1_witness(i, j, v));
                 }
-        p1_ = o;
+        return o;
+    }
+
+    // Any cones: for every pair with different matrices, the extreme rays of C_i ∩ C_j.
+    Outcome p1_intersections() {
+        Outcome o;
+        o.method = "extreme rays of pairwise intersections";
+        std::vector<std::pair<std::size_t, std::size_t>> pairs;
+        for (std::size_t i = 0; i < pieces_.size(); ++i)
+            for (std::size_t j = i + 1; j < pieces_.size(); ++j)
+                if (pieces_[i].Q != pieces_[j].Q)
+                    pairs.emplace_back(i, j);
+        const std::size_t per_pair = intersection_subsets(c_);
+        if (!pairs.empty() && per_pair > limits_.max_subsets / pairs.size())
+            throw LimitExceeded("the intersections of " + std::to_string(pairs.size()) +
+                                    " pairs of cones need " + std::to_string(per_pair) +
+                                    " constraint subsets each, more than " +
+                                    std::to_string(limits_.max_subsets) + " in all",
+                                "--max-subsets");
+        o.data["intersections"] = Json::array();
+        for (std::size_t k = 0; k < pairs.size(); ++k) {
+            const auto [i, j] = pairs[k];
+            const auto rays = intersection_rays(m_, i, j, o.checks);
+            if (k % 256 == 0)
+                report_progress("P1", k, pairs.size());
+            Json listed = Json::array();
+            for (const auto& r : rays)
+                listed.push_back(to_json(r));
+            o.data["intersections"].push_back(Json{{"piece_a", name(i)}, {"piece_b", name(j)}, {"rays", listed}});
+            for (const auto& r : rays)
+                if (pieces_[i].Q * r != pieces_[j].Q * r)
+                    return refute(o, p1_witness(i, j, r));
+        }
         return o;
     }
 
@@ -350,8 +454,8 @@ class Prover {
                     return refute(o, Json{{"piece", name(p)}, {"ray", to_json(r)},
                                           {"image", to_json(img)}});
             }
-        if (!fan_result().proved)
-            return refute_via_fan(o);
+        if (auto w = domain_witness())
+            return refute(o, std::move(*w));
         return o;
     }
 
@@ -386,7 +490,7 @@ class Prover {
         for (std::size_t p = 0; p < pieces_.size(); ++p) {
             const Piece& pc = pieces_[p];
             const Matrix B = transpose(pc.R) * (m_.H() - transpose(pc.Q) * m_.H() * pc.Q) * pc.R;
-            const auto cop = decide_copositivity(B);
+            const auto cop = decide_copositivity(B, limits_.max_faces);
             o.checks += cop.method == CopositivityMethod::kkt_enumeration ? cop.faces : 1;
             o.data["pieces"].push_back(Json{{"piece", name(p)}, {"B", to_json(B)}, {"certificate", certificate_json(cop)}});
             if (!cop.copositive) {
@@ -473,6 +577,16 @@ class Prover {
 
     Outcome nonexpansive() {
         Outcome o;
+        // Where S is undefined or two-valued on an open set it is not non-expansive: that
+        // witness comes first, and spares the pair forms. A fan beyond its limit leaves the
+        // pairs to decide a refutation.
+        std::optional<LimitExceeded> fan_limit;
+        try {
+            if (auto w = domain_witness())
+                return refute(o, std::move(*w));
+        } catch (const LimitExceeded& e) {
+            fan_limit = e;
+        }
         std::size_t by_method[4] = {0, 0, 0, 0};
         auto method_summary = [&] {
             return "copositive pair forms: " + std::to_string(by_method[0]) + " A>=0, " +
@@ -482,6 +596,8 @@ class Prover {
         const Matrix& H = m_.H();
         for (std::size_t i = 0; i < pieces_.size(); ++i)
             for (std::size_t j = 0; j < pieces_.size(); ++j) {
+                if (j == 0 && i % 16 == 0)
+                    report_progress("nonexpansive", i * pieces_.size(), pieces_.size() * pieces_.size());
                 // z = (s, t): a = R_i s, b = R_j t;  a - b = B1 z,  S(a) - S(b) = B2 z.
                 Matrix B1(c_, 2 * c_), B2(c_, 2 * c_);
                 const Matrix QRi = pieces_[i].Q * pieces_[i].R, QRj = pieces_[j].Q * pieces_[j].R;
@@ -493,7 +609,7 @@ class Prover {
                         B2(r, c_ + k) = -QRj(r, k);
                     }
                 const Matrix A = transpose(B1) * H * B1 - transpose(B2) * H * B2;
-                const auto cop = decide_copositivity(A);
+                const auto cop = decide_copositivity(A, limits_.max_faces);
                 o.checks += cop.method == CopositivityMethod::kkt_enumeration ? cop.faces : 1;
                 ++by_method[static_cast<int>(cop.method)];
                 o.method = method_summary();
@@ -506,8 +622,8 @@ class Prover {
                 const Vector t(z.begin() + static_cast<std::ptrdiff_t>(c_), z.end());
                 return refute(o, pair_witness(i, j, pieces_[i].R * s, pieces_[j].R * t));
             }
-        if (!fan_result().proved)
-            return refute_via_fan(o);
+        if (fan_limit)
+            throw *fan_limit;
         return o;
     }
 
@@ -517,8 +633,8 @@ class Prover {
     Outcome nonexpansive_lemma() {
         Outcome o;
         o.method = "fan + P1 + H - Q^T H Q PSD per piece";
-        if (!fan_result().proved)
-            return refute_via_fan(o);
+        if (auto w = domain_witness())
+            return refute(o, std::move(*w));
         const Outcome continuity = p1();
         o.checks += continuity.checks;
         if (!continuity.proved) {
@@ -587,6 +703,8 @@ class Prover {
 
 } // namespace
 
-VerifyReport verify(const Model& model) { return Prover(model).run(); }
+VerifyReport verify(const Model& model, const Limits& limits, const Progress& progress) {
+    return Prover(model, limits, progress).run();
+}
 
 } // namespace impactcert

@@ -1,7 +1,8 @@
 // obligations.hpp -- every proof obligation of SPEC section 3, decided exactly.
 //
 // Contract: verify(model) evaluates all twelve obligations in kObligationIds order, claimed or
-// not (an obligation the law declares nothing for is `skipped`). Each result carries the number
+// not (an obligation the law declares nothing for is `skipped`; one whose exact decision would
+// exceed a limit of `limits` is `undecided`, with the limit and its option in `limit`). Each result carries the number
 // of exact checks done and, when refuted, an exact counterexample as JSON with rationals as
 // strings (the shapes are listed in proofs/README.md). A refutation is always re-validated
 // internally before it is returned: a witness that does not witness is a std::logic_error.
@@ -10,10 +11,12 @@
 #pragma once
 
 #include "law.hpp"
+#include "limits.hpp"
 
 #include <nlohmann/json.hpp>
 
 #include <chrono>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -21,7 +24,7 @@ namespace impactcert {
 
 using Json = nlohmann::ordered_json;
 
-enum class Verdict { proved, refuted, skipped };
+enum class Verdict { proved, refuted, skipped, undecided };
 const char* to_string(Verdict v);
 
 struct ObligationResult {
@@ -31,6 +34,7 @@ struct ObligationResult {
     std::size_t checks = 0;               // exact checks done
     std::string method;                   // how the finite check was made
     Json counterexample;                  // null unless refuted
+    std::string limit;                    // undecided: the limit reached and the option raising it
     Json data;                            // what was checked: the certificate's evidence
     std::chrono::nanoseconds elapsed{0};  // wall time of this obligation
 };
@@ -40,10 +44,16 @@ struct VerifyReport {
     std::vector<ObligationResult> obligations;
     // The gate: every claimed obligation proved.
     bool passed() const;
+    // "proved" (every claim proved), "refuted" (a claim refuted), else "undecided".
+    const char* verdict() const;
+    int exit_status() const; // 0 proved, 1 refuted, 3 undecided
     const ObligationResult& at(const std::string& id) const; // throws std::out_of_range
 };
 
-VerifyReport verify(const Model& model);
+// Progress on long runs: called now and then with the obligation id and a one-line status.
+using Progress = std::function<void(const std::string& id, const std::string& status)>;
+
+VerifyReport verify(const Model& model, const Limits& limits = {}, const Progress& progress = {});
 
 // Helpers shared with the CLI, the certificate writer and tests.
 Json to_json(const Rational& x);

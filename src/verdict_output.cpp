@@ -8,7 +8,7 @@ Json verdict_json(const VerifyReport& report) {
     Json out;
     out["format"] = kVerdictFormat;
     out["law"] = report.law;
-    out["verdict"] = report.passed() ? "proved" : "refuted";
+    out["verdict"] = report.verdict();
     Json list = Json::array();
     for (const auto& o : report.obligations) {
         Json item;
@@ -18,6 +18,8 @@ Json verdict_json(const VerifyReport& report) {
         item["checks"] = o.checks;
         if (o.verdict == Verdict::refuted)
             item["counterexample"] = o.counterexample;
+        if (o.verdict == Verdict::undecided)
+            item["limit"] = o.limit;
         list.push_back(std::move(item));
     }
     out["obligations"] = list;
@@ -87,8 +89,10 @@ std::string verdict_table(const VerifyReport& report, const Model& model) {
                o.method + "\n";
         if (o.verdict == Verdict::refuted)
             out += "      counterexample: " + o.counterexample.dump() + "\n";
+        if (o.verdict == Verdict::undecided)
+            out += "      limit: " + o.limit + "\n";
     }
-    out += "verdict: " + std::string(report.passed() ? "proved" : "refuted") + " (" +
+    out += "verdict: " + std::string(report.verdict()) + " (" +
            std::to_string(proved) + "/" + std::to_string(claimed) +
            " claimed obligations proved, " + milliseconds(total) + ")\n";
     return out;
@@ -121,7 +125,8 @@ std::string verdict_junit(const VerifyReport& report) {
         }
         out += ">\n";
         if (failed) {
-            const std::string witness = o.counterexample.dump();
+            const std::string witness =
+                o.verdict == Verdict::undecided ? o.limit : o.counterexample.dump();
             out += "      <failure type=\"" + std::string(to_string(o.verdict)) + "\" message=\"" +
                    xml_escape(o.id + " " + to_string(o.verdict) + ": " + witness) + "\">" +
                    xml_escape(witness) + "</failure>\n";
@@ -129,9 +134,9 @@ std::string verdict_junit(const VerifyReport& report) {
             const std::string why = o.verdict == Verdict::skipped
                                         ? "nothing declared to check"
                                         : std::string("not claimed; ") + to_string(o.verdict) +
-                                              (o.verdict == Verdict::refuted
-                                                   ? ": " + o.counterexample.dump()
-                                                   : std::string());
+                                              (o.verdict == Verdict::refuted     ? ": " + o.counterexample.dump()
+                                               : o.verdict == Verdict::undecided ? ": " + o.limit
+                                                                                 : std::string());
             out += "      <skipped message=\"" + xml_escape(why) + "\"/>\n";
         }
         out += "    </testcase>\n";

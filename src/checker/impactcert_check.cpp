@@ -336,6 +336,82 @@ Vec primitive(const Vec& v) {
     return out;
 }
 
+// The primitive vector of the line through v != 0 whose first non-zero entry is positive.
+Vec canonical_line(const Vec& v) {
+    Vec p = primitive(v);
+    for (const auto& x : p)
+        if (sgn(x) != 0) {
+            if (sgn(x) < 0)
+                for (auto& y : p)
+                    y = -y;
+            break;
+        }
+    return p;
+}
+
+// A basis of {x : r . x = 0 for every row r} (Gaussian elimination, then one vector per column
+// without a pivot).
+std::vector<Vec> kernel(std::vector<Vec> rows, std::size_t dim) {
+    std::vector<std::size_t> pivots;
+    std::size_t r = 0;
+    for (std::size_t col = 0; col < dim && r < rows.size(); ++col) {
+        std::size_t p = r;
+        while (p < rows.size() && sgn(rows[p][col]) == 0)
+            ++p;
+        if (p == rows.size())
+            continue;
+        std::swap(rows[p], rows[r]);
+        const Q lead = rows[r][col];
+        for (auto& x : rows[r])
+            x /= lead;
+        for (std::size_t i = 0; i < rows.size(); ++i)
+            if (i != r && sgn(rows[i][col]) != 0) {
+                const Q f = rows[i][col];
+                for (std::size_t k = 0; k < dim; ++k)
+                    rows[i][k] -= f * rows[r][k];
+            }
+        pivots.push_back(col);
+        ++r;
+    }
+    std::vector<Vec> out;
+    for (std::size_t f = 0; f < dim; ++f) {
+        if (std::find(pivots.begin(), pivots.end(), f) != pivots.end())
+            continue;
+        Vec x(dim, Q(0));
+        x[f] = 1;
+        for (std::size_t k = 0; k < pivots.size(); ++k)
+            x[pivots[k]] = -rows[k][f];
+        out.push_back(x);
+    }
+    return out;
+}
+
+// The number of chambers of the central arrangement {x : n . x = 0} (n in `normals`, distinct
+// lines) in R^d, by deletion and restriction of the first hyperplane; gives up (returns more
+// than `cap`) as soon as the count exceeds `cap`.
+std::size_t count_chambers(const std::vector<Vec>& normals, std::size_t d, std::size_t cap) {
+    if (normals.empty())
+        return 1;
+    if (d == 1)
+        return 2;
+    const Vec& h = normals.front();
+    const std::vector<Vec> rest(normals.begin() + 1, normals.end());
+    const std::size_t deleted = count_chambers(rest, d, cap);
+    if (deleted > cap)
+        return deleted;
+    const std::vector<Vec> basis = kernel({h}, d);
+    std::vector<Vec> restricted;
+    for (const auto& m : rest) {
+        Vec local;
+        for (const auto& b : basis)
+            local.push_back(dot(b, m));
+        const Vec line = canonical_line(local);
+        if (std::find(restricted.begin(), restricted.end(), line) == restricted.end())
+            restricted.push_back(line);
+    }
+    return deleted + count_chambers(restricted, d - 1, cap - deleted);
+}
+
 // ---------------------------------------------------------------------------------------------
 // The law, re-derived
 
@@ -392,11 +468,52 @@ struct Law {
     }
 };
 
+const std::vector<std::string> kIds = {"fan", "P1", "P2", "P3", "kinematic", "kinetic", "energetic",
+                                       "identities", "single-impacts", "nonexpansive", "nonexpansive-lemma",
+                                       "outcomes"};
+
+// An object with exactly the keys `required` plus some of `optional` (free text `note` and
+// `description` allowed everywhere).
+void expect_keys(const Json& j, const std::string& path, std::initializer_list<const char*> required,
+                 std::initializer_list<const char*> optional = {}) {
+    if (!j.is_object())
+        malformed(path, "expected an object");
+    for (const char* k : required)
+        if (!j.contains(k))
+            malformed(path, std::string("missing key \"") + k + "\"");
+    for (const auto& item : j.items()) {
+        const std::string& k = item.key();
+        const bool known = std::any_of(required.begin(), required.end(), [&](const char* r) { return k == r; }) ||
+                           std::any_of(optional.begin(), optional.end(), [&](const char* o) { return k == o; }) ||
+                           ((k == "note" || k == "description") && item.value().is_string());
+        if (!known)
+            malformed(at(path, k), "unknown key");
+    }
+}
+
+// The declarations that make identities, single-impacts and outcomes apply (non-empty lists).
+bool declares(const Json& law, const char* key) { return law.contains(key) && !law[key].empty(); }
+bool applies(const Json& law, const std::string& id) {
+    if (id == "identities")
+        return declares(law, "identities");
+    if (id == "single-impacts")
+        return declares(law, "single_impacts");
+    if (id == "outcomes")
+        return declares(law, "outcomes");
+    return true;
+}
+
 Law read_law(const Json& j, const std::string& path) {
     Law law;
     law.json = j;
+    // The prover's input rules (SPEC section 4): a law it rejects is never verified.
+    expect_keys(j, path, {"format", "name", "masses", "contacts", "pieces"},
+                {"identities", "single_impacts", "outcomes", "claims"});
+    require(j["format"] == "impactcert-law/1", at(path, "format"), "is not \"impactcert-law/1\"");
+    require(!str(j["name"], at(path, "name")).empty(), at(path, "name"), "empty law name");
     law.masses = vec(field(j, path, "masses"), at(path, "masses"));
     law.n = law.masses.size();
+    require(law.n >= 1, at(path, "masses"), "no balls");
     for (std::size_t i = 0; i < law.n; ++i)
         require(sgn(law.masses[i]) > 0, at(at(path, "masses"), i), "mass must be positive");
     const Json& contacts = field(j, path, "contacts");
@@ -408,6 +525,7 @@ Law read_law(const Json& j, const std::string& path) {
             law.W[k + 1][k] = 1;
         }
     } else {
+        expect_keys(contacts, at(path, "contacts"), {"W"});
         law.W = mat(field(contacts, at(path, "contacts"), "W"), at(at(path, "contacts"), "W"));
         require(law.W.size() == law.n, at(at(path, "contacts"), "W"), "needs one row per ball");
     }
@@ -418,16 +536,23 @@ Law read_law(const Json& j, const std::string& path) {
     law.G = mul(mul(tr(law.W), law.M_inv), law.W);
     require(invert(law.G, law.H), at(path, "contacts"), "G is singular");
     const Json& pieces = field(j, path, "pieces");
+    if (!pieces.is_array())
+        malformed(at(path, "pieces"), "expected an array");
+    require(!pieces.empty(), at(path, "pieces"), "no pieces");
     for (std::size_t p = 0; p < pieces.size(); ++p) {
         const std::string pp = at(at(path, "pieces"), p);
+        expect_keys(pieces[p], pp, {"name", "Q"}, {"rays"});
         Piece piece;
         piece.name = str(field(pieces[p], pp, "name"), at(pp, "name"));
+        require(!piece.name.empty(), at(pp, "name"), "empty piece name");
         for (const auto& other : law.pieces)
             require(other.name != piece.name, at(pp, "name"), "duplicate piece name");
         piece.Q_ = mat(field(pieces[p], pp, "Q"), at(pp, "Q"));
         require(piece.Q_.size() == law.c && piece.Q_[0].size() == law.c, at(pp, "Q"), "not c x c");
         std::vector<Vec> rays;
         if (pieces[p].contains("rays")) {
+            if (!pieces[p]["rays"].is_array())
+                malformed(at(pp, "rays"), "expected an array of rays");
             for (std::size_t k = 0; k < pieces[p]["rays"].size(); ++k)
                 rays.push_back(vec(pieces[p]["rays"][k], at(at(pp, "rays"), k)));
         } else {
@@ -460,6 +585,7 @@ Law read_law(const Json& j, const std::string& path) {
     const Json identities = entries("identities");
     for (std::size_t i = 0; i < identities.size(); ++i) {
         const std::string ip = at(at(path, "identities"), i);
+        expect_keys(identities[i], ip, {"lhs", "product"});
         law.piece(field(identities[i], ip, "lhs"), at(ip, "lhs"));
         const Json& product = field(identities[i], ip, "product");
         if (!product.is_array() || product.empty())
@@ -470,16 +596,21 @@ Law read_law(const Json& j, const std::string& path) {
     const Json impacts = entries("single_impacts");
     for (std::size_t i = 0; i < impacts.size(); ++i) {
         const std::string ip = at(at(path, "single_impacts"), i);
+        expect_keys(impacts[i], ip, {"piece", "contact", "restitution"});
         law.piece(field(impacts[i], ip, "piece"), at(ip, "piece"));
         const Json& contact = field(impacts[i], ip, "contact");
         if (!contact.is_number_unsigned() || contact.get<std::size_t>() < 1 || contact.get<std::size_t>() > law.c)
             malformed(at(ip, "contact"), "expected a contact number in 1..c");
-        rat(field(impacts[i], ip, "restitution"), at(ip, "restitution"));
+        const Q e = rat(field(impacts[i], ip, "restitution"), at(ip, "restitution"));
+        require(sgn(e) >= 0 && e <= 1, at(ip, "restitution"), "restitution outside [0, 1]");
     }
     const Json outcomes = entries("outcomes");
     for (std::size_t i = 0; i < outcomes.size(); ++i) {
         const std::string op = at(at(path, "outcomes"), i);
-        str(field(outcomes[i], op, "name"), at(op, "name"));
+        expect_keys(outcomes[i], op, {"name", "u_minus", "u_plus"});
+        const std::string oname = str(field(outcomes[i], op, "name"), at(op, "name"));
+        for (std::size_t k = 0; k < i; ++k)
+            require(outcomes[k]["name"] != oname, at(op, "name"), "duplicate outcome name");
         for (const char* key : {"u_minus", "u_plus"})
             if (vec(field(outcomes[i], op, key), at(op, key)).size() != law.n)
                 malformed(at(op, key), "expected one velocity per ball");
@@ -488,8 +619,13 @@ Law read_law(const Json& j, const std::string& path) {
         law.claims_given = true;
         if (!j["claims"].is_array())
             malformed(at(path, "claims"), "expected an array");
-        for (const auto& id : j["claims"])
-            law.claimed_ids.insert(str(id, at(path, "claims")));
+        require(!j["claims"].empty(), at(path, "claims"), "no obligation claimed");
+        for (std::size_t i = 0; i < j["claims"].size(); ++i) {
+            const std::string id = str(j["claims"][i], at(at(path, "claims"), i));
+            require(std::find(kIds.begin(), kIds.end(), id) != kIds.end(), at(at(path, "claims"), i), "unknown obligation");
+            require(law.claimed_ids.insert(id).second, at(at(path, "claims"), i), "claimed twice");
+            require(applies(j, id), at(at(path, "claims"), i), "claimed but the law declares nothing for it");
+        }
     }
     return law;
 }
@@ -601,10 +737,6 @@ bool check_copositive_evidence(const Mat& A, const Json& j, const std::string& p
 // ---------------------------------------------------------------------------------------------
 // Obligations
 
-const std::vector<std::string> kIds = {"fan", "P1", "P2", "P3", "kinematic", "kinetic", "energetic",
-                                       "identities", "single-impacts", "nonexpansive", "nonexpansive-lemma",
-                                       "outcomes"};
-
 int sign_det2(const Vec& a, const Vec& b) { return sgn(a[0] * b[1] - a[1] * b[0]); }
 
 // Angle of v measured counter-clockwise from a, as (half, v): comparable with ccw_less.
@@ -619,9 +751,12 @@ class Checker {
   public:
     Checker(const Law& law, const Json& obligations) : law_(law), obl_(obligations) {}
 
+    enum class Truth { proved, refuted, undecided };
+
     // Decides obligation k's truth; rejects evidence or witnesses that are wrong, and a verdict
-    // that does not follow.
-    bool holds(std::size_t k) {
+    // that does not follow. Dependencies run one way only (fan and P1 depend on nothing else),
+    // so this never recurses without bound.
+    Truth holds(std::size_t k) {
         if (auto it = decided_.find(kIds[k]); it != decided_.end())
             return it->second;
         const Json& o = obl_[k];
@@ -630,17 +765,30 @@ class Checker {
         const Json& data = field(o, path, "data");
         if (!data.is_object())
             malformed(at(path, "data"), "expected an object");
-        // Every listed piece of evidence must be right, whatever the verdict.
-        const bool complete_and_true = evidence(kIds[k], data, at(path, "data"));
-        bool truth;
-        if (verdict == "refuted") {
-            check_witness(kIds[k], field(o, path, "counterexample"), at(path, "counterexample"));
-            truth = false;
-        } else if (verdict == "proved") {
-            require(complete_and_true, at(path, "verdict"), "\"proved\" does not follow from the evidence");
-            truth = true;
+        Truth truth;
+        if (verdict == "undecided") {
+            // A limit was reached: nothing is claimed, so nothing is checked but the shape.
+            require(data.empty(), at(path, "data"), "an undecided obligation carries no evidence");
+            require(!str(field(o, path, "limit"), at(path, "limit")).empty(), at(path, "limit"), "names no limit");
+            truth = Truth::undecided;
         } else {
-            malformed(at(path, "verdict"), "unknown verdict");
+            require(!o.contains("limit"), at(path, "limit"), "only an undecided obligation names a limit");
+            // Every listed piece of evidence must be right, whatever the verdict.
+            const bool local = evidence(kIds[k], data, at(path, "data"));
+            if (verdict == "refuted") {
+                check_witness(kIds[k], field(o, path, "counterexample"), at(path, "counterexample"), local);
+                truth = Truth::refuted;
+            } else if (verdict == "proved") {
+                bool follows = local;
+                if (kIds[k] == "kinematic" || kIds[k] == "nonexpansive" || kIds[k] == "nonexpansive-lemma")
+                    follows = follows && s_is_a_function(path);
+                if (kIds[k] == "nonexpansive-lemma")
+                    follows = follows && holds("P1") == Truth::proved;
+                require(follows, at(path, "verdict"), "\"proved\" does not follow from the evidence");
+                truth = Truth::proved;
+            } else {
+                malformed(at(path, "verdict"), "unknown verdict");
+            }
         }
         decided_[kIds[k]] = truth;
         return truth;
@@ -649,9 +797,12 @@ class Checker {
   private:
     const Law& law_;
     const Json& obl_;
-    std::map<std::string, bool> decided_;
+    std::map<std::string, Truth> decided_;
+    std::vector<Vec> fan_points_;              // the fan's validated test points (when decided)
+    std::optional<bool> face_to_face_;        // the fast path of the fan holds
+    std::optional<std::optional<Json>> domain_; // the canonical domain witness, if any
 
-    bool holds(const std::string& id) {
+    Truth holds(const std::string& id) {
         return holds(static_cast<std::size_t>(std::find(kIds.begin(), kIds.end(), id) - kIds.begin()));
     }
     const Piece& pc(std::size_t p) const { return law_.pieces[p]; }
@@ -689,8 +840,22 @@ class Checker {
     // obligation holds on it.
     bool evidence(const std::string& id, const Json& data, const std::string& dp) {
         const std::size_t c = law_.c;
-        if (id == "fan")
-            return data.contains("rays_by_angle") ? fan_planar(data, dp) : fan_facets(data, dp);
+        if (id == "fan") {
+            if (law_.c == 2) {
+                expect_keys(data, dp, {"rays_by_angle", "sector_points"});
+                return fan_planar(data, dp);
+            }
+            if (facet_criterion()) {
+                expect_keys(data, dp, {"facets", "generic_point"});
+                return fan_facets(data, dp);
+            }
+            expect_keys(data, dp, {"hyperplanes", "chamber_points"});
+            return fan_chambers(data, dp);
+        }
+        if (id == "P1" && !face_to_face()) {
+            expect_keys(data, dp, {"intersections"});
+            return p1_intersections(data, dp);
+        }
         if (id == "P1") {
             std::vector<std::tuple<std::size_t, std::size_t, Vec>> shared;
             for (std::size_t i = 0; i < P(); ++i)
@@ -769,7 +934,7 @@ class Checker {
                 ok = ok && this_ok;
             }
             complete_unless_failed(!ok, l.size(), P() * c, at(dp, key));
-            return ok && (id != "kinematic" || holds("fan"));
+            return ok;
         }
         if (id == "energetic") {
             const Json& l = list(data, dp, "pieces");
@@ -830,6 +995,11 @@ class Checker {
             return ok;
         }
         if (id == "nonexpansive") {
+            // S undefined or two-valued: refuted before any pair is examined.
+            if (holds("fan") != Truth::undecided && domain_witness()) {
+                require(data.empty(), dp, "lists pairs although S is not a function");
+                return false;
+            }
             const Json& l = list(data, dp, "pairs");
             require(l.size() <= P() * P(), at(dp, "pairs"), "too many entries");
             bool ok = true;
@@ -845,7 +1015,7 @@ class Checker {
                 ok = ok && this_ok;
             }
             complete_unless_failed(!ok, l.size(), P() * P(), at(dp, "pairs"));
-            return ok && holds("fan");
+            return ok;
         }
         if (id == "nonexpansive-lemma") {
             const Json& l = data.contains("pieces") ? list(data, dp, "pieces") : Json::array();
@@ -857,8 +1027,8 @@ class Checker {
                 expect_mat(l[p], ep, "matrix", B, "H - Q^T H Q");
                 check_psd_evidence(B, l[p], ep);
             }
-            if (!holds("fan") || !holds("P1")) {
-                require(l.empty(), at(dp, "pieces"), "listed although fan or P1 fails");
+            if (!s_is_a_function(at(dp, "pieces")) || holds("P1") != Truth::proved) {
+                require(l.empty(), at(dp, "pieces"), "listed although S is not a function or P1 is not proved");
                 return false;
             }
             if (l.size() < P()) {
@@ -1020,8 +1190,9 @@ class Checker {
         for (std::size_t k = 1; k < m; ++k)
             require(ccw_before(sorted[0], sorted[k - 1], sorted[k]), at(at(dp, "rays_by_angle"), k), "not in angular order");
         const Json& points = list(data, dp, "sector_points");
-        require(points.size() <= m, at(dp, "sector_points"), "more points than sectors");
+        require(points.size() == m, at(dp, "sector_points"), "is not one point per sector");
         bool ok = true;
+        fan_points_.clear();
         for (std::size_t k = 0; k < points.size(); ++k) {
             const Vec d = vec(points[k], at(at(dp, "sector_points"), k));
             require(d.size() == 2, at(at(dp, "sector_points"), k), "wrong size");
@@ -1029,11 +1200,9 @@ class Checker {
             require(d == sector_point(lo, hi, m), at(at(dp, "sector_points"), k), "is not the sector's test direction");
             const bool on_lo = sign_det2(lo, d) == 0 && sgn(dot(lo, d)) > 0;
             require(!on_lo && ccw_before(lo, d, hi), at(at(dp, "sector_points"), k), "not strictly inside its sector");
-            const bool this_ok = law_.interiors(d).size() == 1;
-            ends_at_first_failure(this_ok, k, points.size(), at(dp, "sector_points"));
-            ok = ok && this_ok;
+            ok = ok && law_.interiors(d).size() == 1;
+            fan_points_.push_back(d);
         }
-        complete_unless_failed(!ok, points.size(), m, at(dp, "sector_points"));
         return ok;
     }
 
@@ -1123,67 +1292,311 @@ class Checker {
         }
         const Vec p = vec(field(data, dp, "generic_point"), at(dp, "generic_point"));
         require(p == generic_point(), at(dp, "generic_point"), "is not the first generic point of the moment curve");
+        fan_points_ = {p};
         return law_.interiors(p).size() == 1;
     }
 
+    // The fast path: every facet shared by exactly two cones on opposite sides, and the first
+    // generic point of the moment curve covered once.
+    bool facet_criterion() const {
+        for (const auto& [ids, owners] : all_facets())
+            if (owners.size() != 2 || owners[0].second == owners[1].second)
+                return false;
+        return law_.interiors(generic_point()).size() == 1;
+    }
+
+    // The cones form a fan meeting face to face (then P1 is decided on shared rays).
+    bool face_to_face() {
+        if (!face_to_face_) {
+            if (law_.c == 2) {
+                const auto points = sector_points();
+                face_to_face_ = std::all_of(points.begin(), points.end(),
+                                            [&](const Vec& d) { return law_.interiors(d).size() == 1; });
+            } else {
+                face_to_face_ = facet_criterion();
+            }
+        }
+        return *face_to_face_;
+    }
+
+    // The distinct facet hyperplanes, as sorted canonical normals.
+    std::vector<Vec> facet_hyperplanes() const {
+        std::vector<Vec> out;
+        for (std::size_t p = 0; p < P(); ++p)
+            for (std::size_t drop = 0; drop < law_.c; ++drop) {
+                std::vector<Vec> rows;
+                for (std::size_t k = 0; k < law_.c; ++k)
+                    if (k != drop)
+                        rows.push_back(pc(p).rays[k]);
+                const Vec n = canonical_line(kernel(rows, law_.c).at(0));
+                if (std::find(out.begin(), out.end(), n) == out.end())
+                    out.push_back(n);
+            }
+        std::sort(out.begin(), out.end());
+        return out;
+    }
+
+    // Complete decision: the listed points lie on no facet hyperplane, in pairwise different
+    // chambers, as many as the arrangement has (counted by deletion and restriction).
+    bool fan_chambers(const Json& data, const std::string& dp) {
+        const std::vector<Vec> planes = facet_hyperplanes();
+        const Json& hl = list(data, dp, "hyperplanes");
+        require(listed_rays(hl, at(dp, "hyperplanes")) == planes, at(dp, "hyperplanes"),
+                "are not the facet hyperplanes (canonical normals, sorted)");
+        const Json& pl = list(data, dp, "chamber_points");
+        std::set<std::vector<int>> chambers;
+        bool ok = true;
+        fan_points_.clear();
+        for (std::size_t k = 0; k < pl.size(); ++k) {
+            const std::string ep = at(at(dp, "chamber_points"), k);
+            const Vec x = vec(pl[k], ep);
+            require(x.size() == law_.c, ep, "wrong size");
+            std::vector<int> signs;
+            for (const auto& n : planes) {
+                signs.push_back(sgn(dot(n, x)));
+                require(signs.back() != 0, ep, "lies on a facet hyperplane");
+            }
+            require(chambers.insert(signs).second, ep, "lies in the chamber of an earlier point");
+            ok = ok && law_.interiors(x).size() == 1;
+            fan_points_.push_back(x);
+        }
+        const std::size_t count = count_chambers(planes, law_.c, pl.size());
+        require(count == pl.size(), at(dp, "chamber_points"),
+                "misses a chamber: the arrangement has more chambers than points are listed");
+        return ok;
+    }
+
+    // Whether S is a function on R^c (no gap; overlapping interiors carry equal matrices), from
+    // the fan's validated test points; rejects when the fan is undecided.
+    bool s_is_a_function(const std::string& path) {
+        const Truth fan = holds("fan");
+        require(fan != Truth::undecided, path, "the fan is undecided: S is not known to be a function");
+        return fan == Truth::proved || !domain_witness();
+    }
+
+    // The canonical witness that S is not a function (the prover's rule, proofs/README.md):
+    // the first test point in no cone, or the first covered by two cones with different
+    // matrices, moved off the kernel of their difference when needed.
+    std::optional<Json> domain_witness() {
+        if (domain_)
+            return *domain_;
+        domain_ = std::optional<Json>();
+        if (holds("fan") != Truth::refuted)
+            return *domain_;
+        const std::size_t c = law_.c;
+        for (const Vec& x : fan_points_) {
+            const auto cov = law_.interiors(x);
+            if (cov.empty()) {
+                domain_ = Json{{"via", "fan"}, {"gamma", jvec(x)}, {"interior_of", Json::array()},
+                               {"reason", "S is undefined at gamma: it lies in no cone"}};
+                return *domain_;
+            }
+            for (std::size_t u = 0; u < cov.size(); ++u)
+                for (std::size_t v = u + 1; v < cov.size(); ++v) {
+                    const std::size_t a = cov[u], b = cov[v];
+                    const Mat diff = sub(pc(a).Q_, pc(b).Q_);
+                    if (diff == zeros(c, c))
+                        continue;
+                    auto vanishes = [&](const Vec& y) {
+                        const Vec d = mul(diff, y);
+                        return std::all_of(d.begin(), d.end(), [](const Q& q) { return sgn(q) == 0; });
+                    };
+                    Vec y = x;
+                    for (std::size_t e = 0; e < c && vanishes(y); ++e) {
+                        Q delta = 1;
+                        for (std::size_t p : {a, b}) {
+                            const Vec sx = mul(pc(p).R_inv, x);
+                            for (std::size_t i = 0; i < c; ++i)
+                                if (sgn(pc(p).R_inv[i][e]) < 0)
+                                    delta = std::min(delta, Q(sx[i] / (2 * abs(pc(p).R_inv[i][e]))));
+                        }
+                        y = x;
+                        y[e] += delta;
+                        y = primitive(y);
+                    }
+                    require(!vanishes(y), "$.obligations[0].data", "two different matrices agree on a basis");
+                    Json names = Json::array();
+                    for (auto p : law_.interiors(y))
+                        names.push_back(name(p));
+                    domain_ = Json{{"via", "fan"}, {"gamma", jvec(y)}, {"interior_of", names},
+                                   {"reason", "S is two-valued near gamma: it is interior to two cones whose matrices differ there"}};
+                    return *domain_;
+                }
+        }
+        return *domain_;
+    }
+
+    static Json jvec(const Vec& v) {
+        Json a = Json::array();
+        for (const auto& x : v)
+            a.push_back(x.get_str());
+        return a;
+    }
+
+    // The extreme rays of C_i ∩ C_j = {R_i s : s >= 0, R_j^-1 R_i s >= 0}: for every choice of
+    // c-1 of the 2c constraints whose solutions form a line, the directions on it that satisfy
+    // all constraints. Primitive, sorted.
+    std::vector<Vec> intersection_rays(std::size_t i, std::size_t j) const {
+        const std::size_t c = law_.c;
+        const Mat T = mul(pc(j).R_inv, pc(i).R);
+        std::vector<Vec> cons;
+        for (std::size_t k = 0; k < c; ++k) {
+            Vec e(c, Q(0));
+            e[k] = 1;
+            cons.push_back(e);
+        }
+        for (const auto& row : T)
+            cons.push_back(row);
+        std::vector<Vec> out;
+        std::vector<bool> chosen(cons.size(), false);
+        std::fill(chosen.end() - static_cast<std::ptrdiff_t>(c - 1), chosen.end(), true);
+        do {
+            std::vector<Vec> rows;
+            for (std::size_t k = 0; k < cons.size(); ++k)
+                if (chosen[k])
+                    rows.push_back(cons[k]);
+            const auto line = kernel(rows, c);
+            if (line.size() != 1)
+                continue;
+            for (int sign : {1, -1}) {
+                Vec s = line[0];
+                for (auto& x : s)
+                    x *= sign;
+                if (std::all_of(cons.begin(), cons.end(), [&](const Vec& g) { return sgn(dot(g, s)) >= 0; })) {
+                    const Vec ray = primitive(mul(pc(i).R, s));
+                    if (std::find(out.begin(), out.end(), ray) == out.end())
+                        out.push_back(ray);
+                }
+            }
+        } while (std::next_permutation(chosen.begin(), chosen.end()));
+        std::sort(out.begin(), out.end());
+        return out;
+    }
+
+    // P1 when the cones do not meet face to face: every pair with different matrices, the
+    // extreme rays of the intersection of their cones, both matrices agreeing on each.
+    bool p1_intersections(const Json& data, const std::string& dp) {
+        std::vector<std::pair<std::size_t, std::size_t>> pairs;
+        for (std::size_t i = 0; i < P(); ++i)
+            for (std::size_t j = i + 1; j < P(); ++j)
+                if (pc(i).Q_ != pc(j).Q_)
+                    pairs.emplace_back(i, j);
+        const Json& l = list(data, dp, "intersections");
+        require(l.size() <= pairs.size(), at(dp, "intersections"), "too many entries");
+        bool ok = true;
+        for (std::size_t k = 0; k < l.size(); ++k) {
+            const auto [i, j] = pairs[k];
+            const std::string ep = at(at(dp, "intersections"), k);
+            expect_keys(l[k], ep, {"piece_a", "piece_b", "rays"});
+            expect_piece(l[k], ep, "piece_a", i);
+            expect_piece(l[k], ep, "piece_b", j);
+            const std::vector<Vec> rays = intersection_rays(i, j);
+            require(listed_rays(l[k]["rays"], at(ep, "rays")) == rays, at(ep, "rays"),
+                    "are not the extreme rays of the intersection (primitive, sorted)");
+            bool this_ok = true;
+            for (const auto& r : rays)
+                this_ok = this_ok && mul(pc(i).Q_, r) == mul(pc(j).Q_, r);
+            ends_at_first_failure(this_ok, k, l.size(), at(dp, "intersections"));
+            ok = ok && this_ok;
+        }
+        complete_unless_failed(!ok, l.size(), pairs.size(), at(dp, "intersections"));
+        return ok;
+    }
+
     // ---- counterexamples, re-validated from scratch
-    void check_witness(const std::string& id, const Json& w, const std::string& wp) {
+    // A borrowed witness ("via") only where SPEC section 3 allows it: "fan" (S undefined or
+    // two-valued on an open set) on kinematic, nonexpansive and nonexpansive-lemma; "P1" (a
+    // discontinuity) on nonexpansive-lemma. Every witness is checked by itself, never by
+    // consulting the verdict it borrows from.
+    void check_witness(const std::string& id, const Json& w, const std::string& wp, bool local) {
         if (!w.is_object())
             malformed(wp, "expected an object");
         const std::string via = w.contains("via") ? str(w["via"], at(wp, "via")) : "";
-        if (id == "fan" || via == "fan") {
-            if (w.contains("gamma")) {
-                const Vec g = vec(w["gamma"], at(wp, "gamma"));
-                require(g.size() == law_.c, at(wp, "gamma"), "wrong size");
-                const auto inside = law_.interiors(g);
-                require(inside.size() != 1, at(wp, "gamma"), "is covered by exactly one cone");
-                bool canonical;
-                if (law_.c == 2) {
-                    const auto points = sector_points();
-                    canonical = std::find(points.begin(), points.end(), g) != points.end();
-                } else {
-                    canonical = g == generic_point();
-                }
-                require(canonical, at(wp, "gamma"), "is not a test point of the fan check");
-                std::vector<std::string> listed;
-                for (const auto& o : field(w, wp, "interior_of"))
-                    listed.push_back(str(o, at(wp, "interior_of")));
-                std::vector<std::string> names;
-                for (auto p : inside)
-                    names.push_back(name(p));
-                require(listed == names, at(wp, "interior_of"), "are not the cones whose interior contains gamma");
-            } else {
-                const std::size_t p = law_.piece(field(w, wp, "piece"), at(wp, "piece"));
-                const std::vector<Vec> f = listed_rays(field(w, wp, "facet"), at(wp, "facet"));
-                const auto facets = all_facets();
-                auto it = facets.begin();
-                while (it != facets.end() && facet_rays(it->first) != f)
-                    ++it;
-                require(it != facets.end(), at(wp, "facet"), "is not a facet (rays in the order of first appearance)");
-                require(it->second.front().first == p, at(wp, "piece"), "is not the facet's first cone");
-                std::vector<std::string> others;
-                for (std::size_t k = 1; k < it->second.size(); ++k)
-                    others.push_back(name(it->second[k].first));
-                require(listed_names(field(w, wp, "shared_with"), at(wp, "shared_with")) == others, at(wp, "shared_with"),
-                        "are not the other cones having this facet");
-                require(it->second.size() != 2 || it->second[0].second == it->second[1].second, at(wp, "facet"),
-                        "is a well-matched facet");
+        if (!via.empty()) {
+            const bool allowed = (via == "fan" && (id == "kinematic" || id == "nonexpansive" || id == "nonexpansive-lemma")) ||
+                                 (via == "P1" && id == "nonexpansive-lemma");
+            require(allowed, at(wp, "via"), "a witness of \"" + via + "\" does not refute " + id);
+        }
+        if (via == "fan") {
+            expect_keys(w, wp, {"via", "gamma", "interior_of", "reason"});
+            require(holds("fan") != Truth::undecided, at(wp, "via"), "the fan is undecided");
+            const auto canonical = domain_witness();
+            require(canonical.has_value(), at(wp, "via"), "S is a function on R^c: nothing to borrow");
+            const Vec g = vec(w["gamma"], at(wp, "gamma"));
+            require(g.size() == law_.c, at(wp, "gamma"), "wrong size");
+            // By itself: gamma in no closed cone, or interior to two cones whose images differ.
+            const auto inside = law_.interiors(g);
+            bool shows = false;
+            if (inside.empty()) {
+                shows = true;
+                for (std::size_t p = 0; p < P(); ++p)
+                    shows = shows && !law_.in_cone(p, g);
             }
-            if (via == "fan")
-                require(!holds("fan"), at(wp, "via"), "the fan is not refuted");
+            for (auto a : inside)
+                for (auto b : inside)
+                    shows = shows || mul(pc(a).Q_, g) != mul(pc(b).Q_, g);
+            require(shows, at(wp, "gamma"), "S is defined and single-valued near gamma");
+            require(w == *canonical, wp, "is not the canonical witness (the first test point where S is not a function)");
+            if (id == "kinematic")
+                require(local, wp, "a ray's image is negative: that is the canonical witness");
+            return;
+        }
+        if (id == "fan") {
+            expect_keys(w, wp, {"gamma", "interior_of", "reason"});
+            const Vec g = vec(w["gamma"], at(wp, "gamma"));
+            require(g.size() == law_.c, at(wp, "gamma"), "wrong size");
+            const auto inside = law_.interiors(g);
+            bool gap = inside.empty();
+            for (std::size_t p = 0; p < P() && gap; ++p)
+                gap = !law_.in_cone(p, g);
+            require(gap || inside.size() >= 2, at(wp, "gamma"), "is neither in a gap nor in two interiors");
+            std::size_t first = 0;
+            while (first < fan_points_.size() && law_.interiors(fan_points_[first]).size() == 1)
+                ++first;
+            require(first < fan_points_.size() && g == fan_points_[first], at(wp, "gamma"),
+                    "is not the first test point of the fan check covered k != 1 times");
+            std::vector<std::string> listed;
+            for (const auto& o : field(w, wp, "interior_of"))
+                listed.push_back(str(o, at(wp, "interior_of")));
+            std::vector<std::string> names;
+            for (auto p : inside)
+                names.push_back(name(p));
+            require(listed == names, at(wp, "interior_of"), "are not the cones whose interior contains gamma");
             return;
         }
         if (id == "P1" || via == "P1") {
+            expect_keys(w, wp, {"piece_a", "piece_b", "gamma", "image_a", "image_b"}, {"via"});
             const std::size_t a = law_.piece(field(w, wp, "piece_a"), at(wp, "piece_a"));
             const std::size_t b = law_.piece(field(w, wp, "piece_b"), at(wp, "piece_b"));
-            const Vec v = vec(field(w, wp, "ray"), at(wp, "ray"));
-            require(v.size() == law_.c && law_.is_ray_of(a, v) && law_.is_ray_of(b, v), at(wp, "ray"),
-                    "is not shared by the two pieces");
-            expect_vec(w, wp, "image_a", mul(pc(a).Q_, v), "Q_a ray");
-            expect_vec(w, wp, "image_b", mul(pc(b).Q_, v), "Q_b ray");
-            require(mul(pc(a).Q_, v) != mul(pc(b).Q_, v), at(wp, "ray"), "both pieces agree on it");
-            if (via == "P1")
-                require(!holds("P1"), at(wp, "via"), "P1 is not refuted");
+            const Vec v = vec(field(w, wp, "gamma"), at(wp, "gamma"));
+            require(v.size() == law_.c && law_.in_cone(a, v) && law_.in_cone(b, v), at(wp, "gamma"),
+                    "is not in both closed cones");
+            expect_vec(w, wp, "image_a", mul(pc(a).Q_, v), "Q_a gamma");
+            expect_vec(w, wp, "image_b", mul(pc(b).Q_, v), "Q_b gamma");
+            require(mul(pc(a).Q_, v) != mul(pc(b).Q_, v), at(wp, "gamma"), "both pieces agree on it");
+            if (via == "P1") {
+                require(s_is_a_function(at(wp, "via")), at(wp, "via"), "S is not a function: the canonical witness is the fan's");
+                require(holds("P1") == Truth::refuted, at(wp, "via"), "P1 is not refuted");
+                Json own = w;
+                own.erase("via");
+                require(own == obl_[1]["counterexample"], wp, "is not P1's counterexample");
+                return;
+            }
+            // Canonical: the failing entry that ends P1's evidence.
+            const Json& data = obl_[1]["data"];
+            if (data.contains("intersections")) {
+                const Json& e = last_entry("P1", "intersections");
+                require(e["piece_a"] == w["piece_a"] && e["piece_b"] == w["piece_b"], wp, "is not the first pair that fails");
+                Vec first;
+                for (const auto& r : intersection_rays(a, b))
+                    if (first.empty() && mul(pc(a).Q_, r) != mul(pc(b).Q_, r))
+                        first = r;
+                require(v == first, at(wp, "gamma"), "is not the first extreme ray where the pieces differ");
+            } else {
+                const Json& e = last_entry("P1", "shared");
+                require(e["piece_a"] == w["piece_a"] && e["piece_b"] == w["piece_b"] && e["ray"] == w["gamma"], wp,
+                        "is not the first shared ray where the pieces differ");
+            }
             return;
         }
         if (id == "nonexpansive" || id == "nonexpansive-lemma") {
@@ -1199,8 +1612,11 @@ class Checker {
             require(rat(field(w, wp, "lhs"), at(wp, "lhs")) == lhs, at(wp, "lhs"), "is not |S(a) - S(b)|_H^2");
             require(rat(field(w, wp, "rhs"), at(wp, "rhs")) == rhs, at(wp, "rhs"), "is not |a - b|_H^2");
             require(lhs > rhs, wp, "lhs <= rhs: not a violation");
+            expect_keys(w, wp, {"piece_a", "piece_b", "gamma_a", "gamma_b", "lhs", "rhs"});
             Vec ca, cb;
             if (id == "nonexpansive") {
+                if (holds("fan") != Truth::undecided)
+                    require(!domain_witness(), wp, "S is not a function: the canonical witness is the fan's");
                 const Json& entry = last_entry("nonexpansive", "pairs");
                 require(entry["piece_a"] == w["piece_a"] && entry["piece_b"] == w["piece_b"], wp,
                         "is not the first pair that fails");
@@ -1218,6 +1634,8 @@ class Checker {
                 ca = mul(pc(a).R, Vec(z.begin(), z.begin() + static_cast<std::ptrdiff_t>(law_.c)));
                 cb = mul(pc(b).R, Vec(z.begin() + static_cast<std::ptrdiff_t>(law_.c), z.end()));
             } else {
+                require(s_is_a_function(wp) && holds("P1") == Truth::proved, wp,
+                        "S is not a continuous function: the canonical witness is borrowed");
                 require(a == b, wp, "the lemma's witness lies in one cone");
                 const auto x = psd_witness(sub(law_.H, QtHQ(a)));
                 require(x.has_value(), at(wp, "piece_a"), "H - Q^T H Q is PSD for this piece");
@@ -1360,12 +1778,14 @@ class Checker {
 int check(const Json& cert) {
     if (!cert.is_object() || !cert.contains("format") || cert["format"] != "impactcert-certificate/1")
         malformed("$.format", "not an impactcert-certificate/1 document");
+    expect_keys(cert, "$", {"format", "tool", "law_sha256", "law", "verdict", "system", "obligations"});
     const Json& law_json = field(cert, "$", "law");
     const std::string hash = str(field(cert, "$", "law_sha256"), "$.law_sha256");
     require(sha256_hex(law_json.dump()) == hash, "$.law_sha256", "does not match the SHA-256 of the law's canonical text");
     const Law law = read_law(law_json, "$.law");
 
     const Json& system = field(cert, "$", "system");
+    expect_keys(system, "$.system", {"G", "H"});
     require(mat(field(system, "$.system", "G"), "$.system.G") == law.G, "$.system.G", "is not W^T M^-1 W");
     require(mat(field(system, "$.system", "H"), "$.system.H") == law.H, "$.system.H", "is not G^-1");
 
@@ -1373,15 +1793,14 @@ int check(const Json& cert) {
     if (!obligations.is_array() || obligations.size() != kIds.size())
         malformed("$.obligations", "expected the 12 obligations");
     Checker checker(law, obligations);
-    bool all_claimed_proved = true;
+    bool any_claimed_refuted = false, any_claimed_undecided = false;
     for (std::size_t k = 0; k < kIds.size(); ++k) {
         const std::string path = at("$.obligations", k);
         const Json& o = obligations[k];
+        expect_keys(o, path, {"id", "statement", "method", "claimed", "verdict", "checks", "data"},
+                    {"counterexample", "limit"});
         require(str(field(o, path, "id"), at(path, "id")) == kIds[k], at(path, "id"), "expected \"" + kIds[k] + "\"");
-        const bool applies = (kIds[k] == "identities")       ? law_json.contains("identities")
-                             : (kIds[k] == "single-impacts") ? law_json.contains("single_impacts")
-                             : (kIds[k] == "outcomes")       ? law_json.contains("outcomes")
-                                                             : true;
+        const bool applies = ::applies(law_json, kIds[k]);
         const bool claimed = law.claims_given ? law.claimed_ids.count(kIds[k]) > 0 : applies;
         const Json& claimed_json = field(o, path, "claimed");
         if (!claimed_json.is_boolean())
@@ -1395,13 +1814,15 @@ int check(const Json& cert) {
         require(verdict != "skipped", at(path, "verdict"), "the law declares something to check");
         require((verdict == "refuted") == o.contains("counterexample"), path,
                 "a counterexample goes with a refutation, and only with one");
-        const bool truth = checker.holds(k);
-        if (claimed && !truth)
-            all_claimed_proved = false;
+        const auto truth = checker.holds(k);
+        if (claimed && truth == Checker::Truth::refuted)
+            any_claimed_refuted = true;
+        if (claimed && truth == Checker::Truth::undecided)
+            any_claimed_undecided = true;
     }
     const std::string top = str(field(cert, "$", "verdict"), "$.verdict");
-    require(top == (all_claimed_proved ? "proved" : "refuted"), "$.verdict",
-            "does not follow from the claimed obligations");
+    const char* follows = any_claimed_refuted ? "refuted" : any_claimed_undecided ? "undecided" : "proved";
+    require(top == follows, "$.verdict", "does not follow from the claimed obligations");
     return 0;
 }
 
@@ -1409,7 +1830,34 @@ int check(const Json& cert) {
 
 namespace impactcert_check {
 
+// The deepest nesting of arrays and objects in a JSON text, counted without recursion (a
+// certificate nested 100,000 deep must not overflow the stack of a recursive parser or dump).
+std::size_t nesting_depth(const std::string& text) {
+    std::size_t depth = 0, deepest = 0;
+    bool in_string = false, escaped = false;
+    for (char ch : text) {
+        if (in_string) {
+            if (escaped)
+                escaped = false;
+            else if (ch == '\\')
+                escaped = true;
+            else if (ch == '"')
+                in_string = false;
+        } else if (ch == '"') {
+            in_string = true;
+        } else if (ch == '[' || ch == '{') {
+            deepest = std::max(deepest, ++depth);
+        } else if ((ch == ']' || ch == '}') && depth > 0) {
+            --depth;
+        }
+    }
+    return deepest;
+}
+
 Outcome check_text(const std::string& text) {
+    constexpr std::size_t kMaxDepth = 64; // a certificate is at most 6 deep
+    if (nesting_depth(text) > kMaxDepth)
+        return {kMalformed, "malformed: nested more than " + std::to_string(kMaxDepth) + " levels deep"};
     Json cert;
     try {
         cert = Json::parse(text);

@@ -1,0 +1,28 @@
+// limits.hpp -- resource limits of the exact decisions.
+//
+// Contract: every exact decision whose cost can grow exponentially with the input (KKT
+// enumeration, the chambers of a hyperplane arrangement, extreme rays of cone intersections)
+// takes its limit from here and throws LimitExceeded before exceeding it. The obligation that
+// needed the decision is then `undecided` (SPEC section 3), naming the limit and the option that
+// raises it; exit status 3 when such an obligation is claimed and none is refuted.
+#pragma once
+
+#include <cstddef>
+#include <stdexcept>
+#include <string>
+
+namespace impactcert {
+
+struct Limits {
+    std::size_t max_faces = 16384;      // --max-faces: simplex faces of one KKT enumeration
+    std::size_t max_chambers = 200000;  // --max-chambers: chambers of the facet arrangement
+    std::size_t max_subsets = 5000000;  // --max-subsets: constraint subsets for cone intersections
+};
+
+struct LimitExceeded : std::runtime_error {
+    LimitExceeded(const std::string& what, std::string option_)
+        : std::runtime_error(what), option(std::move(option_)) {}
+    std::string option; // the command-line option that raises the limit
+};
+
+} // namespace impactcert
