@@ -60,7 +60,7 @@ TEST_CASE("cli: --junit writes one testcase per obligation and a failure per ref
         ++cases;
     CHECK(cases == 12);
     CHECK(xml.find("name=\"fan\"") != std::string::npos);
-    CHECK(xml.find("<failure type=\"refuted\" message=\"fan refuted: {&quot;reason&quot;") != std::string::npos);
+    CHECK(xml.find("<failure type=\"refuted\" message=\"fan refuted: {&quot;gamma&quot;") != std::string::npos);
 }
 
 TEST_CASE("cli: bad input exits 2 with one line naming the file and JSON path", "[cli]") {

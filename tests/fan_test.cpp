@@ -5,6 +5,9 @@
 
 #include <catch2/catch.hpp>
 
+#include <random>
+#include <set>
+
 using namespace impactcert;
 using impactcert::test::source_path;
 using impactcert::test::vec;
@@ -20,84 +23,236 @@ Law two_d_law(std::vector<std::pair<const char*, std::vector<Vector>>> cones) {
     return law;
 }
 
+// Every point off every hyperplane, one per chamber (sign vectors pairwise different).
+void require_one_point_per_chamber(const std::vector<Vector>& normals, const std::vector<Vector>& points) {
+    std::set<std::vector<int>> seen;
+    for (const auto& x : points) {
+        std::vector<int> signs;
+        for (const auto& n : normals) {
+            signs.push_back(static_cast<int>(sign_of(dot(n, x))));
+            REQUIRE(signs.back() != 0);
+        }
+        REQUIRE(seen.insert(signs).second);
+    }
+}
+
+std::vector<Vector> chambers(const std::vector<Vector>& normals, std::size_t d) {
+    std::size_t steps = 0;
+    std::vector<Vector> lines;
+    for (const auto& n : normals)
+        lines.push_back(canonical_line(n));
+    const auto points = chamber_points(lines, d, 10000000, steps);
+    require_one_point_per_chamber(lines, points);
+    return points;
+}
+
+// Splits piece p of `law` through a point strictly inside the edge between its rays a and b.
+void split_edge(Law& law, std::size_t p, std::size_t a, std::size_t b, const Rational& t) {
+    PieceDecl piece = law.pieces[p];
+    const auto rays = piece.rays.value();
+    const Vector mid = t * rays[a] + (Rational(1) - t) * rays[b];
+    PieceDecl first = piece, second = piece;
+    first.name += ".1";
+    second.name += ".2";
+    auto r1 = rays, r2 = rays;
+    r1[a] = mid;
+    r2[b] = mid;
+    first.rays = r1;
+    second.rays = r2;
+    law.pieces[p] = first;
+    law.pieces.insert(law.pieces.begin() + static_cast<std::ptrdiff_t>(p) + 1, second);
+}
+
 } // namespace
 
 TEST_CASE("fan: the paper's six cones cover the plane exactly once", "[fan]") {
     const Model m(paper_law());
-    const auto planar = check_fan_planar(m);
-    CHECK(planar.proved);
-    CHECK(planar.checks == 36); // six sectors, six cones each
-    CHECK(check_fan_facets(m).proved);
+    const auto r = check_fan(m, Limits{});
+    CHECK(r.proved);
+    CHECK(r.fast_path);
+    CHECK(r.method == "angular-sectors");
+    CHECK(r.checks == 36); // six sectors, six cones each
 }
 
-TEST_CASE("fan: the planar and the facet method agree on every 2-contact law we ship", "[fan]") {
+TEST_CASE("fan: chambers of known arrangements are counted exactly", "[fan][chambers]") {
+    // Coordinate hyperplanes of R^d: 2^d orthants.
+    for (std::size_t d = 1; d <= 6; ++d) {
+        std::vector<Vector> normals;
+        for (std::size_t k = 0; k < d; ++k)
+            normals.push_back(unit_vector(d, k));
+        CHECK(chambers(normals, d).size() == (std::size_t{1} << d));
+    }
+    // The braid arrangement of 4 velocities in contact coordinates (u_i = u_j, c = 3): 4! = 24.
+    std::vector<Vector> braid;
+    for (std::size_t i = 0; i < 3; ++i)
+        for (std::size_t j = i; j < 3; ++j) {
+            Vector n(3);
+            for (std::size_t k = i; k <= j; ++k)
+                n[k] = 1;
+            braid.push_back(n);
+        }
+    CHECK(chambers(braid, 3).size() == 24);
+    // k lines through 0 in the plane: 2k sectors; k generic planes in R^3: k^2 - k + 2.
+    CHECK(chambers({vec({"1", "0"}), vec({"0", "1"}), vec({"1", "1"}), vec({"1", "-2"})}, 2).size() == 8);
+    CHECK(chambers({vec({"1", "0", "0"}), vec({"0", "1", "0"}), vec({"0", "0", "1"}), vec({"1", "1", "1"}),
+                    vec({"1", "2", "-3"})},
+                   3)
+              .size() == 22);
+}
+
+TEST_CASE("fan: the chamber decision agrees with the angular sectors on every 2-contact law we ship", "[fan][chambers]") {
     for (const char* name : {"newton3/law", "controls/perturbed-entry", "controls/swapped-pieces",
                              "controls/missing-cone", "controls/newton-simultaneous",
                              "controls/discontinuous-isometric", "controls/expansive-scaled"}) {
         INFO(name);
         const Model m(load_law_file(source_path(std::string("proofs/") + name + ".json")));
-        CHECK(check_fan_planar(m).proved == check_fan_facets(m).proved);
+        const auto normals = facet_hyperplanes(m);
+        bool once = true;
+        for (const auto& x : chambers(normals, 2)) {
+            std::size_t k = 0;
+            for (std::size_t p = 0; p < m.pieces().size(); ++p)
+                k += m.in_interior(p, x) ? 1 : 0;
+            once = once && k == 1;
+        }
+        CHECK(check_fan(m, Limits{}).proved == once);
     }
 }
 
-TEST_CASE("fan: a gap is found with an uncovered direction", "[fan]") {
-    // Three quadrants only: the fourth quadrant is uncovered.
+TEST_CASE("fan: a gap is found with a direction in no cone", "[fan]") {
     const Model m(two_d_law({{"Q1", {vec({"1", "0"}), vec({"0", "1"})}},
                              {"Q2", {vec({"0", "1"}), vec({"-1", "0"})}},
                              {"Q3", {vec({"-1", "0"}), vec({"0", "-1"})}}}));
-    const auto r = check_fan_planar(m);
+    const auto r = check_fan(m, Limits{});
     REQUIRE_FALSE(r.proved);
-    REQUIRE(r.point);
-    CHECK(m.pieces_containing(*r.point).empty());
-    CHECK_FALSE(check_fan_facets(m).proved);
-}
-
-TEST_CASE("fan: overlapping cones are found with a doubly covered direction", "[fan]") {
-    // Q1 and Q2 plus a cone spanning (1,1)..(-1,1) on top of them, plus the lower half.
-    const Model m(two_d_law({{"Q1", {vec({"1", "0"}), vec({"0", "1"})}},
-                             {"Q2", {vec({"0", "1"}), vec({"-1", "0"})}},
-                             {"top", {vec({"1", "1"}), vec({"-1", "1"})}},
-                             {"Q3", {vec({"-1", "0"}), vec({"0", "-1"})}},
-                             {"Q4", {vec({"0", "-1"}), vec({"1", "0"})}}}));
-    const auto r = check_fan_planar(m);
-    REQUIRE_FALSE(r.proved);
-    REQUIRE(r.point);
-    CHECK(r.covering.size() == 2);
-    CHECK_FALSE(check_fan_facets(m).proved);
+    REQUIRE(r.failing);
+    CHECK(m.pieces_containing(r.test_points[*r.failing]).empty());
+    const auto d = check_domain(m, r);
+    CHECK_FALSE(d.function);
+    CHECK(m.pieces_containing(*d.point).empty());
 }
 
 TEST_CASE("fan: a cone counted twice around the origin is a double cover, not a fan", "[fan]") {
-    // Six cones that wind around the origin twice: every cone spans less than pi (135 degrees,
-    // the last 45), consecutive cones share a ray on opposite sides, and the chain closes after
-    // two full turns. Every facet matches, so only the covering count can catch it.
+    // Six cones winding twice around the origin; every facet matches, only the count catches it.
     const Model m(two_d_law({{"a", {vec({"1", "0"}), vec({"-1", "1"})}},
                              {"b", {vec({"-1", "1"}), vec({"0", "-1"})}},
                              {"c", {vec({"0", "-1"}), vec({"1", "1"})}},
                              {"d", {vec({"1", "1"}), vec({"-1", "0"})}},
                              {"e", {vec({"-1", "0"}), vec({"1", "-1"})}},
                              {"f", {vec({"1", "-1"}), vec({"1", "0"})}}}));
-    const auto planar = check_fan_planar(m);
-    REQUIRE_FALSE(planar.proved);
-    CHECK(planar.covering.size() == 2);
-    const auto facets = check_fan_facets(m);
-    REQUIRE_FALSE(facets.proved);
-    REQUIRE(facets.point);
-    CHECK(facets.covering.size() == 2);
+    const auto r = check_fan(m, Limits{});
+    REQUIRE_FALSE(r.proved);
+    CHECK(r.covering[*r.failing].size() == 2);
+    // All matrices are equal: S is still a function.
+    CHECK(check_domain(m, r).function);
 }
 
-TEST_CASE("fan: the 4-ball sorting law's 24 cones form a fan in R^3", "[fan]") {
+TEST_CASE("fan: the 4-ball sorting law's 24 cones take the face-to-face fast path", "[fan]") {
     const Model m(test::sorting_law(4));
-    REQUIRE(m.pieces().size() == 24);
-    const auto r = check_fan_facets(m);
+    const auto r = check_fan(m, Limits{});
     CHECK(r.proved);
+    CHECK(r.fast_path);
     CHECK(r.method == "facet-matching");
 }
 
-TEST_CASE("fan: dropping one of the 24 cones in R^3 leaves unmatched facets", "[fan]") {
+TEST_CASE("fan: dropping one of the 24 cones in R^3 leaves a gap, found as a point", "[fan]") {
     Law law = test::sorting_law(4);
     law.pieces.erase(law.pieces.begin() + 7);
-    const auto r = check_fan_facets(Model(law));
+    const Model m(law);
+    const auto r = check_fan(m, Limits{});
     REQUIRE_FALSE(r.proved);
-    CHECK(r.reason.find("no other cone") != std::string::npos);
-    CHECK(r.facet.size() == 2);
+    CHECK(r.method == "chambers");
+    CHECK(m.pieces_containing(r.test_points[*r.failing]).empty());
+}
+
+TEST_CASE("fan: tilings that are not face to face are proved (T-junctions)", "[fan][chambers]") {
+    for (const char* name : {"tjunction-newton4-split", "tjunction-orthants-zero"}) {
+        INFO(name);
+        const Model m(load_law_file(source_path(std::string("tests/laws/") + name + ".json")));
+        const auto r = check_fan(m, Limits{});
+        CHECK(r.proved);
+        CHECK_FALSE(r.fast_path);
+        CHECK(r.method == "chambers");
+    }
+}
+
+TEST_CASE("fan: random edge splits of the 4-ball fan still tile; moving one ray never does", "[fan][chambers]") {
+    std::mt19937_64 rng(7);
+    for (int round = 0; round < 12; ++round) {
+        Law law = test::sorting_law(4);
+        const int splits = 1 + round % 3;
+        for (int s = 0; s < splits; ++s) {
+            const std::size_t p = rng() % law.pieces.size();
+            const std::size_t a = rng() % 3, b = (a + 1 + rng() % 2) % 3;
+            split_edge(law, p, a, b, Rational(static_cast<int>(1 + rng() % 7), 8));
+        }
+        INFO("round " << round);
+        const Model m(law);
+        const auto r = check_fan(m, Limits{});
+        CHECK(r.proved);
+        // Move one ray of one cone slightly: its neighbours now overlap it or leave a gap.
+        Law moved = law;
+        auto& rays = *moved.pieces[0].rays;
+        rays[0] = rays[0] + Rational(1, 16) * rays[1] + Rational(1, 32) * rays[2];
+        const Model mm(moved);
+        const auto rm = check_fan(mm, Limits{});
+        REQUIRE_FALSE(rm.proved);
+        const Vector& x = rm.test_points[*rm.failing];
+        const auto& cov = rm.covering[*rm.failing];
+        CHECK((cov.size() >= 2 || mm.pieces_containing(x).empty()));
+    }
+}
+
+TEST_CASE("fan: the chamber enumeration stops at its limit", "[fan][chambers]") {
+    const Model m(load_law_file(source_path("tests/laws/one-piece-c12.json")));
+    Limits tight;
+    tight.max_chambers = 100;
+    CHECK_THROWS_AS(check_fan(m, tight), LimitExceeded);
+}
+
+TEST_CASE("fan: overlapping cones with different matrices give a two-valued witness", "[fan]") {
+    Law law = two_d_law({{"Q1", {vec({"1", "0"}), vec({"0", "1"})}},
+                         {"Q2", {vec({"0", "1"}), vec({"-1", "0"})}},
+                         {"Q3", {vec({"-1", "0"}), vec({"0", "-1"})}},
+                         {"Q4", {vec({"0", "-1"}), vec({"1", "0"})}},
+                         {"top", {vec({"1", "1"}), vec({"-1", "1"})}}});
+    // Equal matrices on the overlap: a function. A matrix that agrees with Q1 on (1,1) only,
+    // so that the sector point (1,1)+... must be moved off the kernel of the difference.
+    const Model same(law);
+    CHECK(check_domain(same, check_fan(same, Limits{})).function);
+    law.pieces[4].Q = Matrix::from_rows({vec({"0", "1"}), vec({"1", "0"})});
+    const Model m(law);
+    const auto d = check_domain(m, check_fan(m, Limits{}));
+    REQUIRE_FALSE(d.function);
+    REQUIRE(d.interior_of.size() == 2);
+    const auto a = d.interior_of[0], b = d.interior_of[1];
+    CHECK(m.in_interior(a, *d.point));
+    CHECK(m.in_interior(b, *d.point));
+    CHECK(m.pieces()[a].Q * *d.point != m.pieces()[b].Q * *d.point);
+}
+
+TEST_CASE("fan: extreme rays of cone intersections", "[fan][intersections]") {
+    const Model m(test::sorting_law(4));
+    // Face to face: the intersection of two cones is spanned by their shared rays.
+    std::size_t subsets = 0;
+    for (std::size_t i = 0; i < m.pieces().size(); ++i)
+        for (std::size_t j = i + 1; j < m.pieces().size(); ++j) {
+            std::set<Vector> shared;
+            for (auto id : m.pieces()[i].ray_ids) {
+                const auto& rj = m.pieces()[j].ray_ids;
+                if (std::find(rj.begin(), rj.end(), id) != rj.end())
+                    shared.insert(m.rays()[id]);
+            }
+            const auto rays = intersection_rays(m, i, j, subsets);
+            CHECK(std::set<Vector>(rays.begin(), rays.end()) == shared);
+        }
+    CHECK(subsets == 276 * intersection_subsets(3));
+    CHECK(intersection_subsets(3) == 15);
+    CHECK(intersection_subsets(1) == 1);
+    // A T-junction: the two halves of a split cone meet the neighbour across its facet in parts.
+    const Model t(load_law_file(source_path("tests/laws/tjunction-newton4-split.json")));
+    const auto rays = intersection_rays(t, 0, 1, subsets); // the two halves share a facet
+    CHECK(rays.size() == 2);
+    for (const auto& r : rays) {
+        CHECK(t.pieces_containing(r).size() >= 2);
+    }
 }
