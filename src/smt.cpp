@@ -117,13 +117,23 @@ class Writer {
             return conj(parts, "or");
         };
 
-        // fan: some gamma in no cone, or in the interiors of two cones. When the fan fails, S is
-        // not a function, so kinematic and nonexpansive fail with it (SPEC section 3).
+        // fan: some gamma in no cone, or in the interiors of two cones.
+        // S is not a function (SPEC section 3): some gamma in no cone, or in the interiors of two
+        // cones whose matrices differ there; then kinematic and nonexpansive fail with it.
         std::vector<std::string> bad_fan = {"(not " + covered(g) + ")"};
+        std::vector<std::string> not_function = {"(not " + covered(g) + ")"};
         for (std::size_t i = 0; i < P; ++i)
-            for (std::size_t j = i + 1; j < P; ++j)
-                bad_fan.push_back("(and " + in_cone(i, g, true) + " " + in_cone(j, g, true) + ")");
+            for (std::size_t j = i + 1; j < P; ++j) {
+                const std::string both = "(and " + in_cone(i, g, true) + " " + in_cone(j, g, true);
+                bad_fan.push_back(both + ")");
+                std::vector<std::string> differ;
+                const auto qi = image(pieces[i].Q, g), qj = image(pieces[j].Q, g);
+                for (std::size_t k = 0; k < c_; ++k)
+                    differ.push_back("(not (= " + qi[k] + " " + qj[k] + "))");
+                not_function.push_back(both + " " + conj(differ, "or") + ")");
+            }
         const std::string fan_fails = conj(bad_fan, "or");
+        const std::string s_not_function = conj(not_function, "or");
         out.push_back({"fan", header("fan", "exists gamma uncovered, or in two open cones", 1) + finish(fan_fails)});
         {   // P1: two pieces disagree at a common point
             std::vector<std::string> bad;
@@ -162,9 +172,9 @@ class Writer {
                                      }
                                      return conj(parts, "or");
                                  }))});
-        out.push_back({"kinematic", header("kinematic", "the fan fails, or a piece gives a "
+        out.push_back({"kinematic", header("kinematic", "S is not a function, or a piece gives a "
                                                         "negative gamma+ inside its cone", 1) +
-                                        finish(conj({fan_fails, per_piece([&](std::size_t p) {
+                                        finish(conj({s_not_function, per_piece([&](std::size_t p) {
                                                          std::vector<std::string> neg;
                                                          for (const auto& e : image(pieces[p].Q, g))
                                                              neg.push_back("(< " + e + " 0)");
@@ -195,9 +205,9 @@ class Writer {
             }
             const std::string violation = "(and " + covered(a) + " " + covered(b) + " (> " +
                                           quadratic(m_.H(), d_out) + " " + quadratic(m_.H(), d_in) + "))";
-            std::string s = header("nonexpansive", "the fan fails, or a, b with |S(a) - S(b)|_H > "
+            std::string s = header("nonexpansive", "S is not a function, or a, b with |S(a) - S(b)|_H > "
                                                    "|a - b|_H (S as nested ite over the cones)", 3);
-            out.push_back({"nonexpansive", s + finish("(or " + fan_fails + " " + violation + ")")});
+            out.push_back({"nonexpansive", s + finish("(or " + s_not_function + " " + violation + ")")});
         }
         return out;
     }

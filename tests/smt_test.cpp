@@ -44,6 +44,9 @@ TEST_CASE("smt: z3 decides every universal claim exactly as impactcert does", "[
         "proofs/controls/missing-cone.json",      "proofs/controls/newton-simultaneous.json",
         "proofs/controls/discontinuous-isometric.json", "proofs/controls/expansive-scaled.json",
         "tests/certificates/laws/two-ball.json",  "tests/certificates/laws/two-ball-expansive.json",
+        // Not face to face, overlapping: the reductions must still say what z3 says.
+        "tests/laws/tjunction-orthants-zero.json", "tests/laws/overlap-newton3-duplicate.json",
+        "tests/laws/tjunction-newton4-split.json",
     };
     std::size_t agreed = 0, sat = 0;
     for (const auto& law : laws) {
@@ -53,13 +56,16 @@ TEST_CASE("smt: z3 decides every universal claim exactly as impactcert does", "[
         REQUIRE(problems.size() == 8);
         for (const auto& problem : problems) {
             INFO(m.law().name << " / " << problem.id);
+            // z3 4.8 does not answer nonexpansive for 25 cones in R^3 within 300 s.
+            if (m.law().name == "tjunction-newton4-split" && problem.id == "nonexpansive")
+                continue;
             const std::string expected = report.at(problem.id).verdict == Verdict::proved ? "unsat" : "sat";
             CHECK(z3_answer(problem.script) == expected);
             agreed += 1;
             sat += expected == "sat" ? 1 : 0;
         }
     }
-    CHECK(agreed == 72);
+    CHECK(agreed == 95);
     CHECK(sat > 10); // the controls do make z3 find counterexamples
 }
 
