@@ -10,7 +10,13 @@
 
 #include <catch2/catch.hpp>
 
+#include <sys/wait.h>
+
+#include <algorithm>
 #include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
 #include <random>
 
 using namespace impactcert;
@@ -299,4 +305,36 @@ TEST_CASE("soundness 2: every certificate of the adversarial laws verifies, and 
             }
         }
     }
+}
+
+TEST_CASE("soundness 5: the CLI exits 3 on an undecided claim, certify too, and the checker agrees", "[soundness][limits][cli]") {
+    Json law = Json::parse(test::read_file(source_path("tests/laws/one-piece-c8.json")));
+    law["claims"] = Json::array({"energetic"});
+    const std::string path = "/tmp/impactcert-soundness-undecided.json";
+    const std::string cert = "/tmp/impactcert-soundness-undecided.certificate.json";
+    std::ofstream(path) << law.dump();
+    const auto run = test::run_cli("verify --law " + path + " --max-faces 100");
+    CHECK(run.status == 3);
+    CHECK(run.out.find("verdict: undecided") != std::string::npos);
+    CHECK(run.out.find("raise it with --max-faces") != std::string::npos);
+    CHECK(test::run_cli("verify --law " + path).status == 1);
+    CHECK(test::run_cli("certify --law " + path + " --max-faces 100 -o " + cert).status == 3);
+    const int checked = std::system((std::string(IMPACTCERT_CHECKER) + " " + cert + " >/dev/null 2>&1").c_str());
+    CHECK(WEXITSTATUS(checked) == 0);
+    std::remove(path.c_str());
+    std::remove(cert.c_str());
+}
+
+TEST_CASE("soundness 3: impactcert-check on a file nested 100,000 deep exits 2 with one line", "[soundness][checker][cli]") {
+    const std::string path = "/tmp/impactcert-soundness-deep.json";
+    std::ofstream(path) << "{\"format\": \"impactcert-certificate/1\", \"law\": " << std::string(100000, '[')
+                        << std::string(100000, ']') << "}";
+    const std::string out = "/tmp/impactcert-soundness-deep.out";
+    const int status = std::system((std::string(IMPACTCERT_CHECKER) + " " + path + " >" + out + " 2>&1").c_str());
+    CHECK(WIFEXITED(status));
+    CHECK(WEXITSTATUS(status) == 2);
+    const std::string text = test::read_file(out);
+    CHECK(std::count(text.begin(), text.end(), '\n') == 1);
+    std::remove(path.c_str());
+    std::remove(out.c_str());
 }
