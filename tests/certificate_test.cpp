@@ -146,6 +146,22 @@ TEST_CASE("certificates: every fixture gives its registered exit status and reas
     const std::map<std::string, std::string> registered = {
         {"valid/two_ball_proved.json", "verified (two-ball-elastic: proved)"},
         {"valid/two_ball_refuted.json", "verified (two-ball-expansive: refuted)"},
+        {"valid/tjunction_orthants_proved.json", "verified (tjunction-orthants-zero: proved)"},
+        {"valid/overlap_duplicate_proved.json", "verified (overlap-newton3-duplicate: proved)"},
+        // Issue 7 (soundness): each defect the review found, as a fixture named after it.
+        {"fail/empty_pieces_hash_recomputed.json", "$.law.pieces: no pieces"},
+        {"fail/via_fan_on_p2.json", "$.obligations[2].counterexample.via: a witness of \"fan\" does not refute P2"},
+        {"fail/via_p1_on_kinematic.json", "$.obligations[4].counterexample.via: a witness of \"P1\" does not refute kinematic"},
+        {"fail/via_cycle_fan_on_fan.json", "$.obligations[0].counterexample.via: a witness of \"fan\" does not refute fan"},
+        {"fail/claimed_obligation_skipped.json", "$.obligations[2].verdict: the law declares something to check"},
+        {"fail/unknown_claim_id.json", "$.law.claims[1]: unknown obligation"},
+        {"fail/duplicate_claim_id.json", "$.law.claims[2]: claimed twice"},
+        {"fail/empty_claims.json", "$.law.claims: no obligation claimed"},
+        {"fail/law_format_changed.json", "$.law.format: is not \"impactcert-law/1\""},
+        {"fail/undecided_with_evidence.json", "$.obligations[6].data: an undecided obligation carries no evidence"},
+        {"parse/added_key_in_witness.json", "$.obligations[0].counterexample.extra: unknown key"},
+        {"parse/fan_facet_witness.json", "$.obligations[0].counterexample: missing key \"gamma\""},
+        {"parse/nested_100000_deep.json", "nested more than 64 levels deep"},
         {"fail/claim_dropped.json", "$.obligations[11].claimed: does not match the law's claims"},
         {"fail/kkt_candidate_missing.json", "certificate.candidates: lists 2 KKT candidates, there are 3"},
         {"fail/law_changed_hash_kept.json", "$.law_sha256: does not match"},
@@ -196,6 +212,8 @@ TEST_CASE("certificates: the checker rejects every single-change mutation of con
         certs.push_back(entry.second);
     certs.push_back("tests/certificates/valid/two_ball_proved.json");
     certs.push_back("tests/certificates/valid/two_ball_refuted.json");
+    certs.push_back("tests/certificates/valid/tjunction_orthants_proved.json");
+    certs.push_back("tests/certificates/valid/overlap_duplicate_proved.json");
     for (const auto& cert : certs) {
         const Json root = Json::parse(read_file(source_path(cert)));
         // Exhaustive on the small certificates; a fixed sample of the large ones (every mutation
