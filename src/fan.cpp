@@ -141,50 +141,54 @@ void charge(std::size_t& steps, std::size_t max_steps) {
 
 std::vector<Vector> chamber_points(const std::vector<Vector>& normals, std::size_t d,
                                    std::size_t max_steps, std::size_t& steps) {
+    // Deletion and restriction (proofs/README.md, "Check, complete"), unrolled over the
+    // hyperplanes so that the recursion is only on the dimension (depth <= d): after step k the
+    // points are one per chamber of the first k+1 hyperplanes.
     charge(steps, max_steps);
     if (d == 1)
         return normals.empty() ? std::vector<Vector>{Vector{1}} : std::vector<Vector>{Vector{1}, Vector{-1}};
-    if (normals.empty())
-        return {unit_vector(d, 0)};
-    // Deletion and restriction of the last hyperplane h (proofs/README.md, "Chambers").
-    const Vector& n = normals.back();
-    const std::vector<Vector> rest(normals.begin(), normals.end() - 1);
-    std::vector<Vector> points;
-    for (auto& p : chamber_points(rest, d, max_steps, steps))
-        if (sign_of(dot(n, p)) != Sign::zero)
-            points.push_back(std::move(p));
-    const std::vector<Vector> basis = null_space({n}, d); // d-1 vectors spanning h
-    std::vector<Vector> restricted;
-    for (const auto& m : rest) {
-        Vector local(d - 1);
-        for (std::size_t k = 0; k + 1 < d; ++k)
-            local[k] = dot(basis[k], m);
-        Vector line = canonical_line(local); // non-zero: m is not a multiple of n
-        if (std::find(restricted.begin(), restricted.end(), line) == restricted.end())
-            restricted.push_back(std::move(line));
-    }
-    for (const auto& local : chamber_points(restricted, d - 1, max_steps, steps)) {
-        Vector y(d);
-        for (std::size_t k = 0; k + 1 < d; ++k)
-            y = y + local[k] * basis[k];
-        // Step off h by less than any other hyperplane allows: the two points lie in the two
-        // chambers on either side of the chamber of h that contains y.
-        Rational eps = 1;
-        for (const auto& m : rest) {
-            const Rational mn = dot(m, n);
-            if (sign_of(mn) != Sign::zero)
-                eps = std::min(eps, abs_of(dot(m, y)) / (2 * abs_of(mn)));
+    std::vector<Vector> points = {unit_vector(d, 0)};
+    for (std::size_t k = 0; k < normals.size(); ++k) {
+        const Vector& n = normals[k];
+        const std::vector<Vector> before(normals.begin(), normals.begin() + static_cast<std::ptrdiff_t>(k));
+        std::vector<Vector> next;
+        for (auto& p : points)
+            if (sign_of(dot(n, p)) != Sign::zero)
+                next.push_back(std::move(p));
+        const std::vector<Vector> basis = null_space({n}, d); // d-1 vectors spanning h
+        std::vector<Vector> restricted;
+        for (const auto& m : before) {
+            Vector local(d - 1);
+            for (std::size_t i = 0; i + 1 < d; ++i)
+                local[i] = dot(basis[i], m);
+            Vector line = canonical_line(local); // non-zero: m is not a multiple of n
+            if (std::find(restricted.begin(), restricted.end(), line) == restricted.end())
+                restricted.push_back(std::move(line));
         }
-        points.push_back(primitive_ray(y + eps * n));
-        points.push_back(primitive_ray(y - eps * n));
-        charge(steps, max_steps);
+        for (const auto& local : chamber_points(restricted, d - 1, max_steps, steps)) {
+            Vector y(d);
+            for (std::size_t i = 0; i + 1 < d; ++i)
+                y = y + local[i] * basis[i];
+            // Step off h by less than any other hyperplane allows: the two points lie in the two
+            // chambers on either side of the chamber of h that contains y.
+            Rational eps = 1;
+            for (const auto& m : before) {
+                const Rational mn = dot(m, n);
+                if (sign_of(mn) != Sign::zero)
+                    eps = std::min(eps, abs_of(dot(m, y)) / (2 * abs_of(mn)));
+            }
+            next.push_back(primitive_ray(y + eps * n));
+            next.push_back(primitive_ray(y - eps * n));
+            charge(steps, max_steps);
+        }
+        const std::vector<Vector> upto(normals.begin(), normals.begin() + static_cast<std::ptrdiff_t>(k + 1));
+        std::set<std::vector<int>> seen;
+        points.clear();
+        for (auto& p : next)
+            if (seen.insert(sign_vector(upto, p)).second)
+                points.push_back(std::move(p));
     }
-    std::set<std::vector<int>> seen;
-    std::vector<Vector> out;
-    for (auto& p : points)
-        if (seen.insert(sign_vector(normals, p)).second)
-            out.push_back(std::move(p));
-    return out;
+    return points;
 }
 
 std::vector<Vector> facet_hyperplanes(const Model& model) {

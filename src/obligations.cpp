@@ -308,8 +308,15 @@ class Prover {
             throw *p1_limit_;
         if (p1_)
             return *p1_;
+        // The fast path of the fan is decided before its chamber enumeration, so a fan beyond
+        // its limit means the cones do not meet face to face: P1 then needs intersections.
+        bool face_to_face = false;
         try {
-            p1_ = fan_result().fast_path ? p1_shared_rays() : p1_intersections();
+            face_to_face = fan_result().fast_path;
+        } catch (const LimitExceeded&) {
+        }
+        try {
+            p1_ = face_to_face ? p1_shared_rays() : p1_intersections();
         } catch (const LimitExceeded& e) {
             p1_limit_ = e;
             throw;
@@ -577,6 +584,7 @@ class Prover {
 
     Outcome nonexpansive() {
         Outcome o;
+        o.method = "S a function, then copositive pair forms";
         // Where S is undefined or two-valued on an open set it is not non-expansive: that
         // witness comes first, and spares the pair forms. A fan beyond its limit leaves the
         // pairs to decide a refutation.

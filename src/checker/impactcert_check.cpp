@@ -387,29 +387,30 @@ std::vector<Vec> kernel(std::vector<Vec> rows, std::size_t dim) {
 }
 
 // The number of chambers of the central arrangement {x : n . x = 0} (n in `normals`, distinct
-// lines) in R^d, by deletion and restriction of the first hyperplane; gives up (returns more
-// than `cap`) as soon as the count exceeds `cap`.
+// lines) in R^d, by deletion and restriction of the first hyperplane, unrolled:
+// r(A) = 1 + sum_k r(A_{>k} restricted to h_k), A_{>k} the hyperplanes after h_k (so the
+// recursion is on the dimension only). Gives up (returns more than `cap`) once over `cap`.
 std::size_t count_chambers(const std::vector<Vec>& normals, std::size_t d, std::size_t cap) {
     if (normals.empty())
         return 1;
     if (d == 1)
         return 2;
-    const Vec& h = normals.front();
-    const std::vector<Vec> rest(normals.begin() + 1, normals.end());
-    const std::size_t deleted = count_chambers(rest, d, cap);
-    if (deleted > cap)
-        return deleted;
-    const std::vector<Vec> basis = kernel({h}, d);
-    std::vector<Vec> restricted;
-    for (const auto& m : rest) {
-        Vec local;
-        for (const auto& b : basis)
-            local.push_back(dot(b, m));
-        const Vec line = canonical_line(local);
-        if (std::find(restricted.begin(), restricted.end(), line) == restricted.end())
-            restricted.push_back(line);
+    std::size_t total = 1;
+    for (std::size_t k = 0; k < normals.size() && total <= cap; ++k) {
+        const std::vector<Vec> basis = kernel({normals[k]}, d);
+        std::vector<Vec> restricted;
+        std::set<Vec> seen;
+        for (std::size_t l = k + 1; l < normals.size(); ++l) {
+            Vec local;
+            for (const auto& b : basis)
+                local.push_back(dot(b, normals[l]));
+            const Vec line = canonical_line(local);
+            if (seen.insert(line).second)
+                restricted.push_back(line);
+        }
+        total += count_chambers(restricted, d - 1, cap - total);
     }
-    return deleted + count_chambers(restricted, d - 1, cap - deleted);
+    return total;
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -1321,19 +1322,16 @@ class Checker {
 
     // The distinct facet hyperplanes, as sorted canonical normals.
     std::vector<Vec> facet_hyperplanes() const {
-        std::vector<Vec> out;
+        std::set<Vec> out;
         for (std::size_t p = 0; p < P(); ++p)
             for (std::size_t drop = 0; drop < law_.c; ++drop) {
                 std::vector<Vec> rows;
                 for (std::size_t k = 0; k < law_.c; ++k)
                     if (k != drop)
                         rows.push_back(pc(p).rays[k]);
-                const Vec n = canonical_line(kernel(rows, law_.c).at(0));
-                if (std::find(out.begin(), out.end(), n) == out.end())
-                    out.push_back(n);
+                out.insert(canonical_line(kernel(rows, law_.c).at(0)));
             }
-        std::sort(out.begin(), out.end());
-        return out;
+        return {out.begin(), out.end()};
     }
 
     // Complete decision: the listed points lie on no facet hyperplane, in pairwise different
