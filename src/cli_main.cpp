@@ -201,8 +201,9 @@ int run_eval_float(const std::string& law_path, bool velocities, const std::stri
                 line += (i ? " " : "") + fuzz::hex(r.value[i]);
                 bound += " " + fuzz::hex(r.bound[i]);
             }
-            std::printf("%s  # piece %s, |error| <=%s%s\n", line.c_str(), model.pieces()[r.piece].name.c_str(),
-                        bound.c_str(), r.exact_fallback ? ", classified exactly" : "");
+            std::printf("%s  # piece %s, |error| <=%s%s%s\n", line.c_str(), model.pieces()[r.piece].name.c_str(),
+                        bound.c_str(), r.exact_fallback ? ", classified exactly" : "",
+                        r.exact_output ? ", computed exactly" : "");
         }
         return kExitProved;
     }
