@@ -1,6 +1,7 @@
 #include "law_json.hpp"
 
 #include <cerrno>
+#include <cstdint>
 #include <cstring>
 #include <fstream>
 #include <set>
@@ -180,10 +181,14 @@ Matrix get_matrix(const Json& j, const std::string& path) {
 int get_small_int(const Json& j, const std::string& path) {
     if (!j.is_number_integer())
         input_error(path, std::string("expected an integer, got ") + j.dump());
-    const auto v = j.get<long long>();
-    if (v < -1000000 || v > 1000000)
+    // Compare in the integer's own type: an unsigned above 2^63 - 1 read as signed wraps
+    // (2^64 - 1 would become -1).
+    const bool in_range = j.is_number_unsigned()
+                              ? j.get<std::uint64_t>() <= 1000000
+                              : j.get<std::int64_t>() >= -1000000 && j.get<std::int64_t>() <= 1000000;
+    if (!in_range)
         input_error(path, "integer out of range: " + j.dump());
-    return static_cast<int>(v);
+    return static_cast<int>(j.get<std::int64_t>());
 }
 
 template <class F> void for_each_element(const Json& j, const std::string& path, F f) {
