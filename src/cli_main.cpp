@@ -439,7 +439,14 @@ int main(int argc, char** argv) {
     } catch (const CLI::Success& e) {
         return app.exit(e);
     } catch (const CLI::ParseError& e) {
-        app.exit(e);
+        // One line, like every other error (app.exit would add a second line).
+        std::string message = e.what();
+        for (char& ch : message)
+            if (ch == '\n' || ch == '\r')
+                ch = ' ';
+        while (!message.empty() && message.back() == ' ')
+            message.pop_back();
+        std::cerr << "impactcert: " << message << "\n";
         return kExitBadInput;
     }
     try {

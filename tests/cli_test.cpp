@@ -3,6 +3,7 @@
 #include <catch2/catch.hpp>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cstdio>
 #include <fstream>
 
@@ -110,4 +111,34 @@ TEST_CASE("cli: eval rejects malformed numbers and uncovered points with exit 2"
     run = run_cli("eval --law '" + source_path("proofs/controls/missing-cone.json") + "' -- 1 -2");
     CHECK(run.status == 2);
     CHECK(run.err.find("lies in no cone") != std::string::npos);
+}
+
+namespace {
+
+std::size_t lines_of(const std::string& s) { return static_cast<std::size_t>(std::count(s.begin(), s.end(), '\n')); }
+
+} // namespace
+
+TEST_CASE("cli: every usage error is one line on stderr with exit 2; --help and --version exit 0", "[cli]") {
+    for (const char* args : {"verify --frobnicate", "", "certify", "fuzz --jobs 0", "eval --law", "frobnicate",
+                             "verify extra", "fuzz --samples x"}) {
+        INFO("impactcert " << args);
+        const auto run = run_cli(args);
+        CHECK(run.status == 2);
+        INFO("stderr: " << run.err);
+        CHECK(run.err.rfind("impactcert: ", 0) == 0);
+        CHECK(lines_of(run.err) == 1);
+        CHECK(run.err.back() == '\n');
+        CHECK(run.out.empty());
+    }
+    for (const char* args : {"--help", "verify --help", "fuzz -h"}) {
+        INFO("impactcert " << args);
+        const auto run = run_cli(args);
+        CHECK(run.status == 0);
+        CHECK(run.out.find("Usage:") != std::string::npos);
+        CHECK(run.err.empty());
+    }
+    const auto version = run_cli("--version");
+    CHECK(version.status == 0);
+    CHECK(version.out.rfind("impactcert ", 0) == 0);
 }
