@@ -426,7 +426,13 @@ int main(int argc, char** argv) {
     eval_cmd->add_option("points", eval_args, "numbers: rationals (-3/4), decimals (0.1), hex floats (0x1.8p-3)");
 
     auto* fuzz_cmd = app.add_subcommand("fuzz", "fuzz a float implementation against the exact law; exit 0 no violation, 1 violation, 2 bad input");
-    fuzz_cmd->add_option("--seed", fuzz_options.seed, "seed (a run is a pure function of seed and sample index)");
+    fuzz_cmd->add_option_function<std::string>("--seed", [&](const std::string& text) {
+        std::string why;
+        const auto seed = fuzz::parse_seed(text, &why);
+        if (!seed)
+            throw CLI::ValidationError("--seed", text + ": " + why);
+        fuzz_options.seed = *seed;
+    }, "seed, a decimal integer in [0, 2^64 - 1] (a run is a pure function of seed and sample index)");
     fuzz_cmd->add_option("--samples", fuzz_options.samples, "number of samples")->check(CLI::PositiveNumber);
     fuzz_cmd->add_option("--seconds", fuzz_options.seconds, "stop after this many seconds")->check(CLI::NonNegativeNumber);
     fuzz_cmd->add_option("--jobs", fuzz_options.jobs, "threads")->check(CLI::Range(1u, 256u));
