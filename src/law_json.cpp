@@ -3,6 +3,7 @@
 #include <cerrno>
 #include <cstdint>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <set>
 #include <sstream>
@@ -295,11 +296,18 @@ Law parse_law_text(const std::string& text, const std::string& origin) {
 }
 
 Law load_law_file(const std::string& path) {
+    // A directory opens like a file and reads as empty ("unexpected end of input"): say so.
+    std::error_code ec;
+    if (std::filesystem::is_directory(path, ec))
+        throw InputError(path + ": is a directory");
+    errno = 0;
     std::ifstream in(path, std::ios::binary);
     if (!in)
-        throw InputError(path + ": cannot read file: " + std::strerror(errno));
+        throw InputError(path + ": cannot read file: " + (errno ? std::strerror(errno) : "cannot open"));
     std::ostringstream text;
     text << in.rdbuf();
+    if (in.bad())
+        throw InputError(path + ": cannot read file: read error");
     return parse_law_text(text.str(), path);
 }
 

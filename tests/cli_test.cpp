@@ -6,6 +6,8 @@
 #include <algorithm>
 #include <cstdio>
 #include <fstream>
+#include <sys/stat.h>
+#include <unistd.h>
 
 using impactcert::test::run_cli;
 using impactcert::test::source_path;
@@ -141,4 +143,28 @@ TEST_CASE("cli: every usage error is one line on stderr with exit 2; --help and 
     const auto version = run_cli("--version");
     CHECK(version.status == 0);
     CHECK(version.out.rfind("impactcert ", 0) == 0);
+}
+
+TEST_CASE("cli: a directory, a missing file or an unreadable one as --law is one line naming the path", "[cli]") {
+    for (const char* cmd : {"verify", "eval --float", "report -o /tmp/impactcert-cli-test-report-dir"}) {
+        INFO(cmd);
+        auto run = run_cli(std::string(cmd) + " --law /tmp");
+        CHECK(run.status == 2);
+        CHECK(run.err == "impactcert: /tmp: is a directory\n");
+        run = run_cli(std::string(cmd) + " --law /nonexistent/law.json");
+        CHECK(run.status == 2);
+        CHECK(run.err == "impactcert: /nonexistent/law.json: cannot read file: No such file or directory\n");
+    }
+    const std::string path = "/tmp/impactcert-cli-test-unreadable.json";
+    std::ofstream(path) << "{}";
+    auto run = run_cli("verify --law " + path + "/law.json"); // a file used as a directory
+    CHECK(run.status == 2);
+    CHECK(run.err == "impactcert: " + path + "/law.json: cannot read file: Not a directory\n");
+    if (geteuid() != 0) { // root reads anything
+        ::chmod(path.c_str(), 0);
+        run = run_cli("verify --law " + path);
+        CHECK(run.status == 2);
+        CHECK(run.err == "impactcert: " + path + ": cannot read file: Permission denied\n");
+    }
+    std::remove(path.c_str());
 }
