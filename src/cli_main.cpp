@@ -423,7 +423,7 @@ int main(int argc, char** argv) {
     eval_cmd->add_flag("--velocities", velocities, "points are ball velocities u- (print u+)");
     eval_cmd->add_flag("--float", as_float, "evaluate the float law in double (inputs read with strtod; output in hex, %a)");
     eval_cmd->add_option("--impl", impl_spec, "with --float: also run LIB.so:SYMBOL and show its error in ulps");
-    eval_cmd->add_option("points", eval_args, "numbers: rationals (-3/4), decimals (0.1), hex floats (0x1.8p-3)");
+    eval_cmd->add_option("points", eval_args, "numbers: rationals (-3/4), decimals (0.1, 2.5e-3), hex floats (0x1.8p-3)");
 
     auto* fuzz_cmd = app.add_subcommand("fuzz", "fuzz a float implementation against the exact law; exit 0 no violation, 1 violation, 2 bad input");
     fuzz_cmd->add_option_function<std::string>("--seed", [&](const std::string& text) {

@@ -92,6 +92,9 @@ TEST_CASE("cli: eval prints S exactly for arguments and stdin lines", "[cli]") {
     run = run_cli("eval", "-1/2 0x1.8p-1\n# a comment\n\n(1, 2)\n-0.1 0.3\n");
     CHECK(run.status == 0);
     CHECK(run.out == "1/2 1/4\n1 2\n1/10 1/5\n");
+    run = run_cli("eval -- 1e300 -2.5e-3 -1E+2 1e-1");
+    CHECK(run.status == 0);
+    CHECK(run.out == "3" + std::string(302, '9') + "/400 1/400\n1/10 999/10\n"); // 10^300 - 1/400, ...
     run = run_cli("eval --velocities", "1 0 0\n1 1 0\n1 0 -1\n3/2 -1/3 0.25\n");
     CHECK(run.status == 0);
     CHECK(run.out == "0 0 1\n0 1 1\n-1 0 1\n-1/3 1/4 3/2\n");
@@ -107,9 +110,13 @@ TEST_CASE("cli: eval rejects malformed numbers and uncovered points with exit 2"
     auto run = run_cli("eval", "1 2 3\n");
     CHECK(run.status == 2);
     CHECK(run.err == "impactcert: stdin:1: expected 2 numbers, got 3\n");
-    run = run_cli("eval", "1 1e3\n");
+    run = run_cli("eval", "1 1e\n");
     CHECK(run.status == 2);
-    CHECK(run.err.find("stdin:1: 1e3:") != std::string::npos);
+    CHECK(run.err.find("stdin:1: 1e:") != std::string::npos);
+    run = run_cli("eval -- 1 1e999999999");
+    CHECK(run.status == 2);
+    CHECK(run.err.find("arguments: 1e999999999: ") != std::string::npos);
+    CHECK(run.err.find("100000") != std::string::npos);
     run = run_cli("eval --law '" + source_path("proofs/controls/missing-cone.json") + "' -- 1 -2");
     CHECK(run.status == 2);
     CHECK(run.err.find("lies in no cone") != std::string::npos);
