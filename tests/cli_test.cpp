@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -174,4 +175,29 @@ TEST_CASE("cli: a directory, a missing file or an unreadable one as --law is one
         CHECK(run.err == "impactcert: " + path + ": cannot read file: Permission denied\n");
     }
     std::remove(path.c_str());
+}
+
+TEST_CASE("scripts: verify configures as before, builds only impactcert, one job per core", "[cli][scripts]") {
+    // The scripts run against a scratch root with cmake, dpkg-query, nproc and the built program
+    // replaced by stubs that log their arguments.
+    const std::string root = "/tmp/impactcert-scripts-test", log = root + "/log";
+    const std::string setup =
+        "rm -rf " + root + " && mkdir -p " + root + "/scripts " + root + "/bin " + root + "/build && cp '" +
+        source_path("scripts/lib.sh") + "' '" + source_path("scripts/verify") + "' " + root + "/scripts/ && cd " + root +
+        " && printf '#!/bin/sh\\necho \"cmake $*\" >> " + log + "\\n' > bin/cmake" +
+        " && printf '#!/bin/sh\\necho \"install ok installed\"\\n' > bin/dpkg-query" +
+        " && printf '#!/bin/sh\\necho 7\\n' > bin/nproc" +
+        " && printf '#!/bin/sh\\necho \"impactcert $*\" >> " + log + "\\n' > build/impactcert" +
+        " && chmod +x bin/* build/impactcert";
+    REQUIRE(std::system(setup.c_str()) == 0);
+    REQUIRE(std::system(("PATH=" + root + "/bin:$PATH " + root + "/scripts/verify --json 2>/dev/null").c_str()) == 0);
+    CHECK(impactcert::test::read_file(log) == "cmake -S " + root + " -B " + root + "/build -DCMAKE_BUILD_TYPE=Release\n"
+                                  "cmake --build " + root + "/build --target impactcert -j 7\n"
+                                  "impactcert verify --json\n");
+    // build_tree (scripts/test) builds everything, also one job per core.
+    std::remove(log.c_str());
+    REQUIRE(std::system(("PATH=" + root + "/bin:$PATH bash -c 'source " + root + "/scripts/lib.sh && build_tree " + root +
+                         "/b -DX=1' 2>/dev/null").c_str()) == 0);
+    CHECK(impactcert::test::read_file(log) == "cmake -S " + root + " -B " + root + "/b -DX=1\ncmake --build " + root + "/b -j 7\n");
+    std::system(("rm -rf " + root).c_str());
 }
