@@ -21,10 +21,28 @@ ensure_packages() {
     DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >&2
 }
 
-# build_tree DIR [cmake options...]: configure (once) and build with both cores.
-build_tree() {
+# build_jobs: one build job per core of this machine.
+build_jobs() {
+    nproc 2>/dev/null || getconf _NPROCESSORS_ONLN 2>/dev/null || echo 2
+}
+
+# configure_tree DIR [cmake options...]: configure (cmake redoes only what changed).
+configure_tree() {
     local dir="$1"
     shift
     cmake -S "$IMPACTCERT_ROOT" -B "$dir" "$@" >/dev/null
-    cmake --build "$dir" -j2
+}
+
+# build_tree DIR [cmake options...]: configure and build everything, one job per core.
+build_tree() {
+    configure_tree "$@"
+    cmake --build "$1" -j "$(build_jobs)"
+}
+
+# build_target DIR TARGET [cmake options...]: configure the same way, build only TARGET.
+build_target() {
+    local dir="$1" target="$2"
+    shift 2
+    configure_tree "$dir" "$@"
+    cmake --build "$dir" --target "$target" -j "$(build_jobs)"
 }

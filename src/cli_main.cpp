@@ -239,8 +239,9 @@ int run_eval_float(const std::string& law_path, bool velocities, const std::stri
                 line += (i ? " " : "") + fuzz::hex(r.value[i]);
                 bound += " " + fuzz::hex(r.bound[i]);
             }
-            std::printf("%s  # piece %s, |error| <=%s%s\n", line.c_str(), model.pieces()[r.piece].name.c_str(),
-                        bound.c_str(), r.exact_fallback ? ", classified exactly" : "");
+            std::printf("%s  # piece %s, |error| <=%s%s%s\n", line.c_str(), model.pieces()[r.piece].name.c_str(),
+                        bound.c_str(), r.exact_fallback ? ", classified exactly" : "",
+                        r.exact_output ? ", computed exactly" : "");
         }
         return kExitProved;
     }
@@ -466,10 +467,16 @@ int main(int argc, char** argv) {
     eval_cmd->add_flag("--velocities", velocities, "points are ball velocities u- (print u+)");
     eval_cmd->add_flag("--float", as_float, "evaluate the float law in double (inputs read with strtod; output in hex, %a)");
     eval_cmd->add_option("--impl", impl_spec, "with --float: also run LIB.so:SYMBOL and show its error in ulps");
-    eval_cmd->add_option("points", eval_args, "numbers: rationals (-3/4), decimals (0.1), hex floats (0x1.8p-3)");
+    eval_cmd->add_option("points", eval_args, "numbers: rationals (-3/4), decimals (0.1, 2.5e-3), hex floats (0x1.8p-3)");
 
     auto* fuzz_cmd = app.add_subcommand("fuzz", "fuzz a float implementation against the exact law; exit 0 no violation, 1 violation, 2 bad input");
-    fuzz_cmd->add_option("--seed", fuzz_options.seed, "seed (a run is a pure function of seed and sample index)");
+    fuzz_cmd->add_option_function<std::string>("--seed", [&](const std::string& text) {
+        std::string why;
+        const auto seed = fuzz::parse_seed(text, &why);
+        if (!seed)
+            throw CLI::ValidationError("--seed", text + ": " + why);
+        fuzz_options.seed = *seed;
+    }, "seed, a decimal integer in [0, 2^64 - 1] (a run is a pure function of seed and sample index)");
     fuzz_cmd->add_option("--samples", fuzz_options.samples, "number of samples")->check(CLI::PositiveNumber);
     fuzz_cmd->add_option("--seconds", fuzz_options.seconds, "stop after this many seconds")->check(CLI::NonNegativeNumber);
     fuzz_cmd->add_option("--jobs", fuzz_options.jobs, "threads")->check(CLI::Range(1u, 256u));
@@ -482,7 +489,14 @@ int main(int argc, char** argv) {
     } catch (const CLI::Success& e) {
         return app.exit(e);
     } catch (const CLI::ParseError& e) {
-        app.exit(e);
+        // One line, like every other error (app.exit would add a second line).
+        std::string message = e.what();
+        for (char& ch : message)
+            if (ch == '\n' || ch == '\r')
+                ch = ' ';
+        while (!message.empty() && message.back() == ' ')
+            message.pop_back();
+        std::cerr << "impactcert: " << message << "\n";
         return kExitBadInput;
     }
     try {

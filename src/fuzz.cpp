@@ -169,6 +169,24 @@ std::string hex(double x) {
     return buf;
 }
 
+std::optional<std::uint64_t> parse_seed(std::string_view text, std::string* why) {
+    auto fail = [&](const char* reason) -> std::optional<std::uint64_t> {
+        if (why)
+            *why = reason;
+        return std::nullopt;
+    };
+    if (text.empty() || !std::all_of(text.begin(), text.end(), [](char ch) { return ch >= '0' && ch <= '9'; }))
+        return fail("a seed must be a decimal integer in [0, 2^64 - 1] (digits only)");
+    std::uint64_t value = 0;
+    for (char ch : text) {
+        const auto digit = static_cast<std::uint64_t>(ch - '0');
+        if (value > (std::numeric_limits<std::uint64_t>::max() - digit) / 10)
+            return fail("a seed must be at most 2^64 - 1 = 18446744073709551615");
+        value = value * 10 + digit;
+    }
+    return value;
+}
+
 // ---------------------------------------------------------------------------------------------
 // The run
 

@@ -11,6 +11,7 @@
 //     Model, rounded to nearest-even by exact comparison. The slow path the tests and the
 //     benchmark compare against.
 //   - run(options, impl): fuzzes `impl` (the built-in float law when null) and summarises.
+//   - parse_seed: the --seed grammar, a decimal integer in [0, 2^64 - 1], nothing else.
 #pragma once
 
 #include "law.hpp"
@@ -18,7 +19,9 @@
 #include <atomic>
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace impactcert::fuzz {
@@ -89,5 +92,9 @@ struct Summary {
 Summary run(const Options& options, Impl impl, const std::function<void(std::uint64_t)>& progress);
 
 std::string hex(double x); // "%a"
+
+// A seed as the command line gives it: decimal digits only, value in [0, 2^64 - 1]. No sign,
+// exponent, hex or white space (they used to wrap or saturate silently); `why` gets the reason.
+std::optional<std::uint64_t> parse_seed(std::string_view text, std::string* why = nullptr);
 
 } // namespace impactcert::fuzz

@@ -1,7 +1,9 @@
 #include "law_json.hpp"
 
 #include <cerrno>
+#include <cstdint>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <set>
 #include <sstream>
@@ -180,10 +182,14 @@ Matrix get_matrix(const Json& j, const std::string& path) {
 int get_small_int(const Json& j, const std::string& path) {
     if (!j.is_number_integer())
         input_error(path, std::string("expected an integer, got ") + j.dump());
-    const auto v = j.get<long long>();
-    if (v < -1000000 || v > 1000000)
+    // Compare in the integer's own type: an unsigned above 2^63 - 1 read as signed wraps
+    // (2^64 - 1 would become -1).
+    const bool in_range = j.is_number_unsigned()
+                              ? j.get<std::uint64_t>() <= 1000000
+                              : j.get<std::int64_t>() >= -1000000 && j.get<std::int64_t>() <= 1000000;
+    if (!in_range)
         input_error(path, "integer out of range: " + j.dump());
-    return static_cast<int>(v);
+    return static_cast<int>(j.get<std::int64_t>());
 }
 
 template <class F> void for_each_element(const Json& j, const std::string& path, F f) {
@@ -290,11 +296,18 @@ Law parse_law_text(const std::string& text, const std::string& origin) {
 }
 
 Law load_law_file(const std::string& path) {
+    // A directory opens like a file and reads as empty ("unexpected end of input"): say so.
+    std::error_code ec;
+    if (std::filesystem::is_directory(path, ec))
+        throw InputError(path + ": is a directory");
+    errno = 0;
     std::ifstream in(path, std::ios::binary);
     if (!in)
-        throw InputError(path + ": cannot read file: " + std::strerror(errno));
+        throw InputError(path + ": cannot read file: " + (errno ? std::strerror(errno) : "cannot open"));
     std::ostringstream text;
     text << in.rdbuf();
+    if (in.bad())
+        throw InputError(path + ": cannot read file: read error");
     return parse_law_text(text.str(), path);
 }
 

@@ -6,7 +6,8 @@
 //     every error is an InputError whose one-line message names the file (for files), the JSON
 //     path and the reason, e.g. "law.json: $.pieces[1].Q[0][1]: zero denominator". Syntax
 //     errors name line and column. The result is validated (Model's checks) before it is
-//     returned, so a law that loads is a law that can be proved.
+//     returned, so a law that loads is a law that can be proved. A path that cannot be read
+//     is one line too: "<path>: is a directory", "<path>: cannot read file: <reason>".
 //   - law_to_json: the canonical form (fixed key order, rationals in lowest terms, rays written
 //     out only where the file gave them), the input of the certificate's hash.
 #pragma once

@@ -13,6 +13,8 @@ Rational abs_of(const Rational& x) { return sign_of(x) == Sign::negative ? -x : 
 
 namespace {
 
+constexpr long kMaxDecimalExponent = 100000;
+
 bool all_digits(std::string_view s, bool hex = false) {
     if (s.empty())
         return false;
@@ -136,7 +138,35 @@ std::optional<Rational> parse_cli_number(std::string_view text, std::string* why
     const bool negative = take_sign(s);
     if (s.size() >= 2 && s[0] == '0' && (s[1] == 'x' || s[1] == 'X'))
         return parse_hex_float(s.substr(2), negative, why);
-    return parse_rational(text, why);
+    const auto e = s.find_first_of("eE");
+    if (e == std::string_view::npos)
+        return parse_rational(text, why);
+    // [+-]digits[.digits](e|E)[+-]digits: the mantissa times an exact power of ten.
+    const std::string_view mantissa_text = text.substr(0, text.size() - s.size() + e);
+    std::string_view exponent_text = s.substr(e + 1);
+    if (mantissa_text.find('/') != std::string_view::npos) {
+        set_why(why, "an exponent applies to integers and decimals only, not to digits/digits");
+        return std::nullopt;
+    }
+    const bool exponent_negative = take_sign(exponent_text);
+    if (!all_digits(exponent_text)) {
+        set_why(why, "malformed decimal exponent (expected e[+-]digits)");
+        return std::nullopt;
+    }
+    while (exponent_text.size() > 1 && exponent_text.front() == '0')
+        exponent_text.remove_prefix(1);
+    // 10^100000 has 100,001 digits and takes milliseconds; 1e999999999 would take GMP hours.
+    if (exponent_text.size() > 6 || std::stol(std::string(exponent_text)) > kMaxDecimalExponent) {
+        set_why(why, "decimal exponent out of range (|exponent| <= 100000)");
+        return std::nullopt;
+    }
+    const auto exponent = static_cast<unsigned long>(std::stol(std::string(exponent_text)));
+    auto mantissa = parse_rational(mantissa_text, why);
+    if (!mantissa)
+        return std::nullopt;
+    if (exponent_negative)
+        return *mantissa / power_of(10, exponent);
+    return *mantissa * power_of(10, exponent);
 }
 
 std::string to_string(const Rational& x) {

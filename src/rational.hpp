@@ -3,7 +3,8 @@
 // Contract: every value on the exact path is a `Rational` (CGAL's GMP rational, CGAL::Gmpq).
 // Nothing here converts from or to floating point; text is the only way in and out:
 //   - parse_rational:     the law-file grammar  [+-]?digits("/"digits | "."digits)?
-//   - parse_cli_number:   the command-line grammar, which adds hex floats (0x1.8p-3), read exactly
+//   - parse_cli_number:   the command-line grammar, which adds hex floats (0x1.8p-3) and decimal
+//                         exponents (1e300, 2.5e-3 = 1/400), both read exactly; |exponent| <= 100000
 //   - to_string:          canonical "p" or "p/q" (q > 1, lowest terms)
 // Signs are three-way (`Sign`), never a bool that hides zero.
 #pragma once
@@ -28,7 +29,9 @@ Rational abs_of(const Rational& x);
 std::optional<Rational> parse_rational(std::string_view text, std::string* why = nullptr);
 
 // Command-line grammar: the law-file grammar plus hex floats "[+-]0x<hex>[.<hex>][p[+-]<dec>]",
-// converted exactly (a hex float is a dyadic rational).
+// converted exactly (a hex float is a dyadic rational), plus a decimal exponent on integers
+// and decimals "[+-]digits[.digits](e|E)[+-]digits", exact (1e300 is 10^300). An exponent of
+// magnitude above 100000 is an input error (its power of ten would be absurdly long to form).
 std::optional<Rational> parse_cli_number(std::string_view text, std::string* why = nullptr);
 
 // Canonical text: "0", "-7", "3/4", "-7/12".

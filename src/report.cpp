@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <string_view>
 
 namespace impactcert {
 
@@ -54,6 +55,40 @@ std::pair<Vector, Vector> ccw(const Vector& a, const Vector& b) {
 }
 
 std::string verdict_word(const ObligationResult& o) { return to_string(o.verdict); }
+
+// Text from a law (names) or a method in Markdown: one line (control characters become
+// blanks) with every character that Markdown, GitHub's tables, HTML or math could act on
+// backslash-escaped, so a name can neither end a table cell, start a heading or a fence, nor
+// inject HTML.
+std::string md_escape(const std::string& s) {
+    std::string out;
+    for (char ch : s) {
+        const auto u = static_cast<unsigned char>(ch);
+        if (u < 0x20 || u == 0x7f)
+            out += ' ';
+        else if (std::string_view("\\`*_[]<>|#!&~$").find(ch) != std::string_view::npos)
+            out += std::string("\\") + ch;
+        else
+            out += ch;
+    }
+    return out;
+}
+
+// JSON for a fenced code block: the characters that could close the fence or look like HTML
+// are written as \u escapes (they occur only inside JSON strings, so the JSON means the same).
+std::string md_json(const Json& j) {
+    std::string out;
+    for (char ch : j.dump(2)) {
+        switch (ch) {
+        case '`': out += "\\u0060"; break;
+        case '<': out += "\\u003c"; break;
+        case '>': out += "\\u003e"; break;
+        case '&': out += "\\u0026"; break;
+        default: out += ch;
+        }
+    }
+    return out;
+}
 
 } // namespace
 
@@ -168,7 +203,7 @@ std::string law_hash(const Model& m) { return sha256_hex(law_to_json(m.law()).du
 } // namespace
 
 std::string report_markdown(const Model& model, const VerifyReport& report) {
-    std::string s = "# impactcert report: " + report.law + "\n\n";
+    std::string s = "# impactcert report: " + md_escape(report.law) + "\n\n";
     s += std::string("**Verdict: ") + (report.passed() ? "proved" : "refuted") + "** — " +
          std::to_string(claimed_count(report, true)) + " of " + std::to_string(claimed_count(report, false)) +
          " claimed obligations proved. " + std::to_string(model.balls()) + " balls, " +
@@ -178,7 +213,7 @@ std::string report_markdown(const Model& model, const VerifyReport& report) {
     for (const auto& o : report.obligations) {
         const char* mark = o.verdict == Verdict::proved ? "✅" : o.verdict == Verdict::refuted ? "❌" : "➖";
         s += "| `" + o.id + "` | " + (o.claimed ? "yes" : "no") + " | " + mark + " " + verdict_word(o) + " | " +
-             std::to_string(o.checks) + " | " + o.method + " |\n";
+             std::to_string(o.checks) + " | " + md_escape(o.method) + " |\n";
     }
     bool any = false;
     for (const auto& o : report.obligations) {
@@ -187,11 +222,11 @@ std::string report_markdown(const Model& model, const VerifyReport& report) {
         if (!any)
             s += "\n## Counterexamples\n";
         any = true;
-        s += "\n### `" + o.id + "`\n\n```json\n" + o.counterexample.dump(2) + "\n```\n";
+        s += "\n### `" + o.id + "`\n\n```json\n" + md_json(o.counterexample) + "\n```\n";
     }
     s += "\n## The law\n\n| piece | rays | Q |\n|---|---|---|\n";
     for (const auto& p : model.pieces())
-        s += "| " + p.name + " | " + rays_text(p) + " | `" + matrix_text(p.Q) + "` |\n";
+        s += "| " + md_escape(p.name) + " | " + rays_text(p) + " | `" + matrix_text(p.Q) + "` |\n";
     s += "\nH = G^-1 = `" + matrix_text(model.H()) + "`. Every check is exact (GMP rationals); the reductions "
          "are argued in proofs/README.md.\n";
     return s;

@@ -8,6 +8,10 @@
 //   - cones_svg: for c = 2, an SVG redrawing Leine & Winandy's Figure 1(b): the cones in the
 //     (gamma1-, gamma2-) plane, labelled, with their boundary rays, and beside it one small panel
 //     per piece showing its image Q_i C_i. Empty for c != 2. Valid XML.
+//   - Names come from the law file and are untrusted: Markdown escapes them (one line, every
+//     character that could end a table cell or start a heading, link, fence or HTML tag
+//     backslash-escaped; fenced JSON writes ` < > & as \u escapes); HTML and SVG escape them
+//     as XML (control characters become U+FFFD).
 // Drawing coordinates are doubles (presentation only; no verdict depends on them).
 #pragma once
 

@@ -66,7 +66,13 @@ std::string xml_escape(const std::string& s) {
         case '>': out += "&gt;"; break;
         case '"': out += "&quot;"; break;
         case '\'': out += "&apos;"; break;
-        default: out += ch;
+        case '\t': case '\n': case '\r': out += ch; break;
+        default:
+            // XML 1.0 has no other control characters, not even as references: U+FFFD.
+            if (static_cast<unsigned char>(ch) < 0x20 || ch == '\x7f')
+                out += "&#65533;";
+            else
+                out += ch;
         }
     }
     return out;

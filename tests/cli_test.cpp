@@ -3,8 +3,12 @@
 #include <catch2/catch.hpp>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
+#include <sys/stat.h>
+#include <unistd.h>
 
 using impactcert::test::run_cli;
 using impactcert::test::source_path;
@@ -89,6 +93,9 @@ TEST_CASE("cli: eval prints S exactly for arguments and stdin lines", "[cli]") {
     run = run_cli("eval", "-1/2 0x1.8p-1\n# a comment\n\n(1, 2)\n-0.1 0.3\n");
     CHECK(run.status == 0);
     CHECK(run.out == "1/2 1/4\n1 2\n1/10 1/5\n");
+    run = run_cli("eval -- 1e300 -2.5e-3 -1E+2 1e-1");
+    CHECK(run.status == 0);
+    CHECK(run.out == "3" + std::string(302, '9') + "/400 1/400\n1/10 999/10\n"); // 10^300 - 1/400, ...
     run = run_cli("eval --velocities", "1 0 0\n1 1 0\n1 0 -1\n3/2 -1/3 0.25\n");
     CHECK(run.status == 0);
     CHECK(run.out == "0 0 1\n0 1 1\n-1 0 1\n-1/3 1/4 3/2\n");
@@ -104,10 +111,93 @@ TEST_CASE("cli: eval rejects malformed numbers and uncovered points with exit 2"
     auto run = run_cli("eval", "1 2 3\n");
     CHECK(run.status == 2);
     CHECK(run.err == "impactcert: stdin:1: expected 2 numbers, got 3\n");
-    run = run_cli("eval", "1 1e3\n");
+    run = run_cli("eval", "1 1e\n");
     CHECK(run.status == 2);
-    CHECK(run.err.find("stdin:1: 1e3:") != std::string::npos);
+    CHECK(run.err.find("stdin:1: 1e:") != std::string::npos);
+    run = run_cli("eval -- 1 1e999999999");
+    CHECK(run.status == 2);
+    CHECK(run.err.find("arguments: 1e999999999: ") != std::string::npos);
+    CHECK(run.err.find("100000") != std::string::npos);
     run = run_cli("eval --law '" + source_path("proofs/controls/missing-cone.json") + "' -- 1 -2");
     CHECK(run.status == 2);
     CHECK(run.err.find("lies in no cone") != std::string::npos);
+}
+
+namespace {
+
+std::size_t lines_of(const std::string& s) { return static_cast<std::size_t>(std::count(s.begin(), s.end(), '\n')); }
+
+} // namespace
+
+TEST_CASE("cli: every usage error is one line on stderr with exit 2; --help and --version exit 0", "[cli]") {
+    for (const char* args : {"verify --frobnicate", "", "certify", "fuzz --jobs 0", "eval --law", "frobnicate",
+                             "verify extra", "fuzz --samples x"}) {
+        INFO("impactcert " << args);
+        const auto run = run_cli(args);
+        CHECK(run.status == 2);
+        INFO("stderr: " << run.err);
+        CHECK(run.err.rfind("impactcert: ", 0) == 0);
+        CHECK(lines_of(run.err) == 1);
+        CHECK(run.err.back() == '\n');
+        CHECK(run.out.empty());
+    }
+    for (const char* args : {"--help", "verify --help", "fuzz -h"}) {
+        INFO("impactcert " << args);
+        const auto run = run_cli(args);
+        CHECK(run.status == 0);
+        CHECK(run.out.find("Usage:") != std::string::npos);
+        CHECK(run.err.empty());
+    }
+    const auto version = run_cli("--version");
+    CHECK(version.status == 0);
+    CHECK(version.out.rfind("impactcert ", 0) == 0);
+}
+
+TEST_CASE("cli: a directory, a missing file or an unreadable one as --law is one line naming the path", "[cli]") {
+    for (const char* cmd : {"verify", "eval --float", "report -o /tmp/impactcert-cli-test-report-dir"}) {
+        INFO(cmd);
+        auto run = run_cli(std::string(cmd) + " --law /tmp");
+        CHECK(run.status == 2);
+        CHECK(run.err == "impactcert: /tmp: is a directory\n");
+        run = run_cli(std::string(cmd) + " --law /nonexistent/law.json");
+        CHECK(run.status == 2);
+        CHECK(run.err == "impactcert: /nonexistent/law.json: cannot read file: No such file or directory\n");
+    }
+    const std::string path = "/tmp/impactcert-cli-test-unreadable.json";
+    std::ofstream(path) << "{}";
+    auto run = run_cli("verify --law " + path + "/law.json"); // a file used as a directory
+    CHECK(run.status == 2);
+    CHECK(run.err == "impactcert: " + path + "/law.json: cannot read file: Not a directory\n");
+    if (geteuid() != 0) { // root reads anything
+        ::chmod(path.c_str(), 0);
+        run = run_cli("verify --law " + path);
+        CHECK(run.status == 2);
+        CHECK(run.err == "impactcert: " + path + ": cannot read file: Permission denied\n");
+    }
+    std::remove(path.c_str());
+}
+
+TEST_CASE("scripts: verify configures as before, builds only impactcert, one job per core", "[cli][scripts]") {
+    // The scripts run against a scratch root with cmake, dpkg-query, nproc and the built program
+    // replaced by stubs that log their arguments.
+    const std::string root = "/tmp/impactcert-scripts-test", log = root + "/log";
+    const std::string setup =
+        "rm -rf " + root + " && mkdir -p " + root + "/scripts " + root + "/bin " + root + "/build && cp '" +
+        source_path("scripts/lib.sh") + "' '" + source_path("scripts/verify") + "' " + root + "/scripts/ && cd " + root +
+        " && printf '#!/bin/sh\\necho \"cmake $*\" >> " + log + "\\n' > bin/cmake" +
+        " && printf '#!/bin/sh\\necho \"install ok installed\"\\n' > bin/dpkg-query" +
+        " && printf '#!/bin/sh\\necho 7\\n' > bin/nproc" +
+        " && printf '#!/bin/sh\\necho \"impactcert $*\" >> " + log + "\\n' > build/impactcert" +
+        " && chmod +x bin/* build/impactcert";
+    REQUIRE(std::system(setup.c_str()) == 0);
+    REQUIRE(std::system(("PATH=" + root + "/bin:$PATH " + root + "/scripts/verify --json 2>/dev/null").c_str()) == 0);
+    CHECK(impactcert::test::read_file(log) == "cmake -S " + root + " -B " + root + "/build -DCMAKE_BUILD_TYPE=Release\n"
+                                  "cmake --build " + root + "/build --target impactcert -j 7\n"
+                                  "impactcert verify --json\n");
+    // build_tree (scripts/test) builds everything, also one job per core.
+    std::remove(log.c_str());
+    REQUIRE(std::system(("PATH=" + root + "/bin:$PATH bash -c 'source " + root + "/scripts/lib.sh && build_tree " + root +
+                         "/b -DX=1' 2>/dev/null").c_str()) == 0);
+    CHECK(impactcert::test::read_file(log) == "cmake -S " + root + " -B " + root + "/b -DX=1\ncmake --build " + root + "/b -j 7\n");
+    std::system(("rm -rf " + root).c_str());
 }

@@ -3,7 +3,11 @@
 
 #include <catch2/catch.hpp>
 
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
 #include <cmath>
+#include <optional>
 #include <set>
 
 using namespace impactcert;
@@ -86,4 +90,33 @@ TEST_CASE("fuzz: JSON summary and bad options", "[fuzz][cli]") {
     CHECK(test::run_cli("fuzz --samples 0").status == 2);
     CHECK(test::run_cli("fuzz --impl nowhere.so:f --samples 10").status == 2);
     CHECK(test::run_cli("fuzz --jobs 0").status == 2);
+}
+
+TEST_CASE("fuzz: a seed is a decimal integer in [0, 2^64 - 1], anything else is rejected", "[fuzz]") {
+    CHECK(fuzz::parse_seed("0") == std::optional<std::uint64_t>(0));
+    CHECK(fuzz::parse_seed("42") == std::optional<std::uint64_t>(42));
+    CHECK(fuzz::parse_seed("007") == std::optional<std::uint64_t>(7));
+    CHECK(fuzz::parse_seed("18446744073709551615") == std::optional<std::uint64_t>(18446744073709551615ULL));
+    for (const char* bad : {"", "-5", "-0", "+5", "1e23", "18446744073709551616", "99999999999999999999999", "0x10",
+                            " 7", "7 ", "1.0", "seed"}) {
+        INFO("seed '" << bad << "'");
+        std::string why;
+        CHECK_FALSE(fuzz::parse_seed(bad, &why));
+        CHECK_FALSE(why.empty());
+    }
+}
+
+TEST_CASE("fuzz: --seed out of range or not an integer exits 2 with one line", "[fuzz][cli]") {
+    for (const char* bad : {"-5", "1e23", "18446744073709551616", "0x10"}) {
+        INFO("--seed " << bad);
+        const auto run = test::run_cli(std::string("fuzz --samples 10 --seed ") + bad);
+        CHECK(run.status == 2);
+        CHECK(run.err.rfind("impactcert: --seed", 0) == 0);
+        CHECK(run.err.find(bad) != std::string::npos);
+        CHECK(std::count(run.err.begin(), run.err.end(), '\n') == 1);
+        CHECK(run.out.empty());
+    }
+    const auto run = test::run_cli("fuzz --samples 1000 --json --seed 18446744073709551615");
+    CHECK(run.status == 0);
+    CHECK(nlohmann::json::parse(run.out)["seed"] == 18446744073709551615ULL);
 }

@@ -53,6 +53,35 @@ TEST_CASE("rationals: command-line numbers add exact hex floats", "[rational]") 
         CHECK_FALSE(parse_cli_number(bad));
 }
 
+TEST_CASE("rationals: command-line decimals take an exact decimal exponent; law files do not", "[rational]") {
+    CHECK(to_string(*parse_cli_number("1e300")) == "1" + std::string(300, '0'));
+    CHECK(to_string(*parse_cli_number("2.5e-3")) == "1/400");
+    CHECK(to_string(*parse_cli_number("-1E+2")) == "-100");
+    CHECK(to_string(*parse_cli_number("+0.125e1")) == "5/4");
+    CHECK(to_string(*parse_cli_number("7e0")) == "7");
+    CHECK(to_string(*parse_cli_number("1e-0000000000000000000003")) == "1/1000"); // leading zeros
+    CHECK(to_string(*parse_cli_number("1e-400")) == "1/1" + std::string(400, '0'));
+    CHECK(to_string(*parse_cli_number("0e99999")) == "0");
+    CHECK(parse_cli_number("1e100000"));
+    for (const char* bad : {"1e", "1e+", "e3", "1e3.5", "1.e3", ".5e3", "1/2e3", "1e3/2", "1ee3", "1e 3", "1e0x3",
+                            "0x1e3p1x"}) {
+        std::string why;
+        INFO("input: '" << bad << "'");
+        CHECK_FALSE(parse_cli_number(bad, &why));
+        CHECK_FALSE(why.empty());
+    }
+    // Absurd exponents are refused at once, with the limit in the reason.
+    for (const char* absurd : {"1e999999999", "1e-999999999", "1e100001", "5e99999999999999999999999999"}) {
+        std::string why;
+        INFO("input: '" << absurd << "'");
+        CHECK_FALSE(parse_cli_number(absurd, &why));
+        CHECK(why.find("100000") != std::string::npos);
+    }
+    std::string why;
+    CHECK_FALSE(parse_rational("1e300", &why)); // SPEC section 4: no exponent in law files
+    CHECK_FALSE(why.empty());
+}
+
 TEST_CASE("rationals: signs are three-way", "[rational]") {
     CHECK(sign_of(q("-1/1000000000000000000000")) == Sign::negative);
     CHECK(sign_of(q("0")) == Sign::zero);

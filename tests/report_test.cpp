@@ -161,3 +161,87 @@ TEST_CASE("report: impactcert report writes both files and exits 0 even for a re
     std::remove((dir + "/report.md").c_str());
     std::remove((dir + "/report.html").c_str());
 }
+
+namespace {
+
+// The sorting law of three balls with hostile names everywhere a name can go, and a wrong
+// declared outcome (so that a counterexample carries the outcome's name).
+Model hostile_law() {
+    Law law = test::sorting_law(3);
+    law.name = "evil|law\n# pwned <img src=x onerror=alert(1)> `tick` ```fence";
+    const char* names[] = {"a|b", "line\nbreak", "```", "<script>alert(1)</script>", "# heading", "[link](http://x) *em* _u_ $x$ \x01"};
+    for (std::size_t p = 0; p < law.pieces.size(); ++p)
+        law.pieces[p].name = names[p % std::size(names)] + std::to_string(p);
+    law.outcomes.push_back(OutcomeDecl{"out|come\n```\n<b>x</b>", test::vec({"1", "0", "0"}), test::vec({"0", "1", "0"})});
+    return Model(law);
+}
+
+std::vector<std::string> lines_of(const std::string& text) {
+    std::vector<std::string> out;
+    std::size_t from = 0;
+    for (auto nl = text.find('\n'); nl != std::string::npos; nl = text.find('\n', from)) {
+        out.push_back(text.substr(from, nl - from));
+        from = nl + 1;
+    }
+    out.push_back(text.substr(from));
+    return out;
+}
+
+std::size_t unescaped_pipes(const std::string& line) {
+    std::size_t n = 0;
+    for (std::size_t i = 0; i < line.size(); ++i)
+        n += (line[i] == '|' && (i == 0 || line[i - 1] != '\\')) ? 1 : 0;
+    return n;
+}
+
+} // namespace
+
+TEST_CASE("report: names cannot rewrite the markdown (tables, headings, fences, HTML)", "[report]") {
+    const Model m = hostile_law();
+    const VerifyReport r = verify(m);
+    const std::string md = report_markdown(m, r);
+    INFO(md);
+    const auto lines = lines_of(md);
+    // Only the title is a heading of level 1, and it is one line.
+    CHECK(lines.front().rfind("# impactcert report: ", 0) == 0);
+    for (std::size_t i = 1; i < lines.size(); ++i)
+        CHECK(lines[i].rfind("# ", 0) != 0);
+    // No raw HTML, no control characters.
+    for (std::size_t i = md.find('<'); i != std::string::npos; i = md.find('<', i + 1))
+        CHECK((i > 0 && md[i - 1] == '\\')); // every '<' escaped: no HTML tag
+    CHECK(md.find('\x01') == std::string::npos);
+    // Fences alternate ```json / ``` and nothing inside a fence starts one.
+    bool in_fence = false;
+    for (const auto& line : lines) {
+        if (line.rfind("```", 0) != 0) {
+            if (in_fence)
+                CHECK(line.find("```") == std::string::npos);
+            continue;
+        }
+        CHECK(line == (in_fence ? "```" : "```json"));
+        in_fence = !in_fence;
+    }
+    CHECK_FALSE(in_fence);
+    // The law table: one row per piece, four cell separators in every row.
+    const auto header = std::find(lines.begin(), lines.end(), "| piece | rays | Q |");
+    REQUIRE(header != lines.end());
+    std::size_t rows = 0;
+    for (auto it = header + 2; it != lines.end() && !it->empty(); ++it, ++rows)
+        CHECK(unescaped_pipes(*it) == 4);
+    CHECK(rows == m.pieces().size());
+    // The outcome's counterexample still names it, in JSON that means the same (\u escapes).
+    CHECK(md.find(R"("outcome": "out|come\n\u0060\u0060\u0060\n\u003cb\u003ex\u003c/b\u003e")") != std::string::npos);
+}
+
+TEST_CASE("report: the HTML page and its SVG escape hostile names", "[report]") {
+    const Model m = hostile_law();
+    const std::string html = report_html(m, verify(m));
+    CHECK(html.find("<script") == std::string::npos);
+    CHECK(html.find("<img") == std::string::npos);
+    CHECK(html.find("<b>") == std::string::npos);
+    CHECK(html.find('\x01') == std::string::npos); // not even valid as a character reference in XML
+    CHECK(html.find("&lt;script&gt;") != std::string::npos);
+    std::vector<std::string> elements;
+    REQUIRE_NOTHROW(elements = xml_elements(cones_svg(m)));
+    CHECK(std::count(elements.begin(), elements.end(), "polygon") == 12);
+}
