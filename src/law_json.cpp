@@ -44,6 +44,7 @@ std::string frames_path(const std::vector<Frame>& stack) {
 }
 
 Json parse_syntax(const std::string& text) {
+    constexpr std::size_t kMaxDepth = 64;
     std::vector<Frame> stack;
     auto element_begins = [&] {
         if (!stack.empty() && !stack.back().object)
@@ -54,6 +55,10 @@ Json parse_syntax(const std::string& text) {
         case Json::parse_event_t::object_start:
         case Json::parse_event_t::array_start:
             element_begins();
+            // A law is at most 4 deep; far deeper input would make recursive code (dump() in a
+            // message) overflow the stack.
+            if (stack.size() >= kMaxDepth)
+                input_error(frames_path(stack), "nested more than " + std::to_string(kMaxDepth) + " levels deep");
             stack.push_back(Frame{event == Json::parse_event_t::object_start, {}, 0, {}});
             break;
         case Json::parse_event_t::object_end:

@@ -204,14 +204,17 @@ std::string law_hash(const Model& m) { return sha256_hex(law_to_json(m.law()).du
 
 std::string report_markdown(const Model& model, const VerifyReport& report) {
     std::string s = "# impactcert report: " + md_escape(report.law) + "\n\n";
-    s += std::string("**Verdict: ") + (report.passed() ? "proved" : "refuted") + "** — " +
+    s += std::string("**Verdict: ") + report.verdict() + "** — " +
          std::to_string(claimed_count(report, true)) + " of " + std::to_string(claimed_count(report, false)) +
          " claimed obligations proved. " + std::to_string(model.balls()) + " balls, " +
          std::to_string(model.contacts()) + (model.contacts() == 1 ? " contact, " : " contacts, ") +
          std::to_string(model.pieces().size()) + " pieces; law SHA-256 `" + law_hash(model) + "`.\n\n";
     s += "| obligation | claimed | verdict | exact checks | method |\n|---|---|---|---:|---|\n";
     for (const auto& o : report.obligations) {
-        const char* mark = o.verdict == Verdict::proved ? "✅" : o.verdict == Verdict::refuted ? "❌" : "➖";
+        const char* mark = o.verdict == Verdict::proved      ? "✅"
+                           : o.verdict == Verdict::refuted   ? "❌"
+                           : o.verdict == Verdict::undecided ? "❔"
+                                                             : "➖";
         s += "| `" + o.id + "` | " + (o.claimed ? "yes" : "no") + " | " + mark + " " + verdict_word(o) + " | " +
              std::to_string(o.checks) + " | " + md_escape(o.method) + " |\n";
     }
@@ -224,6 +227,9 @@ std::string report_markdown(const Model& model, const VerifyReport& report) {
         any = true;
         s += "\n### `" + o.id + "`\n\n```json\n" + md_json(o.counterexample) + "\n```\n";
     }
+    for (const auto& o : report.obligations)
+        if (o.verdict == Verdict::undecided)
+            s += "\n`" + o.id + "` is undecided: " + md_escape(o.limit) + "\n";
     s += "\n## The law\n\n| piece | rays | Q |\n|---|---|---|\n";
     for (const auto& p : model.pieces())
         s += "| " + md_escape(p.name) + " | " + rays_text(p) + " | `" + matrix_text(p.Q) + "` |\n";
@@ -233,7 +239,8 @@ std::string report_markdown(const Model& model, const VerifyReport& report) {
 }
 
 std::string report_html(const Model& model, const VerifyReport& report) {
-    const bool ok = report.passed();
+    const std::string verdict = report.verdict();
+    const char* colour = verdict == "proved" ? "#1a7f37" : verdict == "refuted" ? "#cf222e" : "#9a6700";
     std::string s = "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>impactcert: " +
                     xml_escape(report.law) + "</title>\n<style>\n"
                     "body{font-family:sans-serif;max-width:1100px;margin:2em auto;padding:0 1em;color:#222}\n"
@@ -243,8 +250,7 @@ std::string report_html(const Model& model, const VerifyReport& report) {
                     "pre{background:#f6f8fa;padding:8px;overflow-x:auto}code{font-size:90%}\n"
                     "</style>\n</head>\n<body>\n";
     s += "<h1>impactcert report: " + xml_escape(report.law) + "</h1>\n";
-    s += std::string("<p><span class=\"badge\" style=\"background:") + (ok ? "#1a7f37" : "#cf222e") + "\">" +
-         (ok ? "proved" : "refuted") + "</span> " + std::to_string(claimed_count(report, true)) + " of " +
+    s += std::string("<p><span class=\"badge\" style=\"background:") + colour + "\">" + verdict + "</span> " + std::to_string(claimed_count(report, true)) + " of " +
          std::to_string(claimed_count(report, false)) + " claimed obligations proved; " +
          std::to_string(model.balls()) + " balls, " + std::to_string(model.contacts()) + " contacts, " +
          std::to_string(model.pieces().size()) + " pieces. Law SHA-256 <code>" + law_hash(model) + "</code>.</p>\n";
@@ -269,6 +275,9 @@ std::string report_html(const Model& model, const VerifyReport& report) {
         any = true;
         s += "<h3><code>" + xml_escape(o.id) + "</code></h3>\n<pre>" + xml_escape(o.counterexample.dump(2)) + "</pre>\n";
     }
+    for (const auto& o : report.obligations)
+        if (o.verdict == Verdict::undecided)
+            s += "<p><code>" + xml_escape(o.id) + "</code> is undecided: " + xml_escape(o.limit) + "</p>\n";
     s += "<h2>The law</h2>\n<table>\n<tr><th>piece</th><th>rays</th><th>Q</th></tr>\n";
     for (const auto& p : model.pieces())
         s += "<tr><td>" + xml_escape(p.name) + "</td><td>" + xml_escape(rays_text(p)) + "</td><td><code>" +

@@ -338,3 +338,14 @@ TEST_CASE("soundness 3: impactcert-check on a file nested 100,000 deep exits 2 w
     std::remove(path.c_str());
     std::remove(out.c_str());
 }
+
+TEST_CASE("soundness 3: a law file nested 100,000 deep is one line of bad input, not a crash", "[soundness][cli]") {
+    const std::string path = "/tmp/impactcert-soundness-deep-law.json";
+    std::ofstream(path) << R"({"format": "impactcert-law/1", "name": "x", "masses": ["1", "1"], "contacts": )"
+                        << std::string(100000, '[') << std::string(100000, ']') << R"(, "pieces": []})";
+    const auto run = test::run_cli("verify --law " + path);
+    CHECK(run.status == 2);
+    CHECK(run.err.find("nested more than 64 levels deep") != std::string::npos);
+    CHECK(std::count(run.err.begin(), run.err.end(), '\n') == 1);
+    std::remove(path.c_str());
+}

@@ -413,6 +413,71 @@ std::size_t count_chambers(const std::vector<Vec>& normals, std::size_t d, std::
     return total;
 }
 
+// One point per chamber, by the prover's rule (proofs/README.md, "Check, complete"): the
+// hyperplanes added in order; after adding h (normal n) the earlier points off h are kept, and
+// every point y of the earlier hyperplanes restricted to h (in the primitive kernel basis of n)
+// gives y +- eps n, eps = min(1, |m.y| / (2 |m.n|) over earlier m with m.n != 0), primitive;
+// then the first point of every sign vector is kept. The checker regenerates the list to demand
+// the canonical one (so no point can be changed unnoticed) and counts the chambers by a second
+// route (count_chambers) to know that the list is complete.
+std::vector<Vec> canonical_chamber_points(const std::vector<Vec>& normals, std::size_t d, std::size_t& budget) {
+    if (budget == 0)
+        reject("$.obligations[0].data.chamber_points", "more chamber-enumeration work than the certificate lists points");
+    --budget;
+    if (d == 1)
+        return normals.empty() ? std::vector<Vec>{Vec{Q(1)}} : std::vector<Vec>{Vec{Q(1)}, Vec{Q(-1)}};
+    Vec first(d, Q(0));
+    first[0] = 1;
+    std::vector<Vec> points = {first};
+    for (std::size_t k = 0; k < normals.size(); ++k) {
+        const Vec& n = normals[k];
+        std::vector<Vec> next;
+        for (const auto& p : points)
+            if (sgn(dot(n, p)) != 0)
+                next.push_back(p);
+        std::vector<Vec> basis = kernel({n}, d);
+        for (auto& b : basis)
+            b = primitive(b);
+        std::vector<Vec> restricted;
+        for (std::size_t l = 0; l < k; ++l) {
+            Vec local;
+            for (const auto& b : basis)
+                local.push_back(dot(b, normals[l]));
+            const Vec line = canonical_line(local);
+            if (std::find(restricted.begin(), restricted.end(), line) == restricted.end())
+                restricted.push_back(line);
+        }
+        for (const auto& local : canonical_chamber_points(restricted, d - 1, budget)) {
+            Vec y(d, Q(0));
+            for (std::size_t i = 0; i + 1 < d; ++i)
+                for (std::size_t j = 0; j < d; ++j)
+                    y[j] += local[i] * basis[i][j];
+            Q eps = 1;
+            for (std::size_t l = 0; l < k; ++l) {
+                const Q mn = dot(normals[l], n);
+                if (sgn(mn) != 0)
+                    eps = std::min(eps, Q(abs(dot(normals[l], y)) / (2 * abs(mn))));
+            }
+            for (int side : {1, -1}) {
+                Vec z = y;
+                for (std::size_t j = 0; j < d; ++j)
+                    z[j] += side * eps * n[j];
+                next.push_back(primitive(z));
+            }
+        }
+        std::set<std::vector<int>> seen;
+        points.clear();
+        for (const auto& p : next) {
+            std::vector<int> signs;
+            for (std::size_t l = 0; l <= k; ++l)
+                signs.push_back(sgn(dot(normals[l], p)));
+            if (seen.insert(signs).second)
+                points.push_back(p);
+        }
+    }
+    return points;
+}
+
 // ---------------------------------------------------------------------------------------------
 // The law, re-derived
 
@@ -1361,6 +1426,10 @@ class Checker {
         const std::size_t count = count_chambers(planes, law_.c, pl.size());
         require(count == pl.size(), at(dp, "chamber_points"),
                 "misses a chamber: the arrangement has more chambers than points are listed");
+        // Bounded by the listed points: each step of the enumeration emits at least one point.
+        std::size_t budget = 4 * (pl.size() + 1) * (planes.size() + 1);
+        require(canonical_chamber_points(planes, law_.c, budget) == fan_points_, at(dp, "chamber_points"),
+                "are not the canonical chamber points (the prover's deletion and restriction)");
         return ok;
     }
 
