@@ -3,6 +3,7 @@
 // Exit status: 0 success / every claim proved; 1 a claim refuted; 2 bad input or usage.
 // Every error is one line on stderr: "impactcert: <place>: <reason>".
 #include "certificate.hpp"
+#include "derive.hpp"
 #include "float_eval.hpp"
 #include "fuzz.hpp"
 #include "law_json.hpp"
@@ -128,6 +129,62 @@ int run_report(const std::string& law_path, const std::string& dir, const Limits
     write_file(dir + "/report.html", report_html(model, report));
     std::cout << dir << "/report.md\n" << dir << "/report.html\n";
     return kExitProved; // a report is written whatever the verdict
+}
+
+// A comma-separated list of command-line numbers ("1,m,1" has no names here: see sweep).
+std::vector<Rational> number_list(const std::string& option, const std::string& text) {
+    std::vector<Rational> out;
+    std::size_t start = 0;
+    while (true) {
+        const std::size_t comma = text.find(',', start);
+        const std::string item = text.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
+        std::string why;
+        const auto x = parse_cli_number(item, &why);
+        if (!x)
+            throw InputError(option + ": \"" + item + "\" is not a number" + (why.empty() ? "" : " (" + why + ")"));
+        out.push_back(*x);
+        if (comma == std::string::npos)
+            return out;
+        start = comma + 1;
+    }
+}
+
+struct DeriveArgs {
+    std::string masses, restitution = "1", rule = "most-negative", out;
+    std::size_t max_impacts = 100;
+};
+
+int run_derive_sequential(const DeriveArgs& a) {
+    DeriveOptions o;
+    o.masses = number_list("--masses", a.masses);
+    o.restitution = number_list("--restitution", a.restitution);
+    if (o.restitution.size() == 1 && o.masses.size() > 2)
+        o.restitution.assign(o.masses.size() - 1, o.restitution[0]);
+    o.rule = parse_rule(a.rule);
+    o.max_impacts = a.max_impacts;
+    const DeriveResult r = derive_sequential(o);
+    if (r.not_finite) {
+        std::cerr << "impactcert: derive: no finite law: gamma- = " << to_string(*r.not_finite) << " needs more than "
+                  << o.max_impacts << " impacts (word " << r.word << "...)\n";
+        return kExitRefuted;
+    }
+    // The canonical law, with the derivation's description after the name.
+    const Json canonical = law_to_json(*r.law);
+    Json law;
+    for (auto it = canonical.begin(); it != canonical.end(); ++it) {
+        law[it.key()] = it.value();
+        if (it.key() == "name")
+            law["description"] = r.law->description;
+    }
+    const std::string text = law.dump(2) + "\n";
+    if (a.out.empty()) {
+        std::cout << text;
+    } else {
+        write_file(a.out, text);
+        std::cerr << "impactcert: wrote " << a.out << " (" << r.law->pieces.size() << " pieces, " << r.regions
+                  << " regions, longest word " << r.max_word << ")\n";
+    }
+    return kExitProved;
 }
 
 int run_smt(const std::string& law_path, const std::string& dir) {
@@ -438,6 +495,7 @@ int main(int argc, char** argv) {
     fuzz::Options fuzz_options;
     fuzz_options.jobs = std::max(1u, std::thread::hardware_concurrency());
     std::vector<std::string> eval_args;
+    DeriveArgs derive_args;
 
     auto* verify_cmd = app.add_subcommand("verify", "decide every proof obligation; exit 0 when every claim is proved, 1 when one is refuted, 2 on bad input");
     verify_cmd->add_option("--law", law_path, "law file (impactcert-law/1); default: the paper's 3-ball law");
@@ -468,6 +526,15 @@ int main(int argc, char** argv) {
     eval_cmd->add_flag("--float", as_float, "evaluate the float law in double (inputs read with strtod; output in hex, %a)");
     eval_cmd->add_option("--impl", impl_spec, "with --float: also run LIB.so:SYMBOL and show its error in ulps");
     eval_cmd->add_option("points", eval_args, "numbers: rationals (-3/4), decimals (0.1, 2.5e-3), hex floats (0x1.8p-3)");
+
+    auto* derive_cmd = app.add_subcommand("derive", "derive an impact law from the mechanics (SPEC section 7)");
+    derive_cmd->require_subcommand(1);
+    auto* sequential_cmd = derive_cmd->add_subcommand("sequential", "the sequential impact law of a chain; exit 0 law written, 1 no finite law (with a witness), 2 bad input");
+    sequential_cmd->add_option("--masses", derive_args.masses, "ball masses M1,M2,... (rationals, > 0)")->required();
+    sequential_cmd->add_option("--restitution", derive_args.restitution, "E for every contact, or E1,...,E(n-1), each in [0, 1]")->capture_default_str();
+    sequential_cmd->add_option("--rule", derive_args.rule, "which approaching contact impacts first: most-negative, left-first or right-first")->capture_default_str();
+    sequential_cmd->add_option("--max-impacts", derive_args.max_impacts, "longest impact sequence allowed")->capture_default_str();
+    sequential_cmd->add_option("-o,--output", derive_args.out, "law file to write (default: standard output)");
 
     auto* fuzz_cmd = app.add_subcommand("fuzz", "fuzz a float implementation against the exact law; exit 0 no violation, 1 violation, 2 bad input");
     fuzz_cmd->add_option_function<std::string>("--seed", [&](const std::string& text) {
@@ -508,6 +575,8 @@ int main(int argc, char** argv) {
             return run_report(law_path, out_path, limits);
         if (smt_cmd->parsed())
             return run_smt(law_path, out_path);
+        if (sequential_cmd->parsed())
+            return run_derive_sequential(derive_args);
         if (fuzz_cmd->parsed())
             return run_fuzz(fuzz_options, json);
         return run_eval(law_path, velocities, eval_args, as_float, impl_spec);

@@ -137,6 +137,119 @@ void charge(std::size_t& steps, std::size_t max_steps) {
                             "--max-chambers");
 }
 
+// ---- walls: the signed count of cones is constant across every facet hyperplane
+
+struct SignedCone {
+    std::vector<Vector> rays; // d primitive rays in R^d, sorted
+    long weight = 0;
+};
+
+Vector facet_normal(const std::vector<Vector>& rays, std::size_t d) {
+    return canonical_line(null_space(rays, d).at(0));
+}
+
+bool in_open_cone(const std::vector<Vector>& rays, const Vector& x) {
+    const auto s = solve(Matrix::from_columns(rays), x);
+    return s && std::all_of(s->begin(), s->end(), [](const Rational& v) { return sign_of(v) == Sign::positive; });
+}
+
+// The first point (1, t, t^2, ...) of the moment curve off every hyperplane.
+Vector moment_point(const std::vector<Vector>& normals, std::size_t d, std::size_t& checks) {
+    for (long t = 1;; ++t) {
+        Vector x(d);
+        Rational power = 1;
+        for (std::size_t i = 0; i < d; ++i, power *= Rational(t))
+            x[i] = power;
+        bool generic = true;
+        for (const auto& n : normals) {
+            ++checks;
+            if (sign_of(dot(n, x)) == Sign::zero) {
+                generic = false;
+                break;
+            }
+        }
+        if (generic)
+            return x;
+    }
+}
+
+// Whether sum_i w_i [x in int C_i] equals `target` at every generic x (proofs/README.md,
+// "Check, walls"): identical cones cancel; one generic point has the target; and across every
+// facet hyperplane h the facets lying in h, weighted by the side of their cone, cancel as a
+// family of cones of h (recursively, with target 0).
+bool balanced(std::vector<SignedCone> family, std::size_t d, long target, std::size_t& checks,
+              std::vector<Vector>* top_normals, Vector* top_point) {
+    std::map<std::vector<Vector>, long> net;
+    for (auto& cone : family) {
+        std::sort(cone.rays.begin(), cone.rays.end());
+        net[cone.rays] += cone.weight;
+    }
+    family.clear();
+    for (auto& [rays, w] : net)
+        if (w != 0)
+            family.push_back({rays, w});
+    if (family.empty())
+        return target == 0;
+    if (d == 1) {
+        long plus = 0, minus = 0;
+        for (const auto& cone : family)
+            (sign_of(cone.rays[0][0]) == Sign::positive ? plus : minus) += cone.weight;
+        return plus == target && minus == target;
+    }
+    // Facets by hyperplane: normal -> (facet rays -> signed weight).
+    std::map<Vector, std::map<std::vector<Vector>, long>> walls;
+    for (const auto& cone : family)
+        for (std::size_t drop = 0; drop < d; ++drop) {
+            std::vector<Vector> facet;
+            for (std::size_t k = 0; k < d; ++k)
+                if (k != drop)
+                    facet.push_back(cone.rays[k]);
+            const Vector n = facet_normal(facet, d);
+            const long side = sign_of(dot(n, cone.rays[drop])) == Sign::positive ? 1 : -1;
+            walls[n][facet] += side * cone.weight;
+            ++checks;
+        }
+    std::vector<Vector> normals;
+    for (const auto& entry : walls)
+        normals.push_back(entry.first);
+    const Vector x0 = moment_point(normals, d, checks);
+    if (top_normals)
+        *top_normals = normals;
+    if (top_point)
+        *top_point = x0;
+    long count = 0;
+    for (const auto& cone : family) {
+        ++checks;
+        if (in_open_cone(cone.rays, x0))
+            count += cone.weight;
+    }
+    if (count != target)
+        return false;
+    for (const auto& [n, facets] : walls) {
+        std::vector<std::pair<const std::vector<Vector>*, long>> open;
+        for (const auto& [facet, w] : facets)
+            if (w != 0)
+                open.push_back({&facet, w});
+        if (open.empty())
+            continue; // every facet in h is matched by one on the other side
+        // The facets in h as cones of h, in the coordinates of a basis of h.
+        const std::vector<Vector> basis = null_space({n}, d);
+        const Matrix B = Matrix::from_columns(basis);
+        const Matrix gram = transpose(B) * B;
+        std::vector<SignedCone> induced;
+        for (const auto& [facet, w] : open) {
+            SignedCone sc;
+            sc.weight = w;
+            for (const auto& r : *facet)
+                sc.rays.push_back(primitive_ray(*solve(gram, transpose(B) * r)));
+            induced.push_back(std::move(sc));
+        }
+        if (!balanced(std::move(induced), d - 1, 0, checks, nullptr, nullptr))
+            return false;
+    }
+    return true;
+}
+
 } // namespace
 
 std::vector<Vector> chamber_points(const std::vector<Vector>& normals, std::size_t d,
@@ -217,6 +330,29 @@ FanResult check_fan(const Model& model, const Limits& limits) {
         r.fast_path = true;
         return r;
     }
+    // Walls: a tiling that need not be face to face, decided without enumerating chambers.
+    {
+        FanResult walls;
+        walls.method = "walls";
+        walls.checks = r.checks;
+        std::vector<SignedCone> family;
+        for (const auto& piece : model.pieces())
+            family.push_back({[&] {
+                                  std::vector<Vector> rays;
+                                  for (std::size_t k = 0; k < model.contacts(); ++k)
+                                      rays.push_back(piece.R.column(k));
+                                  return rays;
+                              }(),
+                              1});
+        Vector point;
+        if (balanced(family, model.contacts(), 1, walls.checks, &walls.hyperplanes, &point)) {
+            walls.test_points = {point};
+            cover(model, walls);
+            if (!walls.proved)
+                throw std::logic_error("check_fan: the walls balance but the generic point is not covered once");
+            return walls;
+        }
+    }
     // Complete decision: one point in every chamber of the facet arrangement.
     FanResult full;
     full.method = "chambers";
@@ -273,6 +409,30 @@ DomainResult check_domain(const Model& model, const FanResult& fan) {
             }
     }
     return d;
+}
+
+std::vector<std::pair<std::size_t, std::size_t>> wall_pairs(const Model& model) {
+    const std::size_t c = model.contacts();
+    const auto& pieces = model.pieces();
+    // Facet hyperplane -> the cones having a facet in it, by side.
+    std::map<Vector, std::pair<std::vector<std::size_t>, std::vector<std::size_t>>> sides;
+    for (std::size_t p = 0; p < pieces.size(); ++p)
+        for (std::size_t drop = 0; drop < c; ++drop) {
+            std::vector<Vector> facet;
+            for (std::size_t k = 0; k < c; ++k)
+                if (k != drop)
+                    facet.push_back(pieces[p].R.column(k));
+            const Vector n = canonical_line(null_space(facet, c).at(0));
+            auto& entry = sides[n];
+            (sign_of(dot(n, pieces[p].R.column(drop))) == Sign::positive ? entry.first : entry.second).push_back(p);
+        }
+    std::set<std::pair<std::size_t, std::size_t>> pairs;
+    for (const auto& [n, entry] : sides)
+        for (auto a : entry.first)
+            for (auto b : entry.second)
+                if (a != b && pieces[a].Q != pieces[b].Q)
+                    pairs.insert({std::min(a, b), std::max(a, b)});
+    return {pairs.begin(), pairs.end()};
 }
 
 std::size_t intersection_subsets(std::size_t c) {

@@ -7,8 +7,12 @@
 //              consecutive rays; the count of cones containing it is constant on the sector.
 //       c != 2: method `facet-matching` (fast path): every facet shared by exactly one other cone
 //              on the opposite side, and one generic point covered once. When it does not
-//              apply, method `chambers`: one point in every chamber of the arrangement of all
-//              facet hyperplanes (chamber_points); the count is constant on each chamber.
+//              apply, method `walls`: the count of cones is 1 at one generic point and does not
+//              change across any facet hyperplane (the facets in it cancel, recursively in
+//              dimension c-1): a complete decision of tilings, proved without enumerating
+//              chambers. When that fails, method `chambers`: one point in every chamber of the
+//              arrangement of all facet hyperplanes (chamber_points), for the witness and for
+//              check_domain; the count is constant on each chamber.
 //     Every test point lies on no cone boundary, so "in a closed cone" and "in its interior"
 //     agree there; `covering` lists the interiors containing each point, and the first point
 //     covered k != 1 times is the witness (k = 0: a gap, k >= 2: an overlap).
@@ -33,15 +37,15 @@ struct FanResult {
     bool proved = false;
     bool fast_path = false;    // proved by sectors or by facet matching: a fan meeting face to face
     std::size_t checks = 0;
-    std::string method;        // "angular-sectors", "facet-matching" or "chambers"
+    std::string method;        // "angular-sectors", "facet-matching", "walls" or "chambers"
     std::vector<Vector> rays_by_angle; // angular-sectors: the distinct rays, sorted by angle
     struct Facet {
         std::vector<Vector> rays;         // the facet's c-1 rays (in ray-id order)
         std::vector<std::size_t> pieces;  // the pieces having it
     };
     std::vector<Facet> facets;         // facet-matching: every facet with its pieces
-    std::vector<Vector> hyperplanes;   // chambers: the distinct facet hyperplanes (normals)
-    // angular-sectors: one direction per sector; facet-matching: the generic point;
+    std::vector<Vector> hyperplanes;   // walls, chambers: the distinct facet hyperplanes (normals)
+    // angular-sectors: one direction per sector; facet-matching, walls: the generic point;
     // chambers: one point per chamber. None lies on a facet hyperplane.
     std::vector<Vector> test_points;
     std::vector<std::vector<std::size_t>> covering; // the interiors containing each test point
@@ -64,6 +68,10 @@ DomainResult check_domain(const Model& model, const FanResult& fan);
 // `subsets` counts the constraint subsets examined.
 std::vector<Vector> intersection_rays(const Model& model, std::size_t i, std::size_t j,
                                       std::size_t& subsets);
+// The pairs i < j with Q_i != Q_j of cones having facets in one hyperplane, on opposite sides:
+// when the cones tile R^c, every (c-1)-dimensional piece of common boundary is between such a
+// pair, so P1 needs only these.
+std::vector<std::pair<std::size_t, std::size_t>> wall_pairs(const Model& model);
 // Constraint subsets intersection_rays examines for one pair: C(2c, c-1).
 std::size_t intersection_subsets(std::size_t c);
 

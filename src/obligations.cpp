@@ -253,7 +253,10 @@ class Prover {
             for (const auto& n : f.hyperplanes)
                 planes.push_back(to_json(n));
             o.data["hyperplanes"] = planes;
-            o.data["chamber_points"] = points;
+            if (f.method == "walls")
+                o.data["generic_point"] = points.at(0);
+            else
+                o.data["chamber_points"] = points;
         }
         if (!f.proved) {
             const std::size_t k = *f.failing;
@@ -310,13 +313,14 @@ class Prover {
             return *p1_;
         // The fast path of the fan is decided before its chamber enumeration, so a fan beyond
         // its limit means the cones do not meet face to face: P1 then needs intersections.
-        bool face_to_face = false;
+        bool face_to_face = false, walls = false;
         try {
             face_to_face = fan_result().fast_path;
+            walls = fan_result().method == "walls";
         } catch (const LimitExceeded&) {
         }
         try {
-            p1_ = face_to_face ? p1_shared_rays() : p1_intersections();
+            p1_ = face_to_face ? p1_shared_rays() : p1_intersections(walls);
         } catch (const LimitExceeded& e) {
             p1_limit_ = e;
             throw;
@@ -348,14 +352,18 @@ class Prover {
     }
 
     // Any cones: for every pair with different matrices, the extreme rays of C_i ∩ C_j.
-    Outcome p1_intersections() {
+    // With a tiling proved by walls, only pairs across a common facet hyperplane.
+    Outcome p1_intersections(bool across_walls) {
         Outcome o;
-        o.method = "extreme rays of pairwise intersections";
+        o.method = across_walls ? "extreme rays of intersections across walls" : "extreme rays of pairwise intersections";
         std::vector<std::pair<std::size_t, std::size_t>> pairs;
-        for (std::size_t i = 0; i < pieces_.size(); ++i)
-            for (std::size_t j = i + 1; j < pieces_.size(); ++j)
-                if (pieces_[i].Q != pieces_[j].Q)
-                    pairs.emplace_back(i, j);
+        if (across_walls)
+            pairs = wall_pairs(m_);
+        else
+            for (std::size_t i = 0; i < pieces_.size(); ++i)
+                for (std::size_t j = i + 1; j < pieces_.size(); ++j)
+                    if (pieces_[i].Q != pieces_[j].Q)
+                        pairs.emplace_back(i, j);
         const std::size_t per_pair = intersection_subsets(c_);
         if (!pairs.empty() && per_pair > limits_.max_subsets / pairs.size())
             throw LimitExceeded("the intersections of " + std::to_string(pairs.size()) +

@@ -148,6 +148,7 @@ TEST_CASE("certificates: every fixture gives its registered exit status and reas
         {"valid/two_ball_refuted.json", "verified (two-ball-expansive: refuted)"},
         {"valid/tjunction_orthants_proved.json", "verified (tjunction-orthants-zero: proved)"},
         {"valid/overlap_duplicate_proved.json", "verified (overlap-newton3-duplicate: proved)"},
+        {"valid/gap_newton4_refuted.json", "verified (gap-newton4-missing-cone: refuted)"},
         // Issue 7 (soundness): each defect the review found, as a fixture named after it.
         {"fail/empty_pieces_hash_recomputed.json", "$.law.pieces: no pieces"},
         {"fail/via_fan_on_p2.json", "$.obligations[2].counterexample.via: a witness of \"fan\" does not refute P2"},
@@ -214,6 +215,7 @@ TEST_CASE("certificates: the checker rejects every single-change mutation of con
     certs.push_back("tests/certificates/valid/two_ball_refuted.json");
     certs.push_back("tests/certificates/valid/tjunction_orthants_proved.json");
     certs.push_back("tests/certificates/valid/overlap_duplicate_proved.json");
+    certs.push_back("tests/certificates/valid/gap_newton4_refuted.json");
     for (const auto& cert : certs) {
         const Json root = Json::parse(read_file(source_path(cert)));
         // Exhaustive on the small certificates; a fixed sample of the large ones (every mutation

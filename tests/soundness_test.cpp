@@ -69,8 +69,8 @@ TEST_CASE("soundness 1: a cone split through an edge midpoint is the same law, e
     const Model whole = load("proofs/newton4/law.json");
     const VerifyReport r = verify(split);
     CHECK(r.exit_status() == 0);
-    CHECK(r.at("fan").method == "chambers");
-    CHECK(r.at("P1").method == "extreme rays of pairwise intersections");
+    CHECK(r.at("fan").method == "walls");
+    CHECK(r.at("P1").method == "extreme rays of intersections across walls");
     for (const char* id : {"fan", "P1", "kinematic", "nonexpansive", "nonexpansive-lemma"})
         CHECK(r.at(id).verdict == Verdict::proved);
     CHECK(r.at("P3").verdict == Verdict::refuted); // true: the halves map onto half the orthant
@@ -121,7 +121,7 @@ TEST_CASE("soundness 1: every refutation of every law we ship and test is a poin
     for (const char* path : {"proofs/controls/missing-cone.json", "proofs/controls/swapped-pieces.json",
                              "proofs/controls/perturbed-entry.json", "proofs/controls/newton-simultaneous.json",
                              "proofs/controls/discontinuous-isometric.json", "proofs/controls/expansive-scaled.json",
-                             "tests/laws/one-piece-c8.json"}) {
+                             "tests/laws/one-piece-c8.json", "tests/laws/gap-newton4-missing-cone.json"}) {
         INFO(path);
         const Model m = load(path);
         require_sound(m, verify(m));
@@ -286,14 +286,15 @@ TEST_CASE("soundness 3: via cycles, added keys and deep nesting give one line an
 
 TEST_CASE("soundness 2: every certificate of the adversarial laws verifies, and survives its own mutations", "[soundness][checker]") {
     for (const char* path : {"tests/laws/tjunction-newton4-split.json", "tests/laws/tjunction-orthants-zero.json",
-                             "tests/laws/overlap-newton3-duplicate.json", "tests/laws/one-piece-c8.json"}) {
+                             "tests/laws/overlap-newton3-duplicate.json", "tests/laws/one-piece-c8.json",
+                             "tests/laws/gap-newton4-missing-cone.json"}) {
         INFO(path);
         const Json cert = certificate_of(load(path));
         REQUIRE(check(cert).status == impactcert_check::kVerified);
         // Delete each chamber or intersection entry, or change one coordinate: rejected.
         for (std::size_t k = 0; k < cert["obligations"].size(); ++k) {
             const Json& data = cert["obligations"][k]["data"];
-            for (const char* list : {"chamber_points", "intersections", "sector_points", "hyperplanes"}) {
+            for (const char* list : {"chamber_points", "intersections", "sector_points", "hyperplanes", "shared"}) {
                 if (!data.contains(list) || data[list].empty())
                     continue;
                 Json dropped = cert;

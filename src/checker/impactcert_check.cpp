@@ -478,6 +478,101 @@ std::vector<Vec> canonical_chamber_points(const std::vector<Vec>& normals, std::
     return points;
 }
 
+// ---- Tilings by walls (proofs/README.md, "Check, walls"): sum w_i [x in int C_i] equals the
+// target at every generic x iff identical cones cancel to the target's count at one generic
+// point and, across every facet hyperplane, the facets in it (weighted by the side of their
+// cone) cancel as cones of the hyperplane, recursively.
+
+struct WCone {
+    std::vector<Vec> rays;
+    long w = 0;
+};
+
+bool inside_open(const std::vector<Vec>& rays, const Vec& x) {
+    Vec s;
+    return solve(from_cols(rays), x, s) && positive(s);
+}
+
+Vec first_generic(const std::vector<Vec>& normals, std::size_t d) {
+    for (long t = 1;; ++t) {
+        Vec x;
+        Q power = 1;
+        for (std::size_t i = 0; i < d; ++i, power *= t)
+            x.push_back(power);
+        if (std::all_of(normals.begin(), normals.end(), [&](const Vec& n) { return sgn(dot(n, x)) != 0; }))
+            return x;
+    }
+}
+
+bool walls_balance(const std::vector<WCone>& in, std::size_t d, long target) {
+    std::map<std::vector<Vec>, long> net;
+    for (auto cone : in) {
+        std::sort(cone.rays.begin(), cone.rays.end());
+        net[cone.rays] += cone.w;
+    }
+    std::vector<WCone> family;
+    for (const auto& [rays, w] : net)
+        if (w != 0)
+            family.push_back({rays, w});
+    if (family.empty())
+        return target == 0;
+    if (d == 1) {
+        long pos = 0, neg = 0;
+        for (const auto& cone : family)
+            (sgn(cone.rays[0][0]) > 0 ? pos : neg) += cone.w;
+        return pos == target && neg == target;
+    }
+    std::map<Vec, std::map<std::vector<Vec>, long>> walls;
+    for (const auto& cone : family)
+        for (std::size_t drop = 0; drop < d; ++drop) {
+            std::vector<Vec> facet;
+            for (std::size_t k = 0; k < d; ++k)
+                if (k != drop)
+                    facet.push_back(cone.rays[k]);
+            const Vec n = canonical_line(kernel(facet, d).at(0));
+            walls[n][facet] += (sgn(dot(n, cone.rays[drop])) > 0 ? 1 : -1) * cone.w;
+        }
+    std::vector<Vec> normals;
+    for (const auto& entry : walls)
+        normals.push_back(entry.first);
+    const Vec x0 = first_generic(normals, d);
+    long count = 0;
+    for (const auto& cone : family)
+        if (inside_open(cone.rays, x0))
+            count += cone.w;
+    if (count != target)
+        return false;
+    for (const auto& [n, facets] : walls) {
+        std::vector<Vec> basis = kernel({n}, d);
+        for (auto& b : basis)
+            b = primitive(b);
+        // Coordinates in h: the basis has full column rank; solve the normal equations.
+        Mat gram(basis.size(), Vec(basis.size()));
+        for (std::size_t i = 0; i < basis.size(); ++i)
+            for (std::size_t j = 0; j < basis.size(); ++j)
+                gram[i][j] = dot(basis[i], basis[j]);
+        std::vector<WCone> induced;
+        for (const auto& [facet, w] : facets) {
+            if (w == 0)
+                continue;
+            WCone wc;
+            wc.w = w;
+            for (const auto& r : facet) {
+                Vec rhs, y;
+                for (const auto& b : basis)
+                    rhs.push_back(dot(b, r));
+                if (!solve(gram, rhs, y))
+                    reject("$.law.pieces", "a facet basis is singular");
+                wc.rays.push_back(primitive(y));
+            }
+            induced.push_back(wc);
+        }
+        if (!induced.empty() && !walls_balance(induced, d - 1, 0))
+            return false;
+    }
+    return true;
+}
+
 // ---------------------------------------------------------------------------------------------
 // The law, re-derived
 
@@ -866,6 +961,7 @@ class Checker {
     std::map<std::string, Truth> decided_;
     std::vector<Vec> fan_points_;              // the fan's validated test points (when decided)
     std::optional<bool> face_to_face_;        // the fast path of the fan holds
+    std::optional<bool> walls_tile_;          // the cones tile R^c (decided by walls)
     std::optional<std::optional<Json>> domain_; // the canonical domain witness, if any
 
     Truth holds(const std::string& id) {
@@ -914,6 +1010,18 @@ class Checker {
             if (facet_criterion()) {
                 expect_keys(data, dp, {"facets", "generic_point"});
                 return fan_facets(data, dp);
+            }
+            if (walls_tile()) {
+                expect_keys(data, dp, {"hyperplanes", "generic_point"});
+                const std::vector<Vec> planes = facet_hyperplanes();
+                require(listed_rays(data["hyperplanes"], at(dp, "hyperplanes")) == planes, at(dp, "hyperplanes"),
+                        "are not the facet hyperplanes (canonical normals, sorted)");
+                const Vec x0 = vec(data["generic_point"], at(dp, "generic_point"));
+                require(x0 == first_generic(planes, law_.c), at(dp, "generic_point"),
+                        "is not the first point of the moment curve off every facet hyperplane");
+                require(law_.interiors(x0).size() == 1, at(dp, "generic_point"), "is not covered once");
+                fan_points_ = {x0};
+                return true;
             }
             expect_keys(data, dp, {"hyperplanes", "chamber_points"});
             return fan_chambers(data, dp);
@@ -1371,6 +1479,38 @@ class Checker {
         return law_.interiors(generic_point()).size() == 1;
     }
 
+    // The cones tile R^c, decided by walls (the checker's own recursion).
+    bool walls_tile() {
+        if (!walls_tile_) {
+            std::vector<WCone> family;
+            for (std::size_t p = 0; p < P(); ++p)
+                family.push_back({pc(p).rays, 1});
+            walls_tile_ = walls_balance(family, law_.c, 1);
+        }
+        return *walls_tile_;
+    }
+
+    // Pairs i < j, Q_i != Q_j, with facets in one hyperplane on opposite sides.
+    std::vector<std::pair<std::size_t, std::size_t>> across_walls() const {
+        std::map<Vec, std::pair<std::set<std::size_t>, std::set<std::size_t>>> sides;
+        for (std::size_t p = 0; p < P(); ++p)
+            for (std::size_t drop = 0; drop < law_.c; ++drop) {
+                std::vector<Vec> facet;
+                for (std::size_t k = 0; k < law_.c; ++k)
+                    if (k != drop)
+                        facet.push_back(pc(p).rays[k]);
+                const Vec n = canonical_line(kernel(facet, law_.c).at(0));
+                (sgn(dot(n, pc(p).rays[drop])) > 0 ? sides[n].first : sides[n].second).insert(p);
+            }
+        std::set<std::pair<std::size_t, std::size_t>> out;
+        for (const auto& [n, two] : sides)
+            for (auto a : two.first)
+                for (auto b : two.second)
+                    if (a != b && pc(a).Q_ != pc(b).Q_)
+                        out.insert({std::min(a, b), std::max(a, b)});
+        return {out.begin(), out.end()};
+    }
+
     // The cones form a fan meeting face to face (then P1 is decided on shared rays).
     bool face_to_face() {
         if (!face_to_face_) {
@@ -1543,11 +1683,15 @@ class Checker {
     // P1 when the cones do not meet face to face: every pair with different matrices, the
     // extreme rays of the intersection of their cones, both matrices agreeing on each.
     bool p1_intersections(const Json& data, const std::string& dp) {
+        // With a tiling (walls) only pairs across a common facet hyperplane, else every pair.
         std::vector<std::pair<std::size_t, std::size_t>> pairs;
-        for (std::size_t i = 0; i < P(); ++i)
-            for (std::size_t j = i + 1; j < P(); ++j)
-                if (pc(i).Q_ != pc(j).Q_)
-                    pairs.emplace_back(i, j);
+        if (law_.c != 2 && walls_tile())
+            pairs = across_walls();
+        else
+            for (std::size_t i = 0; i < P(); ++i)
+                for (std::size_t j = i + 1; j < P(); ++j)
+                    if (pc(i).Q_ != pc(j).Q_)
+                        pairs.emplace_back(i, j);
         const Json& l = list(data, dp, "intersections");
         require(l.size() <= pairs.size(), at(dp, "intersections"), "too many entries");
         bool ok = true;
