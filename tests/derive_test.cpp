@@ -1,0 +1,188 @@
+// derive_test.cpp -- derived sequential impact laws (SPEC section 7) against the paper's law, the
+// sort law, and a direct simulation in ball velocities that shares nothing with the derivation.
+#include "certificate.hpp"
+#include "derive.hpp"
+#include "impactcert_check.hpp"
+#include "law_json.hpp"
+#include "paper_law.hpp"
+#include "support.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <random>
+
+using namespace impactcert;
+using impactcert::test::q;
+
+namespace {
+
+DeriveOptions options(std::vector<const char*> masses, std::vector<const char*> restitution,
+                      ImpactRule rule = ImpactRule::most_negative) {
+    DeriveOptions o;
+    for (auto m : masses)
+        o.masses.push_back(q(m));
+    for (auto e : restitution)
+        o.restitution.push_back(q(e));
+    if (o.restitution.size() == 1)
+        o.restitution.assign(o.masses.size() - 1, o.restitution[0]);
+    o.rule = rule;
+    return o;
+}
+
+Model derived(const DeriveOptions& o) {
+    const DeriveResult r = derive_sequential(o);
+    REQUIRE(r.law);
+    return Model(*r.law);
+}
+
+Rational random_rational(std::mt19937_64& rng) {
+    return Rational(static_cast<int>(rng() % 201) - 100, static_cast<int>(1 + rng() % 12));
+}
+
+// S of `a` and `b` agree at x: the same set of values (several on a boundary of a
+// discontinuous law are compared as sets).
+void require_same_values(const Model& a, const Model& b, const Vector& x) {
+    auto va = a.values_at(x), vb = b.values_at(x);
+    std::sort(va.begin(), va.end());
+    std::sort(vb.begin(), vb.end());
+    INFO("at " << to_string(x));
+    REQUIRE(va == vb);
+}
+
+// The derived law against the ball-velocity simulation at random rational u-: the simulation's
+// u+ is one of the law's values (exactly one off the boundaries).
+void require_agrees_with_simulation(const DeriveOptions& o, const Model& m, std::size_t samples, std::uint64_t seed) {
+    std::mt19937_64 rng(seed);
+    for (std::size_t k = 0; k < samples; ++k) {
+        Vector u(o.masses.size());
+        for (auto& x : u)
+            x = random_rational(rng);
+        const auto sim = simulate_balls(o.masses, o.restitution, o.rule, u, 1000);
+        REQUIRE(sim);
+        const Vector gamma = m.contact_velocities(u);
+        bool found = false;
+        for (const auto& g_plus : m.values_at(gamma))
+            found = found || m.post_impact_velocities(u, gamma, g_plus) == *sim;
+        INFO("u- = " << to_string(u) << ", simulated u+ = " << to_string(*sim));
+        REQUIRE(found);
+    }
+}
+
+bool all_proved(const VerifyReport& r) {
+    for (const auto& o : r.obligations) {
+        INFO(o.id << " " << o.counterexample.dump());
+        CHECK((o.verdict == Verdict::proved || o.verdict == Verdict::skipped));
+    }
+    return r.exit_status() == 0;
+}
+
+} // namespace
+
+TEST_CASE("derive: three equal balls, e = 1, give the paper's law", "[derive]") {
+    const Model d = derived(options({"1", "1", "1"}, {"1"}));
+    const Model paper(paper_law());
+    CHECK(d.pieces().size() == 6);
+    for (const auto& r : paper.rays())
+        require_same_values(d, paper, r);
+    for (const auto& r : d.rays())
+        require_same_values(d, paper, r);
+    std::mt19937_64 rng(3);
+    for (int k = 0; k < 10000; ++k)
+        require_same_values(d, paper, Vector{random_rational(rng), random_rational(rng)});
+    CHECK(all_proved(verify(d)));
+    CHECK(d.law().outcomes.size() == 5);
+    CHECK(d.law().single_impacts.size() == 2);
+}
+
+TEST_CASE("derive: four and five equal balls, e = 1, give the sort law", "[derive]") {
+    for (std::size_t n : {4, 5}) {
+        INFO(n << " balls");
+        std::vector<const char*> masses(n, "1");
+        const Model d = derived(options(masses, {"1"}));
+        const Model sort(test::sorting_law(n));
+        std::size_t factorial = 1;
+        for (std::size_t k = 2; k <= n; ++k)
+            factorial *= k;
+        CHECK(d.pieces().size() == factorial);
+        std::mt19937_64 rng(n);
+        for (int k = 0; k < 10000; ++k) {
+            Vector x(n - 1);
+            for (auto& v : x)
+                v = random_rational(rng);
+            require_same_values(d, sort, x);
+        }
+        if (n == 4)
+            CHECK(all_proved(verify(d)));
+    }
+}
+
+TEST_CASE("derive: five equal balls, e = 1: every obligation proved", "[derive][slow]") {
+    const Model d = derived(options({"1", "1", "1", "1", "1"}, {"1"}));
+    CHECK(all_proved(verify(d)));
+}
+
+TEST_CASE("derive: unequal masses, restitutions and every rule agree with the ball simulation", "[derive]") {
+    const std::vector<std::pair<std::vector<const char*>, std::vector<const char*>>> cases = {
+        {{"1", "2", "1"}, {"1"}},           {{"3", "1", "2"}, {"1/2"}},      {{"1", "5"}, {"3/4"}},
+        {{"2", "1", "1"}, {"1", "1/3"}},    {{"1", "2", "3", "4"}, {"1/2"}}, {{"1", "1", "2", "1"}, {"1", "9/10", "4/5"}},
+    };
+    for (const auto& [masses, e] : cases)
+        for (auto rule : {ImpactRule::most_negative, ImpactRule::left_first, ImpactRule::right_first}) {
+            const DeriveOptions o = options(masses, e, rule);
+            INFO("masses " << masses.size() << " " << masses[1] << ", rule " << to_string(rule));
+            const Model m = derived(o);
+            require_agrees_with_simulation(o, m, masses.size() == 4 ? 3000 : 10000, masses.size());
+            // Every derivation is a valid law whose certificate the checker verifies, and whose
+            // declared single impacts, factorisations and outcomes hold.
+            const VerifyReport r = verify(m);
+            for (const char* id : {"single-impacts", "identities", "outcomes", "fan"})
+                if (r.at(id).verdict != Verdict::skipped)
+                    CHECK(r.at(id).verdict == Verdict::proved);
+            const auto checked = impactcert_check::check_text(make_certificate(m, r).dump());
+            INFO(checked.message);
+            CHECK(checked.status == impactcert_check::kVerified);
+        }
+}
+
+TEST_CASE("derive: masses 1,2,1 with e = 1 are discontinuous on the tie boundary", "[derive]") {
+    const Model m = derived(options({"1", "2", "1"}, {"1"}));
+    const VerifyReport r = verify(m);
+    const auto& p1 = r.at("P1");
+    REQUIRE(p1.verdict == Verdict::refuted);
+    test::revalidate(m, p1);
+    const Vector g = test::vec_of(p1.counterexample["gamma"]);
+    CHECK(g[0] == g[1]); // on gamma_1 = gamma_2, where most-negative changes its choice
+    CHECK(sign_of(g[0]) == Sign::negative);
+}
+
+TEST_CASE("derive: e = 0 has no finite law; the witness needs more impacts than allowed", "[derive]") {
+    DeriveOptions o = options({"1", "1", "1"}, {"0"});
+    o.max_impacts = 20;
+    const DeriveResult r = derive_sequential(o);
+    REQUIRE_FALSE(r.law);
+    REQUIRE(r.not_finite);
+    const auto [word, finished] = sequential_word(o.masses, o.restitution, o.rule, *r.not_finite, 20);
+    CHECK_FALSE(finished);
+    CHECK(word.size() == 20);
+    CHECK(r.word.size() == 21);
+    const auto run = test::run_cli("derive sequential --masses 1,1,1 --restitution 0 --max-impacts 20");
+    CHECK(run.status == 1);
+    CHECK(run.err.find("no finite law") != std::string::npos);
+    CHECK(std::count(run.err.begin(), run.err.end(), '\n') == 1);
+}
+
+TEST_CASE("derive: the CLI writes a law that loads; bad input is one line and exit 2", "[derive][cli]") {
+    const auto ok = test::run_cli("derive sequential --masses 1,1,1");
+    REQUIRE(ok.status == 0);
+    const Model m(parse_law_text(ok.out, "stdout"));
+    CHECK(m.pieces().size() == 6);
+    for (const char* bad : {"--masses 1,0,1", "--masses 1,-2", "--masses 1", "--masses 1,1,1 --restitution 3/2",
+                            "--masses 1,1,1 --restitution -1", "--masses 1,1,1 --restitution 1,1,1",
+                            "--masses 1,1,1 --rule fastest", "--masses 1,x,1", "--masses 1,1 --max-impacts 0"}) {
+        INFO(bad);
+        const auto run = test::run_cli(std::string("derive sequential ") + bad);
+        CHECK(run.status == 2);
+        CHECK(std::count(run.err.begin(), run.err.end(), '\n') == 1);
+    }
+}
