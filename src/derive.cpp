@@ -2,6 +2,9 @@
 
 #include "errors.hpp"
 
+// PPL initialises itself in every program that links it unless told not to; impactcert starts
+// often (it is a CI gate), and only `derive` needs PPL, so it is initialised on first use.
+#define PPL_NO_AUTOMATIC_INITIALIZATION
 #include <ppl.hh>
 
 #include <algorithm>
@@ -246,6 +249,11 @@ std::optional<Vector> simulate_balls(const std::vector<Rational>& m, const std::
 
 DeriveResult derive_sequential(const DeriveOptions& options) {
     validate(options);
+    static const bool ppl_ready = [] {
+        PPL::initialize();
+        return true;
+    }();
+    (void)ppl_ready;
     const std::size_t n = options.masses.size(), c = n - 1;
     const Matrix G = chain_G(options.masses);
     std::vector<Matrix> Qk;
