@@ -11,6 +11,7 @@
 #include "paper_law.hpp"
 #include "report.hpp"
 #include "smt.hpp"
+#include "sweep.hpp"
 #include "verdict_output.hpp"
 
 #include <CLI/CLI.hpp>
@@ -185,6 +186,45 @@ int run_derive_sequential(const DeriveArgs& a) {
                   << " regions, longest word " << r.max_word << ")\n";
     }
     return kExitProved;
+}
+
+struct SweepArgs {
+    std::string masses, restitution = "1", rule = "most-negative", out;
+    std::vector<std::string> vary;
+    std::size_t max_impacts = 100;
+    unsigned jobs = 1;
+};
+
+std::vector<std::string> items(const std::string& text) {
+    std::vector<std::string> out;
+    std::stringstream in(text);
+    for (std::string item; std::getline(in, item, ',');)
+        out.push_back(item);
+    if (!text.empty() && text.back() == ',')
+        out.push_back("");
+    return out;
+}
+
+int run_sweep_command(const SweepArgs& a, const Limits& limits) {
+    SweepSpec spec;
+    spec.masses = items(a.masses);
+    spec.restitution = items(a.restitution);
+    spec.rule = parse_rule(a.rule);
+    spec.max_impacts = a.max_impacts;
+    spec.limits = limits;
+    spec.jobs = a.jobs;
+    for (const auto& v : a.vary)
+        spec.parameters.push_back(parse_vary(v));
+    const bool tty = isatty(2) != 0;
+    const auto start = std::chrono::steady_clock::now();
+    run_sweep(spec, a.out, [&](std::size_t done, std::size_t total) {
+        if (tty && std::chrono::steady_clock::now() - start > std::chrono::seconds(1))
+            std::fprintf(stderr, "\r\033[Kimpactcert: sweep %zu/%zu points", done, total);
+    });
+    if (tty)
+        std::fprintf(stderr, "\r\033[K");
+    std::cout << a.out << "/sweep.csv\n" << a.out << "/sweep.json\n" << a.out << "/sweep.html\n";
+    return kExitProved; // the verdicts are data
 }
 
 int run_smt(const std::string& law_path, const std::string& dir) {
@@ -496,6 +536,8 @@ int main(int argc, char** argv) {
     fuzz_options.jobs = std::max(1u, std::thread::hardware_concurrency());
     std::vector<std::string> eval_args;
     DeriveArgs derive_args;
+    SweepArgs sweep_args;
+    sweep_args.jobs = std::max(1u, std::thread::hardware_concurrency());
 
     auto* verify_cmd = app.add_subcommand("verify", "decide every proof obligation; exit 0 when every claim is proved, 1 when one is refuted, 2 on bad input");
     verify_cmd->add_option("--law", law_path, "law file (impactcert-law/1); default: the paper's 3-ball law");
@@ -509,12 +551,6 @@ int main(int argc, char** argv) {
     auto* report_cmd = app.add_subcommand("report", "write report.md (CI job summary) and a self-contained report.html with a picture of the cones");
     report_cmd->add_option("--law", law_path, "law file (impactcert-law/1); default: the paper's 3-ball law");
     report_cmd->add_option("-o,--output", out_path, "directory to write report.md and report.html into")->required();
-    Limits limits;
-    for (auto* cmd : {verify_cmd, certify_cmd, report_cmd}) {
-        cmd->add_option("--max-faces", limits.max_faces, "limit: simplex faces of one KKT enumeration (copositivity); beyond it an obligation is undecided")->capture_default_str();
-        cmd->add_option("--max-chambers", limits.max_chambers, "limit: steps of the chamber enumeration that decides a fan not meeting face to face")->capture_default_str();
-        cmd->add_option("--max-subsets", limits.max_subsets, "limit: constraint subsets for the extreme rays of cone intersections (P1, not face to face)")->capture_default_str();
-    }
 
     auto* smt_cmd = app.add_subcommand("smt", "write one SMT-LIB2 file per universal claim (the claim negated: unsat = holds)");
     smt_cmd->add_option("--law", law_path, "law file (impactcert-law/1); default: the paper's 3-ball law");
@@ -535,6 +571,21 @@ int main(int argc, char** argv) {
     sequential_cmd->add_option("--rule", derive_args.rule, "which approaching contact impacts first: most-negative, left-first or right-first")->capture_default_str();
     sequential_cmd->add_option("--max-impacts", derive_args.max_impacts, "longest impact sequence allowed")->capture_default_str();
     sequential_cmd->add_option("-o,--output", derive_args.out, "law file to write (default: standard output)");
+
+    auto* sweep_cmd = app.add_subcommand("sweep", "derive + verify over a grid of parameters named in --masses/--restitution; writes DIR/sweep.csv, sweep.json, sweep.html; exit 0 when it ran, 2 on bad input");
+    sweep_cmd->add_option("--masses", sweep_args.masses, "ball masses, numbers or parameter names (1,m,1)")->required();
+    sweep_cmd->add_option("--restitution", sweep_args.restitution, "E or E1,...,E(n-1), numbers or parameter names")->capture_default_str();
+    sweep_cmd->add_option("--rule", sweep_args.rule, "most-negative, left-first or right-first")->capture_default_str();
+    sweep_cmd->add_option("--max-impacts", sweep_args.max_impacts, "longest impact sequence allowed")->capture_default_str();
+    sweep_cmd->add_option("--vary", sweep_args.vary, "NAME=LO..HI:COUNT[:log], once or twice")->required();
+    sweep_cmd->add_option("--jobs", sweep_args.jobs, "worker processes (default: all cores)")->check(CLI::Range(1u, 256u));
+    sweep_cmd->add_option("-o,--output", sweep_args.out, "directory to write sweep.csv, sweep.json and sweep.html into")->required();
+    Limits limits;
+    for (auto* cmd : {verify_cmd, certify_cmd, report_cmd, sweep_cmd}) {
+        cmd->add_option("--max-faces", limits.max_faces, "limit: simplex faces of one KKT enumeration (copositivity); beyond it an obligation is undecided")->capture_default_str();
+        cmd->add_option("--max-chambers", limits.max_chambers, "limit: steps of the chamber enumeration that decides a fan not meeting face to face")->capture_default_str();
+        cmd->add_option("--max-subsets", limits.max_subsets, "limit: constraint subsets for the extreme rays of cone intersections (P1, not face to face)")->capture_default_str();
+    }
 
     auto* fuzz_cmd = app.add_subcommand("fuzz", "fuzz a float implementation against the exact law; exit 0 no violation, 1 violation, 2 bad input");
     fuzz_cmd->add_option_function<std::string>("--seed", [&](const std::string& text) {
@@ -577,6 +628,8 @@ int main(int argc, char** argv) {
             return run_smt(law_path, out_path);
         if (sequential_cmd->parsed())
             return run_derive_sequential(derive_args);
+        if (sweep_cmd->parsed())
+            return run_sweep_command(sweep_args, limits);
         if (fuzz_cmd->parsed())
             return run_fuzz(fuzz_options, json);
         return run_eval(law_path, velocities, eval_args, as_float, impl_spec);

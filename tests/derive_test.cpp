@@ -10,7 +10,9 @@
 #include <catch2/catch.hpp>
 
 #include <algorithm>
+#include <filesystem>
 #include <random>
+#include <sstream>
 
 using namespace impactcert;
 using impactcert::test::q;
@@ -184,5 +186,72 @@ TEST_CASE("derive: the CLI writes a law that loads; bad input is one line and ex
         const auto run = test::run_cli(std::string("derive sequential ") + bad);
         CHECK(run.status == 2);
         CHECK(std::count(run.err.begin(), run.err.end(), '\n') == 1);
+    }
+}
+
+TEST_CASE("sweep: the CSV holds the verdicts computed one by one, whatever the number of jobs", "[derive][sweep]") {
+    const std::string dir = "/tmp/impactcert-sweep-test";
+    std::filesystem::remove_all(dir);
+    const auto run = test::run_cli("sweep --masses 1,m,1 --restitution e --vary m=1/2..2:3:log --vary e=1/2..1:3 --jobs 2 -o " + dir);
+    REQUIRE(run.status == 0);
+    const std::string csv = test::read_file(dir + "/sweep.csv");
+    std::stringstream in(csv);
+    std::string line;
+    std::getline(in, line);
+    CHECK(line.rfind("m,e,fan,P1,P2,", 0) == 0);
+    std::size_t rows = 0;
+    while (std::getline(in, line)) {
+        std::vector<std::string> cells;
+        std::stringstream row(line);
+        for (std::string cell; std::getline(row, cell, ',');)
+            cells.push_back(cell);
+        if (!line.empty() && line.back() == ',')
+            cells.push_back("");
+        REQUIRE(cells.size() == 2 + kObligationIds.size() + 3);
+        DeriveOptions o;
+        o.masses = {Rational(1), q(cells[0]), Rational(1)};
+        o.restitution = {q(cells[1]), q(cells[1])};
+        const DeriveResult d = derive_sequential(o);
+        INFO(line);
+        REQUIRE(d.law);
+        CHECK(cells.back() == "ok");
+        const Model m(*d.law);
+        const VerifyReport r = verify(m);
+        for (std::size_t k = 0; k < kObligationIds.size(); ++k)
+            CHECK(cells[2 + k] == to_string(r.at(kObligationIds[k]).verdict));
+        CHECK(cells[2 + kObligationIds.size()] == std::to_string(m.pieces().size()));
+        ++rows;
+    }
+    CHECK(rows == 9);
+    // The log grid's middle point is a rational near the geometric mean of 1/2 and 2.
+    CHECK(csv.find("\n1,") != std::string::npos);
+    // One job gives the same files.
+    const std::string one = dir + "-one";
+    REQUIRE(test::run_cli("sweep --masses 1,m,1 --restitution e --vary m=1/2..2:3:log --vary e=1/2..1:3 --jobs 1 -o " + one).status == 0);
+    CHECK(test::read_file(one + "/sweep.csv") == csv);
+    CHECK(test::read_file(one + "/sweep.json") == test::read_file(dir + "/sweep.json"));
+    const std::string html = test::read_file(dir + "/sweep.html");
+    CHECK(std::count(html.begin(), html.end(), '<') > 100);
+    CHECK(html.find("<title>m = 1, e = 1: proved</title>") != std::string::npos);
+    std::filesystem::remove_all(dir);
+    std::filesystem::remove_all(one);
+}
+
+TEST_CASE("sweep: e = 0 is recorded as no finite law; bad grids are one line and exit 2", "[derive][sweep]") {
+    const std::string dir = "/tmp/impactcert-sweep-test-2";
+    const auto run = test::run_cli("sweep --masses 1,1,1 --restitution e --vary e=0..1:2 --jobs 1 -o " + dir);
+    REQUIRE(run.status == 0);
+    const std::string csv = test::read_file(dir + "/sweep.csv");
+    CHECK(csv.find("\n0,,,,,,,,,,,,,,,not-finite\n") != std::string::npos);
+    CHECK(csv.find("\n1,proved,proved,") != std::string::npos);
+    std::filesystem::remove_all(dir);
+    for (const char* bad : {"--masses 1,m,1 --vary x=1..2:3", "--masses 1,m,1 --vary m=1..2:3 --vary e=0..1:2",
+                            "--masses 1,1,1 --restitution e --vary e=0..2:3", "--masses 1,m,1 --vary m=0..2:3",
+                            "--masses 1,m,1 --vary m=1..2", "--masses 1,m,1 --vary m=-1..2:3:log",
+                            "--masses 1,m,1 --vary 2m=1..2:3", "--masses 1,m,1 --vary m=1..2:0"}) {
+        INFO(bad);
+        const auto r = test::run_cli(std::string("sweep ") + bad + " -o " + dir);
+        CHECK(r.status == 2);
+        CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
     }
 }

@@ -1,0 +1,433 @@
+#include "sweep.hpp"
+
+#include "errors.hpp"
+#include "obligations.hpp"
+#include "verdict_output.hpp"
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+namespace impactcert {
+
+namespace {
+
+bool is_name(const std::string& s) {
+    if (s.empty() || !(std::isalpha(static_cast<unsigned char>(s[0])) || s[0] == '_'))
+        return false;
+    return std::all_of(s.begin(), s.end(), [](char ch) { return std::isalnum(static_cast<unsigned char>(ch)) || ch == '_'; });
+}
+
+Rational number(const std::string& text, const std::string& where) {
+    std::string why;
+    const auto x = parse_cli_number(text, &why);
+    if (!x)
+        throw InputError(where + ": \"" + text + "\" is not a number" + (why.empty() ? "" : " (" + why + ")"));
+    return *x;
+}
+
+Rational power(const Rational& x, std::size_t k) {
+    Rational out = 1;
+    for (std::size_t i = 0; i < k; ++i)
+        out *= x;
+    return out;
+}
+
+// The largest k/1000 with (k/1000)^e <= target, by bisection between lo and hi (exact).
+Rational root_below(const Rational& target, std::size_t e, const Rational& lo, const Rational& hi) {
+    const long d = 1000;
+    auto floor_of = [](const Rational& q) {
+        mpz_class z;
+        mpz_fdiv_q(z.get_mpz_t(), mpq_numref(q.mpq()), mpq_denref(q.mpq()));
+        return z;
+    };
+    mpz_class a = floor_of(lo * Rational(d)), b = floor_of(hi * Rational(d)) + 1;
+    auto value = [&](const mpz_class& k) { return Rational(CGAL::Gmpz(k.get_mpz_t())) / Rational(d); };
+    while (b - a > 1) {
+        const mpz_class mid = (a + b) / 2;
+        if (power(value(mid), e) <= target)
+            a = mid;
+        else
+            b = mid;
+    }
+    return value(a);
+}
+
+const char* kColour[] = {"#2da44e", "#cf222e", "#8c959f", "#bf8700"}; // proved, refuted, skipped, undecided
+
+std::string colour_of(const std::string& verdict) {
+    if (verdict == "proved")
+        return kColour[0];
+    if (verdict == "refuted")
+        return kColour[1];
+    if (verdict == "skipped")
+        return kColour[2];
+    if (verdict == "undecided")
+        return kColour[3];
+    return "#24292f"; // no finite law
+}
+
+std::string csv_field(const std::string& s) {
+    if (s.find_first_of(",\"\n") == std::string::npos)
+        return s;
+    std::string out = "\"";
+    for (char ch : s)
+        out += ch == '"' ? std::string("\"\"") : std::string(1, ch);
+    return out + "\"";
+}
+
+struct Point {
+    std::vector<Rational> values; // one per parameter
+};
+
+// Derive and verify one grid point.
+Json evaluate(const SweepSpec& spec, const Point& point) {
+    auto resolve = [&](const std::string& item, const std::string& option) {
+        for (std::size_t p = 0; p < spec.parameters.size(); ++p)
+            if (spec.parameters[p].name == item)
+                return point.values[p];
+        return number(item, option);
+    };
+    DeriveOptions o;
+    for (const auto& m : spec.masses)
+        o.masses.push_back(resolve(m, "--masses"));
+    for (const auto& e : spec.restitution)
+        o.restitution.push_back(resolve(e, "--restitution"));
+    if (o.restitution.size() == 1 && o.masses.size() > 2)
+        o.restitution.assign(o.masses.size() - 1, o.restitution[0]);
+    o.rule = spec.rule;
+    o.max_impacts = spec.max_impacts;
+    Json out;
+    Json at = Json::object();
+    for (std::size_t p = 0; p < spec.parameters.size(); ++p)
+        at[spec.parameters[p].name] = to_string(point.values[p]);
+    out["point"] = at;
+    const DeriveResult d = derive_sequential(o);
+    if (!d.law) {
+        out["derive"] = "not-finite";
+        out["not_finite"] = Json{{"gamma", to_json(*d.not_finite)}, {"word", d.word + "..."}};
+        return out;
+    }
+    out["derive"] = "ok";
+    out["pieces"] = d.law->pieces.size();
+    out["max_word"] = d.max_word;
+    const Model model(*d.law);
+    const VerifyReport r = verify(model, spec.limits);
+    Json obligations = Json::object();
+    for (const auto& ob : r.obligations) {
+        Json item = Json{{"verdict", to_string(ob.verdict)}};
+        if (ob.verdict == Verdict::refuted)
+            item["counterexample"] = ob.counterexample;
+        if (ob.verdict == Verdict::undecided)
+            item["limit"] = ob.limit;
+        obligations[ob.id] = item;
+    }
+    out["obligations"] = obligations;
+    return out;
+}
+
+std::string svg_map(const SweepSpec& spec, const std::vector<Json>& results, const std::string& id) {
+    const int cell = 22, margin = 60;
+    const std::size_t n0 = spec.parameters[0].values.size();
+    const std::size_t n1 = spec.parameters.size() > 1 ? spec.parameters[1].values.size() : 1;
+    const int width = margin + static_cast<int>(n0) * cell + 20, height = static_cast<int>(n1) * cell + 50;
+    std::string s = "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" + std::to_string(width) + "\" height=\"" +
+                    std::to_string(height) + "\" font-family=\"sans-serif\" font-size=\"11\">\n";
+    for (std::size_t i = 0; i < n0; ++i)
+        for (std::size_t j = 0; j < n1; ++j) {
+            const Json& r = results[i * n1 + j];
+            std::string verdict = "no finite law", detail;
+            if (r["derive"] == "ok") {
+                const Json& o = r["obligations"][id];
+                verdict = o["verdict"].get<std::string>();
+                if (o.contains("counterexample"))
+                    detail = " " + o["counterexample"].dump();
+                if (o.contains("limit"))
+                    detail = " " + o["limit"].get<std::string>();
+            } else {
+                detail = " gamma- = " + r["not_finite"]["gamma"].dump() + " needs more than " +
+                         std::to_string(spec.max_impacts) + " impacts";
+            }
+            std::string where;
+            for (auto it = r["point"].begin(); it != r["point"].end(); ++it)
+                where += (where.empty() ? "" : ", ") + it.key() + " = " + it.value().get<std::string>();
+            const int x = margin + static_cast<int>(i) * cell;
+            const int y = 10 + static_cast<int>(n1 - 1 - j) * cell;
+            s += "<rect x=\"" + std::to_string(x) + "\" y=\"" + std::to_string(y) + "\" width=\"" +
+                 std::to_string(cell - 1) + "\" height=\"" + std::to_string(cell - 1) + "\" fill=\"" +
+                 colour_of(verdict) + "\"><title>" + xml_escape(where + ": " + verdict + detail) + "</title></rect>\n";
+        }
+    const auto& p0 = spec.parameters[0];
+    const int bottom = 10 + static_cast<int>(n1) * cell + 14;
+    s += "<text x=\"" + std::to_string(margin) + "\" y=\"" + std::to_string(bottom) + "\">" +
+         xml_escape(to_string(p0.values.front())) + "</text>\n";
+    s += "<text x=\"" + std::to_string(margin + static_cast<int>(n0) * cell) + "\" y=\"" + std::to_string(bottom) +
+         "\" text-anchor=\"end\">" + xml_escape(to_string(p0.values.back())) + "</text>\n";
+    s += "<text x=\"" + std::to_string(margin + static_cast<int>(n0) * cell / 2) + "\" y=\"" +
+         std::to_string(bottom + 14) + "\" text-anchor=\"middle\" font-weight=\"bold\">" + xml_escape(p0.name) + "</text>\n";
+    if (spec.parameters.size() > 1) {
+        const auto& p1 = spec.parameters[1];
+        s += "<text x=\"" + std::to_string(margin - 4) + "\" y=\"" + std::to_string(10 + static_cast<int>(n1) * cell - 6) +
+             "\" text-anchor=\"end\">" + xml_escape(to_string(p1.values.front())) + "</text>\n";
+        s += "<text x=\"" + std::to_string(margin - 4) + "\" y=\"22\" text-anchor=\"end\">" +
+             xml_escape(to_string(p1.values.back())) + "</text>\n";
+        s += "<text x=\"12\" y=\"" + std::to_string(10 + static_cast<int>(n1) * cell / 2) +
+             "\" font-weight=\"bold\">" + xml_escape(p1.name) + "</text>\n";
+    }
+    return s + "</svg>\n";
+}
+
+void write(const std::string& path, const std::string& text) {
+    std::ofstream out(path, std::ios::binary);
+    out << text;
+    out.close();
+    if (!out)
+        throw InputError(path + ": cannot write");
+}
+
+} // namespace
+
+SweepParameter parse_vary(const std::string& text) {
+    const auto eq = text.find('=');
+    const auto dots = text.find("..");
+    const auto colon = text.find(':', dots == std::string::npos ? 0 : dots);
+    if (eq == std::string::npos || dots == std::string::npos || colon == std::string::npos || dots < eq)
+        throw InputError("--vary: \"" + text + "\": expected NAME=LO..HI:COUNT[:log]");
+    SweepParameter p;
+    p.name = text.substr(0, eq);
+    if (!is_name(p.name))
+        throw InputError("--vary: \"" + p.name + "\" is not a parameter name (letters, digits, _)");
+    const Rational lo = number(text.substr(eq + 1, dots - eq - 1), "--vary " + p.name);
+    const Rational hi = number(text.substr(dots + 2, colon - dots - 2), "--vary " + p.name);
+    std::string rest = text.substr(colon + 1);
+    bool log = false;
+    if (rest.size() > 4 && rest.substr(rest.size() - 4) == ":log") {
+        log = true;
+        rest = rest.substr(0, rest.size() - 4);
+    }
+    if (rest.empty() || rest.size() > 5 || !std::all_of(rest.begin(), rest.end(), [](char ch) { return std::isdigit(static_cast<unsigned char>(ch)); }))
+        throw InputError("--vary " + p.name + ": COUNT must be an integer from 1 to 10000, got \"" + rest + "\"");
+    const std::size_t count = std::stoul(rest);
+    if (count < 1 || count > 10000)
+        throw InputError("--vary " + p.name + ": COUNT must be an integer from 1 to 10000, got " + rest);
+    if (log && (sign_of(lo) != Sign::positive || sign_of(hi) != Sign::positive))
+        throw InputError("--vary " + p.name + ": a log grid needs LO > 0 and HI > 0");
+    for (std::size_t i = 0; i < count; ++i) {
+        if (count == 1 || i == 0) {
+            p.values.push_back(lo);
+        } else if (i + 1 == count) {
+            p.values.push_back(hi);
+        } else if (!log) {
+            p.values.push_back(lo + (hi - lo) * Rational(static_cast<int>(i)) / Rational(static_cast<int>(count - 1)));
+        } else {
+            const Rational target = power(lo, count - 1 - i) * power(hi, i);
+            p.values.push_back(root_below(target, count - 1, std::min(lo, hi), std::max(lo, hi)));
+        }
+    }
+    return p;
+}
+
+void run_sweep(const SweepSpec& spec, const std::string& dir, const std::function<void(std::size_t, std::size_t)>& progress) {
+    if (spec.parameters.empty() || spec.parameters.size() > 2)
+        throw InputError("--vary: give one or two parameters");
+    for (std::size_t a = 0; a < spec.parameters.size(); ++a)
+        for (std::size_t b = a + 1; b < spec.parameters.size(); ++b)
+            if (spec.parameters[a].name == spec.parameters[b].name)
+                throw InputError("--vary: parameter \"" + spec.parameters[a].name + "\" given twice");
+    // Every name used must be varied, every varied name used.
+    std::vector<std::string> used;
+    for (const auto* list : {&spec.masses, &spec.restitution})
+        for (const auto& item : *list)
+            if (is_name(item)) {
+                bool known = false;
+                for (const auto& p : spec.parameters)
+                    known = known || p.name == item;
+                if (!known)
+                    throw InputError("\"" + item + "\" is not a number and not a --vary parameter");
+                used.push_back(item);
+            }
+    for (const auto& p : spec.parameters)
+        if (std::find(used.begin(), used.end(), p.name) == used.end())
+            throw InputError("--vary " + p.name + ": the parameter appears in neither --masses nor --restitution");
+    std::vector<Point> points;
+    const std::size_t n1 = spec.parameters.size() > 1 ? spec.parameters[1].values.size() : 1;
+    for (const auto& v0 : spec.parameters[0].values)
+        for (std::size_t j = 0; j < n1; ++j) {
+            Point pt;
+            pt.values.push_back(v0);
+            if (spec.parameters.size() > 1)
+                pt.values.push_back(spec.parameters[1].values[j]);
+            points.push_back(pt);
+        }
+    // Validate every point before any work (bad input is exit 2 with one line).
+    for (const auto& pt : points) {
+        auto check = [&](const std::string& item, bool mass) {
+            Rational x;
+            std::string name = item;
+            bool found = false;
+            for (std::size_t p = 0; p < spec.parameters.size(); ++p)
+                if (spec.parameters[p].name == item) {
+                    x = pt.values[p];
+                    found = true;
+                }
+            if (!found)
+                x = number(item, mass ? "--masses" : "--restitution");
+            if (mass && sign_of(x) != Sign::positive)
+                throw InputError("--masses: " + name + " = " + to_string(x) + " is not a positive mass");
+            if (!mass && (sign_of(x) == Sign::negative || x > Rational(1)))
+                throw InputError("--restitution: " + name + " = " + to_string(x) + " is outside [0, 1]");
+        };
+        for (const auto& m : spec.masses)
+            check(m, true);
+        for (const auto& e : spec.restitution)
+            check(e, false);
+    }
+    if (spec.masses.size() < 2)
+        throw InputError("--masses: a chain needs at least two balls");
+    if (spec.restitution.size() != 1 && spec.restitution.size() != spec.masses.size() - 1)
+        throw InputError("--restitution: expected one value or one per contact (" + std::to_string(spec.masses.size() - 1) + ")");
+    std::error_code ec;
+    std::filesystem::create_directories(dir, ec);
+    if (ec)
+        throw InputError(dir + ": cannot create directory: " + ec.message());
+
+    std::vector<Json> results(points.size());
+    const unsigned jobs = std::max(1u, std::min<unsigned>(spec.jobs, static_cast<unsigned>(points.size())));
+    if (jobs == 1) {
+        for (std::size_t k = 0; k < points.size(); ++k) {
+            results[k] = evaluate(spec, points[k]);
+            if (progress)
+                progress(k + 1, points.size());
+        }
+    } else {
+        // Worker processes (PPL is not thread-safe): worker w takes the points k = w mod jobs,
+        // writes one JSON line per point to its part file and one byte per point to a pipe.
+        int fds[2];
+        if (pipe(fds) != 0)
+            throw std::runtime_error("sweep: cannot create a pipe");
+        std::vector<pid_t> workers;
+        for (unsigned w = 0; w < jobs; ++w) {
+            const pid_t pid = fork();
+            if (pid == 0) {
+                close(fds[0]);
+                std::ofstream part(dir + "/.sweep-part-" + std::to_string(w), std::ios::binary);
+                int status = 0;
+                try {
+                    for (std::size_t k = w; k < points.size(); k += jobs) {
+                        part << k << "\t" << evaluate(spec, points[k]).dump() << "\n";
+                        part.flush();
+                        const char one = '.';
+                        if (::write(fds[1], &one, 1) != 1)
+                            status = 1;
+                    }
+                } catch (const std::exception& e) {
+                    std::fprintf(stderr, "impactcert: sweep worker: %s\n", e.what());
+                    status = 4;
+                }
+                close(fds[1]);
+                std::_Exit(status);
+            }
+            if (pid < 0)
+                throw std::runtime_error("sweep: cannot start a worker process");
+            workers.push_back(pid);
+        }
+        close(fds[1]);
+        std::size_t done = 0;
+        char buf[256];
+        for (ssize_t got; (got = read(fds[0], buf, sizeof buf)) > 0;) {
+            done += static_cast<std::size_t>(got);
+            if (progress)
+                progress(done, points.size());
+        }
+        close(fds[0]);
+        for (auto pid : workers) {
+            int status = 0;
+            waitpid(pid, &status, 0);
+            if (!WIFEXITED(status) || WEXITSTATUS(status) != 0)
+                throw std::runtime_error("sweep: a worker process failed");
+        }
+        for (unsigned w = 0; w < jobs; ++w) {
+            const std::string path = dir + "/.sweep-part-" + std::to_string(w);
+            std::ifstream part(path, std::ios::binary);
+            std::string line;
+            while (std::getline(part, line)) {
+                const auto tab = line.find('\t');
+                results.at(std::stoul(line.substr(0, tab))) = Json::parse(line.substr(tab + 1));
+            }
+            std::filesystem::remove(path, ec);
+        }
+    }
+
+    // sweep.csv
+    std::string csv;
+    for (const auto& p : spec.parameters)
+        csv += csv_field(p.name) + ",";
+    for (const char* id : kObligationIds)
+        csv += std::string(id) + ",";
+    csv += "pieces,max_word,derive\n";
+    for (const auto& r : results) {
+        for (auto it = r["point"].begin(); it != r["point"].end(); ++it)
+            csv += it.value().get<std::string>() + ",";
+        const bool ok = r["derive"] == "ok";
+        for (const char* id : kObligationIds)
+            csv += (ok ? r["obligations"][id]["verdict"].get<std::string>() : std::string()) + ",";
+        csv += (ok ? std::to_string(r["pieces"].get<std::size_t>()) : std::string()) + "," +
+               (ok ? std::to_string(r["max_word"].get<std::size_t>()) : std::string()) + "," +
+               r["derive"].get<std::string>() + "\n";
+    }
+    write(dir + "/sweep.csv", csv);
+
+    // sweep.json
+    Json doc;
+    doc["format"] = "impactcert-sweep/1";
+    doc["masses"] = spec.masses;
+    doc["restitution"] = spec.restitution;
+    doc["rule"] = to_string(spec.rule);
+    doc["max_impacts"] = spec.max_impacts;
+    Json params = Json::array();
+    for (const auto& p : spec.parameters) {
+        Json values = Json::array();
+        for (const auto& v : p.values)
+            values.push_back(to_string(v));
+        params.push_back(Json{{"name", p.name}, {"values", values}});
+    }
+    doc["parameters"] = params;
+    doc["points"] = results;
+    write(dir + "/sweep.json", doc.dump(1) + "\n");
+
+    // sweep.html
+    std::string title = "impactcert sweep: masses " + [&] {
+        std::string s;
+        for (const auto& m : spec.masses)
+            s += (s.empty() ? "" : ",") + m;
+        return s;
+    }() + ", restitution " + [&] {
+        std::string s;
+        for (const auto& e : spec.restitution)
+            s += (s.empty() ? "" : ",") + e;
+        return s;
+    }() + ", rule " + to_string(spec.rule);
+    std::string html = "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>" +
+                       xml_escape(title) + "</title>\n<style>\nbody{font-family:sans-serif;margin:2em;color:#222}"
+                       ".maps{display:flex;flex-wrap:wrap;gap:18px}.map{border:1px solid #ddd;padding:6px}"
+                       ".map h3{margin:2px 0 6px;font-size:14px}.key span{display:inline-block;width:12px;height:12px;"
+                       "margin:0 4px 0 12px;vertical-align:middle}\n</style>\n</head>\n<body>\n<h1>" +
+                       xml_escape(title) + "</h1>\n<p>One phase map per obligation; every cell is a derived law at an "
+                       "exact grid point (hover for the point and the witness).</p>\n<p class=\"key\">"
+                       "<span style=\"background:#2da44e\"></span>proved<span style=\"background:#cf222e\"></span>refuted"
+                       "<span style=\"background:#bf8700\"></span>undecided<span style=\"background:#8c959f\"></span>skipped"
+                       "<span style=\"background:#24292f\"></span>no finite law</p>\n<div class=\"maps\">\n";
+    for (const char* id : kObligationIds)
+        html += "<div class=\"map\"><h3>" + std::string(id) + "</h3>\n" + svg_map(spec, results, id) + "</div>\n";
+    html += "</div>\n</body>\n</html>\n";
+    write(dir + "/sweep.html", html);
+}
+
+} // namespace impactcert

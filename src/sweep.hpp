@@ -1,0 +1,45 @@
+// sweep.hpp -- derive + verify over a grid of parameters (SPEC section 6, `impactcert sweep`).
+//
+// Contract: the masses and restitution lists may name parameters ("1,m,1", "e"); each named
+// parameter takes the values of its --vary grid, NAME=LO..HI:COUNT[:log]: COUNT exact rationals
+// from LO to HI, evenly spaced, or (log) the rationals k/1000 nearest below the geometric points
+// LO (HI/LO)^(i/(COUNT-1)) found by exact bisection (endpoints exact). At most two parameters.
+// Every grid point is derived (derive_sequential) and, when the law is finite, verified; the
+// verdicts are data. run_sweep writes DIR/sweep.csv, DIR/sweep.json and DIR/sweep.html (one
+// phase map per obligation, an SVG strip or grid, each cell's tooltip the exact point and
+// witness). Bad specifications are InputError. `jobs` worker processes share the points;
+// the output does not depend on their number.
+#pragma once
+
+#include "derive.hpp"
+#include "limits.hpp"
+
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace impactcert {
+
+struct SweepParameter {
+    std::string name;
+    std::vector<Rational> values;
+};
+
+struct SweepSpec {
+    std::vector<std::string> masses;      // items: numbers or parameter names
+    std::vector<std::string> restitution; // one item (every contact) or one per contact
+    ImpactRule rule = ImpactRule::most_negative;
+    std::size_t max_impacts = 100;
+    std::vector<SweepParameter> parameters; // one or two
+    Limits limits;
+    unsigned jobs = 1;
+};
+
+// NAME=LO..HI:COUNT[:log]
+SweepParameter parse_vary(const std::string& text);
+
+// Writes the three files into dir; `progress(done, total)` now and then.
+void run_sweep(const SweepSpec& spec, const std::string& dir,
+               const std::function<void(std::size_t, std::size_t)>& progress);
+
+} // namespace impactcert
