@@ -2,8 +2,10 @@
 
 #include "certificate.hpp"
 #include "law_json.hpp"
+#include "rational.hpp"
 #include "verdict_output.hpp"
 
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <string_view>
@@ -56,6 +58,45 @@ std::pair<Vector, Vector> ccw(const Vector& a, const Vector& b) {
 
 std::string verdict_word(const ObligationResult& o) { return to_string(o.verdict); }
 
+double as_double(const Rational& q) { return mpq_get_d(q.mpq()); }
+
+// The points of a refuted obligation's counterexample: one point, or a pair (to be joined).
+struct Marked {
+    std::string id;
+    std::vector<std::vector<double>> points;
+};
+
+std::vector<Marked> marked_points(const VerifyReport* report, std::size_t c) {
+    std::vector<Marked> out;
+    if (!report)
+        return out;
+    auto read = [&](const Json& j) {
+        std::vector<double> v;
+        for (const auto& x : j) {
+            std::string why;
+            const auto q = parse_rational(x.get<std::string>(), &why);
+            v.push_back(q ? as_double(*q) : 0.0);
+        }
+        return v;
+    };
+    for (const auto& o : report->obligations) {
+        if (o.verdict != Verdict::refuted || !o.counterexample.is_object())
+            continue;
+        const Json& w = o.counterexample;
+        Marked m{o.id, {}};
+        if (w.contains("gamma_a") && w.contains("gamma_b")) {
+            m.points = {read(w["gamma_a"]), read(w["gamma_b"])};
+        } else if (w.contains("gamma") && w["gamma"].is_array()) {
+            m.points = {read(w["gamma"])};
+        } else if (w.contains("ray") && w["ray"].is_array()) {
+            m.points = {read(w["ray"])};
+        }
+        if (!m.points.empty() && m.points[0].size() == c)
+            out.push_back(std::move(m));
+    }
+    return out;
+}
+
 // Text from a law (names) or a method in Markdown: one line (control characters become
 // blanks) with every character that Markdown, GitHub's tables, HTML or math could act on
 // backslash-escaped, so a name can neither end a table cell, start a heading or a fence, nor
@@ -92,7 +133,136 @@ std::string md_json(const Json& j) {
 
 } // namespace
 
-std::string cones_svg(const Model& model) {
+namespace {
+
+// ---- c = 3: the cones on the unit sphere, in two orthographic hemispheres.
+
+using P3 = std::array<double, 3>;
+
+P3 unit(P3 v) {
+    const double n = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    return {v[0] / n, v[1] / n, v[2] / n};
+}
+double dot3(const P3& a, const P3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+P3 to_p3(const Vector& v) { return unit({as_double(v[0]), as_double(v[1]), as_double(v[2])}); }
+
+// The spherical triangle of three unit rays as a dense closed polyline (great-circle edges).
+std::vector<P3> spherical_triangle(const P3& a, const P3& b, const P3& c) {
+    std::vector<P3> out;
+    const P3 corners[3] = {a, b, c};
+    for (int e = 0; e < 3; ++e) {
+        const P3& u = corners[e];
+        const P3& v = corners[(e + 1) % 3];
+        for (int k = 0; k < 24; ++k) {
+            const double t = k / 24.0;
+            out.push_back(unit({u[0] * (1 - t) + v[0] * t, u[1] * (1 - t) + v[1] * t, u[2] * (1 - t) + v[2] * t}));
+        }
+    }
+    return out;
+}
+
+// Clip a closed polyline on the sphere to the hemisphere n . x >= 0 (Sutherland-Hodgman against
+// the plane, then back onto the sphere).
+std::vector<P3> clip_hemisphere(const std::vector<P3>& poly, const P3& n) {
+    std::vector<P3> out;
+    for (std::size_t i = 0; i < poly.size(); ++i) {
+        const P3& p = poly[i];
+        const P3& q = poly[(i + 1) % poly.size()];
+        const double dp = dot3(n, p), dq = dot3(n, q);
+        if (dp >= 0)
+            out.push_back(p);
+        if ((dp >= 0) != (dq >= 0)) {
+            const double t = dp / (dp - dq);
+            P3 x{p[0] + (q[0] - p[0]) * t, p[1] + (q[1] - p[1]) * t, p[2] + (q[2] - p[2]) * t};
+            const double len = std::sqrt(dot3(x, x));
+            out.push_back(len > 1e-12 ? P3{x[0] / len, x[1] / len, x[2] / len} : x);
+        }
+    }
+    return out;
+}
+
+std::string sphere_svg(const Model& model, const VerifyReport* report) {
+    const auto& pieces = model.pieces();
+    const double r = 170, gap = 40, width = 4 * r + gap + 40, height = 2 * r + 70;
+    // View from (1,1,1) and from (-1,-1,-1); e1, e2 span the picture plane.
+    const P3 front = unit({1, 1, 1});
+    const P3 e1 = unit({1, -1, 0}), e2 = unit({-1, -1, 2});
+    std::string s = "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" + fmt(width) + "\" height=\"" +
+                    fmt(height) + "\" viewBox=\"0 0 " + fmt(width) + " " + fmt(height) +
+                    "\" font-family=\"sans-serif\" role=\"img\" aria-label=\"cones of " + xml_escape(model.law().name) +
+                    "\">\n<title>" + xml_escape(model.law().name) +
+                    ": the cones C_i on the unit sphere of (gamma1-, gamma2-, gamma3-), two hemispheres</title>\n";
+    const std::array<std::pair<double, const char*>, 2> views = {std::make_pair(1.0, "seen from (1, 1, 1)"),
+                                                                 std::make_pair(-1.0, "seen from (-1, -1, -1)")};
+    for (std::size_t v = 0; v < views.size(); ++v) {
+        const double sign = views[v].first;
+        const P3 n{front[0] * sign, front[1] * sign, front[2] * sign};
+        const P3 a1{e1[0] * sign, e1[1] * sign, e1[2] * sign}; // mirrored so the back is seen from behind
+        const double cx = 20 + r + static_cast<double>(v) * (2 * r + gap), cy = 30 + r;
+        auto project = [&](const P3& x) { return std::make_pair(cx + dot3(x, a1) * r, cy - dot3(x, e2) * r); };
+        s += "<text x=\"" + fmt(cx) + "\" y=\"18\" text-anchor=\"middle\" font-size=\"14\">" + std::string(views[v].second) + "</text>\n";
+        s += "<circle cx=\"" + fmt(cx) + "\" cy=\"" + fmt(cy) + "\" r=\"" + fmt(r) + "\" fill=\"#fafafa\" stroke=\"#999\"/>\n";
+        for (std::size_t p = 0; p < pieces.size(); ++p) {
+            const auto poly = clip_hemisphere(spherical_triangle(to_p3(pieces[p].R.column(0)), to_p3(pieces[p].R.column(1)),
+                                                                 to_p3(pieces[p].R.column(2))),
+                                              n);
+            if (poly.size() < 3)
+                continue;
+            std::string pts;
+            for (const auto& x : poly) {
+                const auto [px, py] = project(x);
+                pts += fmt(px) + "," + fmt(py) + " ";
+            }
+            s += "<polygon points=\"" + pts + "\" fill=\"" + kPalette[p % 10] +
+                 "\" fill-opacity=\"0.55\" stroke=\"#222\" stroke-width=\"0.8\"/>\n";
+        }
+        // Labels at the centroid direction of each cone, in the hemisphere that shows it.
+        for (std::size_t p = 0; p < pieces.size(); ++p) {
+            const Vector sum = pieces[p].R.column(0) + pieces[p].R.column(1) + pieces[p].R.column(2);
+            const P3 m = to_p3(sum);
+            if (dot3(m, n) <= 0.05)
+                continue;
+            const auto [px, py] = project(m);
+            s += "<text x=\"" + fmt(px) + "\" y=\"" + fmt(py + 4) + "\" text-anchor=\"middle\" font-size=\"10\" class=\"cone-label\">" +
+                 xml_escape(pieces[p].name) + "</text>\n";
+        }
+        // The axes gamma_k- (positive directions) where visible.
+        for (std::size_t k = 0; k < 3; ++k) {
+            P3 axis{0, 0, 0};
+            axis[k] = 1;
+            if (dot3(axis, n) <= 0)
+                continue;
+            const auto [px, py] = project(axis);
+            s += "<circle cx=\"" + fmt(px) + "\" cy=\"" + fmt(py) + "\" r=\"2.5\" fill=\"#000\"/><text x=\"" + fmt(px + 4) +
+                 "\" y=\"" + fmt(py - 4) + "\" font-size=\"11\">&#947;" + std::to_string(k + 1) + "-</text>\n";
+        }
+        // Counterexamples: their directions on the sphere (a pair joined by its chord).
+        for (const auto& mk : marked_points(report, 3)) {
+            std::vector<std::pair<double, double>> shown;
+            for (const auto& pt : mk.points) {
+                const P3 x = unit({pt[0], pt[1], pt[2]});
+                if (dot3(x, n) > 0)
+                    shown.push_back(project(x));
+            }
+            if (shown.size() == 2)
+                s += "<line x1=\"" + fmt(shown[0].first) + "\" y1=\"" + fmt(shown[0].second) + "\" x2=\"" +
+                     fmt(shown[1].first) + "\" y2=\"" + fmt(shown[1].second) + "\" stroke=\"#d00\" stroke-width=\"2\"/>\n";
+            for (const auto& [px, py] : shown)
+                s += "<circle cx=\"" + fmt(px) + "\" cy=\"" + fmt(py) + "\" r=\"4\" fill=\"#d00\" class=\"counterexample\"><title>" +
+                     xml_escape(mk.id + " counterexample") + "</title></circle>\n";
+            if (!shown.empty())
+                s += "<text x=\"" + fmt(shown[0].first + 6) + "\" y=\"" + fmt(shown[0].second + 12) +
+                     "\" font-size=\"10\" fill=\"#d00\">" + xml_escape(mk.id) + "</text>\n";
+        }
+    }
+    return s + "</svg>\n";
+}
+
+} // namespace
+
+std::string cones_svg(const Model& model, const VerifyReport* report) {
+    if (model.contacts() == 3)
+        return sphere_svg(model, report);
     if (model.contacts() != 2)
         return "";
     const auto& pieces = model.pieces();
@@ -138,6 +308,25 @@ std::string cones_svg(const Model& model) {
         s += "<text x=\"" + fmt(cx + mid.x * r * 0.62) + "\" y=\"" + fmt(cy - mid.y * r * 0.62 + 5) +
              "\" text-anchor=\"middle\" font-size=\"16\" font-weight=\"bold\" class=\"cone-label\">" +
              xml_escape(pieces[p].name) + "</text>\n";
+    }
+    // Counterexamples: a point in its direction, a pair as a segment at a common scale.
+    for (const auto& mk : marked_points(report, 2)) {
+        double longest = 0;
+        for (const auto& pt : mk.points)
+            longest = std::max(longest, std::hypot(pt[0], pt[1]));
+        if (longest <= 0)
+            continue;
+        std::vector<std::pair<double, double>> shown;
+        for (const auto& pt : mk.points)
+            shown.push_back({cx + pt[0] / longest * r * 0.85, cy - pt[1] / longest * r * 0.85});
+        if (shown.size() == 2)
+            s += "<line x1=\"" + fmt(shown[0].first) + "\" y1=\"" + fmt(shown[0].second) + "\" x2=\"" +
+                 fmt(shown[1].first) + "\" y2=\"" + fmt(shown[1].second) + "\" stroke=\"#d00\" stroke-width=\"2\"/>\n";
+        for (const auto& [px, py] : shown)
+            s += "<circle cx=\"" + fmt(px) + "\" cy=\"" + fmt(py) + "\" r=\"4\" fill=\"#d00\" class=\"counterexample\"><title>" +
+                 xml_escape(mk.id + " counterexample") + "</title></circle>\n";
+        s += "<text x=\"" + fmt(shown[0].first + 6) + "\" y=\"" + fmt(shown[0].second + 12) +
+             "\" font-size=\"10\" fill=\"#d00\">" + xml_escape(mk.id) + "</text>\n";
     }
     s += "<text x=\"" + fmt(cx + r - 4) + "\" y=\"" + fmt(cy - 6) + "\" text-anchor=\"end\" font-size=\"12\">&#947;1-</text>\n";
     s += "<text x=\"" + fmt(cx + 6) + "\" y=\"" + fmt(cy - r + 14) + "\" font-size=\"12\">&#947;2-</text>\n";
@@ -255,10 +444,16 @@ std::string report_html(const Model& model, const VerifyReport& report) {
          std::to_string(model.balls()) + " balls, " + std::to_string(model.contacts()) + " contacts, " +
          std::to_string(model.pieces().size()) + " pieces. Law SHA-256 <code>" + law_hash(model) + "</code>.</p>\n";
     if (model.contacts() == 2)
-        s += "<figure>\n" + cones_svg(model) +
+        s += "<figure>\n" + cones_svg(model, &report) +
              "<figcaption>Left: the cones of the law in the plane of pre-impact contact velocities (compare "
-             "Leine &amp; Winandy, Fig. 1(b)); black lines are the boundary rays. Right: each cone's image under "
+             "Leine &amp; Winandy, Fig. 1(b)); black lines are the boundary rays; red: counterexamples (a point "
+             "in its direction, a pair joined at a common scale). Right: each cone's image under "
              "its matrix.</figcaption>\n</figure>\n";
+    if (model.contacts() == 3)
+        s += "<figure>\n" + cones_svg(model, &report) +
+             "<figcaption>The cones of the law on the unit sphere of pre-impact contact velocities, in two "
+             "orthographic hemispheres (seen from (1,1,1) and from (-1,-1,-1)), each labelled at its centre; "
+             "red: counterexamples.</figcaption>\n</figure>\n";
     s += "<h2>Obligations</h2>\n<table>\n<tr><th>obligation</th><th>claimed</th><th>verdict</th><th>exact "
          "checks</th><th>method</th></tr>\n";
     for (const auto& o : report.obligations)

@@ -1,6 +1,7 @@
 #include "law_json.hpp"
 #include "paper_law.hpp"
 #include "report.hpp"
+#include "verdict_output.hpp"
 #include "support.hpp"
 
 #include <catch2/catch.hpp>
@@ -140,7 +141,7 @@ TEST_CASE("report: markdown lists every obligation and every counterexample", "[
     CHECK(md.find("\"gamma\": [") != std::string::npos);
 }
 
-TEST_CASE("report: the HTML page is self-contained and embeds the SVG for c = 2 only", "[report]") {
+TEST_CASE("report: the HTML page is self-contained and embeds the SVG for c = 2 and c = 3", "[report]") {
     const Model paper(paper_law());
     const std::string html = report_html(paper, verify(paper));
     CHECK(html.find("<svg") != std::string::npos);
@@ -148,8 +149,13 @@ TEST_CASE("report: the HTML page is self-contained and embeds the SVG for c = 2 
     CHECK(html.find("href=") == std::string::npos);
     CHECK(html.find("<script") == std::string::npos);
     const Model four(load_law_file(source_path("proofs/newton4/law.json")));
-    CHECK(report_html(four, verify(four)).find("<svg") == std::string::npos);
-    CHECK(cones_svg(four).empty());
+    const std::string four_html = report_html(four, verify(four));
+    CHECK(four_html.find("<svg") != std::string::npos);
+    // Every one of the 24 cones is labelled on the sphere (in one hemisphere or both).
+    for (const auto& p : four.pieces())
+        CHECK(four_html.find(">" + xml_escape(p.name) + "</text>") != std::string::npos);
+    const Model five(test::sorting_law(5));
+    CHECK(cones_svg(five).empty()); // c = 4: no picture
 }
 
 TEST_CASE("report: impactcert report writes both files and exits 0 even for a refuted law", "[report][cli]") {
@@ -244,4 +250,25 @@ TEST_CASE("report: the HTML page and its SVG escape hostile names", "[report]") 
     std::vector<std::string> elements;
     REQUIRE_NOTHROW(elements = xml_elements(cones_svg(m)));
     CHECK(std::count(elements.begin(), elements.end(), "polygon") == 12);
+}
+
+TEST_CASE("report: counterexamples are drawn on the cone picture (c = 2 and c = 3)", "[report]") {
+    const Model m(load_law_file(source_path("proofs/controls/newton-simultaneous.json")));
+    const VerifyReport r = verify(m);
+    const std::string svg = cones_svg(m, &r);
+    std::size_t marks = 0;
+    for (auto at = svg.find("class=\"counterexample\""); at != std::string::npos;
+         at = svg.find("class=\"counterexample\"", at + 1))
+        ++marks;
+    std::size_t expected = 0;
+    for (const auto& o : r.obligations)
+        if (o.verdict == Verdict::refuted)
+            expected += o.counterexample.contains("gamma_a") ? 2 : (o.counterexample.contains("gamma") || o.counterexample.contains("ray")) ? 1 : 0;
+    CHECK(marks == expected);
+    CHECK(marks >= 3);
+    CHECK(svg.find("<line x1=") != std::string::npos);
+    CHECK(cones_svg(m).find("counterexample") == std::string::npos); // none without a report
+    const Model gap(load_law_file(source_path("tests/laws/gap-newton4-missing-cone.json")));
+    const VerifyReport rg = verify(gap);
+    CHECK(cones_svg(gap, &rg).find("class=\"counterexample\"") != std::string::npos);
 }
