@@ -102,16 +102,9 @@ PPL::Linear_Expression form(const Vector& a) {
     return e;
 }
 
-Vector vector_of(const PPL::Generator& g, std::size_t c) {
-    Vector v(c);
-    for (std::size_t k = 0; k < c; ++k) {
-        const mpz_class z(g.coefficient(PPL::Variable(static_cast<PPL::dimension_type>(k))));
-        v[k] = Rational(CGAL::Gmpz(z.get_mpz_t()));
-    }
-    return v;
-}
-
-Vector vector_of(const PPL::Constraint& g, std::size_t c) {
+// The coefficients of a PPL generator or constraint on the c space dimensions.
+template <class Row>
+Vector vector_of(const Row& g, std::size_t c) {
     Vector v(c);
     for (std::size_t k = 0; k < c; ++k) {
         const mpz_class z(g.coefficient(PPL::Variable(static_cast<PPL::dimension_type>(k))));

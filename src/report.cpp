@@ -135,6 +135,21 @@ std::string md_json(const Json& j) {
 
 namespace {
 
+// Counterexample marks at picture coordinates: the points, joined when there are two.
+std::string marks_svg(const std::vector<std::pair<double, double>>& shown, const std::string& id) {
+    std::string s;
+    if (shown.size() == 2)
+        s += "<line x1=\"" + fmt(shown[0].first) + "\" y1=\"" + fmt(shown[0].second) + "\" x2=\"" +
+             fmt(shown[1].first) + "\" y2=\"" + fmt(shown[1].second) + "\" stroke=\"#d00\" stroke-width=\"2\"/>\n";
+    for (const auto& [px, py] : shown)
+        s += "<circle cx=\"" + fmt(px) + "\" cy=\"" + fmt(py) + "\" r=\"4\" fill=\"#d00\" class=\"counterexample\"><title>" +
+             xml_escape(id + " counterexample") + "</title></circle>\n";
+    if (!shown.empty())
+        s += "<text x=\"" + fmt(shown[0].first + 6) + "\" y=\"" + fmt(shown[0].second + 12) +
+             "\" font-size=\"10\" fill=\"#d00\">" + xml_escape(id) + "</text>\n";
+    return s;
+}
+
 // ---- c = 3: the cones on the unit sphere, in two orthographic hemispheres.
 
 using P3 = std::array<double, 3>;
@@ -244,15 +259,7 @@ std::string sphere_svg(const Model& model, const VerifyReport* report) {
                 if (dot3(x, n) > 0)
                     shown.push_back(project(x));
             }
-            if (shown.size() == 2)
-                s += "<line x1=\"" + fmt(shown[0].first) + "\" y1=\"" + fmt(shown[0].second) + "\" x2=\"" +
-                     fmt(shown[1].first) + "\" y2=\"" + fmt(shown[1].second) + "\" stroke=\"#d00\" stroke-width=\"2\"/>\n";
-            for (const auto& [px, py] : shown)
-                s += "<circle cx=\"" + fmt(px) + "\" cy=\"" + fmt(py) + "\" r=\"4\" fill=\"#d00\" class=\"counterexample\"><title>" +
-                     xml_escape(mk.id + " counterexample") + "</title></circle>\n";
-            if (!shown.empty())
-                s += "<text x=\"" + fmt(shown[0].first + 6) + "\" y=\"" + fmt(shown[0].second + 12) +
-                     "\" font-size=\"10\" fill=\"#d00\">" + xml_escape(mk.id) + "</text>\n";
+            s += marks_svg(shown, mk.id);
         }
     }
     return s + "</svg>\n";
@@ -319,14 +326,7 @@ std::string cones_svg(const Model& model, const VerifyReport* report) {
         std::vector<std::pair<double, double>> shown;
         for (const auto& pt : mk.points)
             shown.push_back({cx + pt[0] / longest * r * 0.85, cy - pt[1] / longest * r * 0.85});
-        if (shown.size() == 2)
-            s += "<line x1=\"" + fmt(shown[0].first) + "\" y1=\"" + fmt(shown[0].second) + "\" x2=\"" +
-                 fmt(shown[1].first) + "\" y2=\"" + fmt(shown[1].second) + "\" stroke=\"#d00\" stroke-width=\"2\"/>\n";
-        for (const auto& [px, py] : shown)
-            s += "<circle cx=\"" + fmt(px) + "\" cy=\"" + fmt(py) + "\" r=\"4\" fill=\"#d00\" class=\"counterexample\"><title>" +
-                 xml_escape(mk.id + " counterexample") + "</title></circle>\n";
-        s += "<text x=\"" + fmt(shown[0].first + 6) + "\" y=\"" + fmt(shown[0].second + 12) +
-             "\" font-size=\"10\" fill=\"#d00\">" + xml_escape(mk.id) + "</text>\n";
+        s += marks_svg(shown, mk.id);
     }
     s += "<text x=\"" + fmt(cx + r - 4) + "\" y=\"" + fmt(cy - 6) + "\" text-anchor=\"end\" font-size=\"12\">&#947;1-</text>\n";
     s += "<text x=\"" + fmt(cx + 6) + "\" y=\"" + fmt(cy - r + 14) + "\" font-size=\"12\">&#947;2-</text>\n";
