@@ -29,6 +29,8 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <memory>
+#include <optional>
 #include <sstream>
 #include <thread>
 
@@ -286,24 +288,6 @@ std::string evaluate_point(const Model& model, const Vector& x, bool velocities,
     return out;
 }
 
-// "LIB.so:SYMBOL" -> a C-ABI `void f(const double* gamma_minus, double* gamma_plus)`.
-fuzz::Impl load_impl(const std::string& spec) {
-    const auto colon = spec.rfind(':');
-    if (colon == std::string::npos || colon == 0 || colon + 1 == spec.size())
-        throw InputError("--impl " + spec + ": expected LIB.so:SYMBOL");
-    const std::string lib = spec.substr(0, colon), symbol = spec.substr(colon + 1);
-    void* handle = dlopen(lib.find('/') == std::string::npos ? ("./" + lib).c_str() : lib.c_str(), RTLD_NOW);
-    if (!handle)
-        throw InputError("--impl " + spec + ": cannot load: " + dlerror());
-    void* f = dlsym(handle, symbol.c_str());
-    if (!f)
-        throw InputError("--impl " + spec + ": no symbol " + symbol);
-    fuzz::Impl impl;
-    static_assert(sizeof impl == sizeof f);
-    std::memcpy(&impl, &f, sizeof f);
-    return impl;
-}
-
 // Finite doubles from text: decimals correctly rounded (strtod), hex floats exactly.
 double parse_double(const std::string& text, const std::string& where) {
     char* end = nullptr;
@@ -316,18 +300,78 @@ double parse_double(const std::string& text, const std::string& where) {
     return d;
 }
 
-int run_eval_float(const std::string& law_path, bool velocities, const std::string& impl_spec,
-                   const std::vector<std::vector<std::string>>& points) {
-    if (!law_path.empty()) {
+struct FuzzArgs {
+    std::string law_path, impl_spec, impl_cmd, junit;
+    bool velocities = false, json = false;
+    std::optional<std::uint64_t> max_ulps;
+    std::optional<double> max_rel_error;
+    double timeout = 10;
+    fuzz::Options options;
+};
+
+// The implementation under test: --impl, --impl-cmd, or the built-in float law.
+std::unique_ptr<fuzz::Implementation> make_impl(const FuzzArgs& a, const Model& model, std::size_t dim) {
+    if (!a.impl_spec.empty() && !a.impl_cmd.empty())
+        throw InputError("--impl and --impl-cmd: give one implementation");
+    if (!a.impl_spec.empty())
+        return fuzz::load_symbol(a.impl_spec, dim, dim);
+    if (!a.impl_cmd.empty())
+        return fuzz::command(a.impl_cmd, dim, dim, a.timeout);
+    if (a.law_path.empty())
+        return fuzz::builtin_paper(a.velocities);
+    if (a.velocities)
+        throw InputError("--velocities --law: the built-in float law takes contact velocities; test an "
+                         "implementation in ball velocities with --impl or --impl-cmd");
+    return fuzz::builtin_float_law(model);
+}
+
+// What `verify` proves of the law decides what the fuzzer may check (and whether one piece per
+// point is enough: a continuous tiling).
+struct LawFacts {
+    bool continuous_tiling = false;
+    fuzz::Properties properties;
+};
+
+LawFacts law_facts(const Model& model) {
+    static const std::vector<std::string> ids = {"fan", "P1", "kinematic", "energetic", "nonexpansive-lemma"};
+    const VerifyReport report = verify(model, Limits{}, {}, &ids);
+    auto proved = [&](const char* id) { return report.at(id).verdict == Verdict::proved; };
+    LawFacts f;
+    f.continuous_tiling = proved("fan") && proved("P1");
+    f.properties.nonnegative = proved("kinematic");
+    f.properties.energy = proved("energetic");
+    f.properties.nonexpansive = proved("nonexpansive-lemma");
+    return f;
+}
+
+std::vector<double> parse_doubles(const std::vector<std::string>& toks) {
+    std::vector<double> x;
+    for (const auto& t : toks)
+        x.push_back(parse_double(t, "input"));
+    return x;
+}
+
+int run_eval_float(const FuzzArgs& a, const std::vector<std::vector<std::string>>& points) {
+    if (!a.impl_spec.empty() || !a.impl_cmd.empty()) {
+        // An implementation against the exact law, point by point (the fuzzer's replays).
+        const Model model = load_model(a.law_path);
+        const LawFacts facts = law_facts(model);
+        const fuzz::LawReference reference(model, a.velocities, facts.continuous_tiling);
+        auto impl = make_impl(a, model, reference.in_dim());
+        for (const auto& toks : points) {
+            const auto x = parse_doubles(toks);
+            std::printf("%s", fuzz::explain(reference, impl.get(), x.data()).c_str());
+        }
+        return kExitProved;
+    }
+    if (!a.law_path.empty()) {
         // Any law file: the general float evaluator, with its error bound.
-        if (velocities || !impl_spec.empty())
-            throw InputError("--float --law: --velocities and --impl apply to the built-in float law only");
-        const Model model = load_model(law_path);
+        if (a.velocities)
+            throw InputError("--float --law --velocities: the built-in float law takes contact velocities");
+        const Model model = load_model(a.law_path);
         const FloatLaw law(model);
         for (const auto& toks : points) {
-            std::vector<double> x;
-            for (const auto& t : toks)
-                x.push_back(parse_double(t, "input"));
+            const auto x = parse_doubles(toks);
             const auto r = law.eval(x);
             if (!r.ok)
                 throw InputError("input: " + r.error);
@@ -342,28 +386,16 @@ int run_eval_float(const std::string& law_path, bool velocities, const std::stri
         }
         return kExitProved;
     }
-    const fuzz::Impl impl = impl_spec.empty() ? nullptr : load_impl(impl_spec);
     for (const auto& toks : points) {
-        std::vector<double> x;
-        for (const auto& t : toks)
-            x.push_back(parse_double(t, "input"));
-        if (velocities) {
+        auto x = parse_doubles(toks);
+        if (a.velocities) {
             fp::sort_velocities(x.data());
             std::printf("%a %a %a\n", x[0], x[1], x[2]);
             continue;
         }
         double law[2];
         fp::S(x[0], x[1], law);
-        if (!impl) {
-            std::printf("%a %a\n", law[0], law[1]);
-            continue;
-        }
-        double out[2];
-        impl(x.data(), out);
-        const auto ref = fuzz::reference_fast(x[0], x[1]);
-        std::printf("impl %a %a\nlaw  %a %a  (error %llu, %llu ulp)\n", out[0], out[1], ref.value[0], ref.value[1],
-                    static_cast<unsigned long long>(fuzz::ulp_distance(out[0], ref.value[0])),
-                    static_cast<unsigned long long>(fuzz::ulp_distance(out[1], ref.value[1])));
+        std::printf("%a %a\n", law[0], law[1]);
     }
     return kExitProved;
 }
@@ -377,81 +409,191 @@ std::string count_text(std::uint64_t n) {
     return buf;
 }
 
-int run_fuzz(const fuzz::Options& options, bool json) {
-    const fuzz::Impl impl = options.impl_spec.empty() ? nullptr : load_impl(options.impl_spec);
-    const bool tty = !json && isatty(STDERR_FILENO);
+std::string fuzz_junit(const fuzz::Summary& sum, const std::string& target) {
+    struct Case {
+        const char* name;
+        std::uint64_t count;
+    };
+    const Case cases[] = {{"accuracy", sum.inaccurate - sum.non_finite},
+                          {"classification", sum.misclassified},
+                          {"non-finite outputs", sum.non_finite},
+                          {"negative contact velocities", sum.negative},
+                          {"energy", sum.energy},
+                          {"non-expansivity", sum.nonexpansive},
+                          {"implementation failures", sum.crashed + sum.hung + sum.malformed + sum.refused}};
+    std::size_t failures = 0;
+    for (const auto& c : cases)
+        failures += c.count ? 1 : 0;
+    std::string x = "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<testsuites>\n";
+    x += "  <testsuite name=\"impactcert fuzz: " + xml_escape(target) + "\" tests=\"" + std::to_string(std::size(cases)) +
+         "\" failures=\"" + std::to_string(failures) + "\">\n";
+    for (const auto& c : cases) {
+        x += "    <testcase classname=\"impactcert.fuzz\" name=\"" + std::string(c.name) + "\"";
+        if (!c.count) {
+            x += "/>\n";
+            continue;
+        }
+        std::string first;
+        for (const auto& v : sum.examples)
+            if (first.empty())
+                first = v.what + "; replay: " + v.replay;
+        x += ">\n      <failure message=\"" + std::to_string(c.count) + " violation(s) in " + std::to_string(sum.samples) +
+             " samples\">" + xml_escape(first) + "</failure>\n    </testcase>\n";
+    }
+    return x + "  </testsuite>\n</testsuites>\n";
+}
+
+int run_fuzz(FuzzArgs a) {
+    const Model model = load_model(a.law_path);
+    if (a.max_ulps && a.max_rel_error)
+        throw InputError("--max-ulps and --max-rel-error: give one tolerance");
+    if (a.max_rel_error && !(*a.max_rel_error >= 0 && std::isfinite(*a.max_rel_error)))
+        throw InputError("--max-rel-error: must be a finite number >= 0");
+    const LawFacts facts = law_facts(model);
+    const fuzz::LawReference reference(model, a.velocities, facts.continuous_tiling);
+    const auto impl = make_impl(a, model, reference.in_dim());
+    fuzz::Options& options = a.options;
+    if (a.max_rel_error) {
+        options.tolerance = fuzz::Tolerance::relative;
+        options.max_rel_error = *a.max_rel_error;
+    } else if (a.max_ulps) {
+        options.tolerance = fuzz::Tolerance::ulps;
+        options.max_ulps = *a.max_ulps;
+    } else {
+        options.tolerance = impl->states_bound() ? fuzz::Tolerance::stated_bound : fuzz::Tolerance::ulps;
+    }
+    options.replay_prefix = "impactcert eval --float";
+    if (!a.law_path.empty())
+        options.replay_prefix += " --law " + fuzz::shell_quote(a.law_path);
+    if (a.velocities)
+        options.replay_prefix += " --velocities";
+    const bool tty = !a.json && isatty(STDERR_FILENO);
     const auto start = std::chrono::steady_clock::now();
     auto progress = [&](std::uint64_t done) {
         if (!tty)
             return;
-        const double frac = options.samples ? std::min(1.0, static_cast<double>(done) / static_cast<double>(options.samples)) : 1.0;
         const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        double frac = options.samples ? static_cast<double>(done) / static_cast<double>(options.samples) : 1.0;
+        if (options.seconds > 0)
+            frac = std::max(frac, secs / options.seconds);
+        frac = std::min(frac, 1.0);
         const int width = 30, filled = static_cast<int>(frac * width);
-        std::fprintf(stderr, "\r[%s%s] %3.0f%% %s/%s samples, %.1f M/s ", std::string(static_cast<std::size_t>(filled), '#').c_str(),
+        std::fprintf(stderr, "\r[%s%s] %3.0f%% %s samples, %.2f M/s ", std::string(static_cast<std::size_t>(filled), '#').c_str(),
                      std::string(static_cast<std::size_t>(width - filled), '.').c_str(), frac * 100, count_text(done).c_str(),
-                     count_text(options.samples).c_str(), secs > 0 ? static_cast<double>(done) / secs / 1e6 : 0.0);
+                     secs > 0 ? static_cast<double>(done) / secs / 1e6 : 0.0);
     };
-    const fuzz::Summary sum = fuzz::run(options, impl, progress);
+    const fuzz::Summary sum = fuzz::run(options, reference, *impl, facts.properties, progress);
     if (tty)
-        std::fprintf(stderr, "\r%80s\r", "");
+        std::fprintf(stderr, "\r\033[K");
     const double rate = sum.seconds > 0 ? static_cast<double>(sum.samples) / sum.seconds : 0;
-    const std::string target = options.impl_spec.empty() ? "built-in float law" : options.impl_spec;
-    if (json) {
+    const std::string target = impl->describe();
+    const std::string space = a.velocities ? "ball velocities" : "contact velocities";
+    const std::string tolerance =
+        options.tolerance == fuzz::Tolerance::relative ? "--max-rel-error " + fuzz::hex(options.max_rel_error)
+        : options.tolerance == fuzz::Tolerance::ulps   ? "--max-ulps " + std::to_string(options.max_ulps)
+                                                       : "the implementation's stated bound";
+    auto hexes = [](const std::vector<double>& v) {
+        Json j = Json::array();
+        for (double x : v)
+            j.push_back(fuzz::hex(x));
+        return j;
+    };
+    if (!a.junit.empty()) {
+        std::ofstream f(a.junit);
+        f << fuzz_junit(sum, target);
+        if (!f)
+            throw InputError("--junit " + a.junit + ": cannot write");
+    }
+    if (a.json) {
         Json j;
         j["format"] = "impactcert-fuzz/1";
+        j["law"] = model.law().name;
+        j["space"] = space;
         j["implementation"] = target;
+        j["tolerance"] = tolerance;
         j["seed"] = options.seed;
         j["jobs"] = options.jobs;
         j["samples"] = sum.samples;
         j["pairs"] = sum.pairs;
         j["seconds"] = sum.seconds;
         j["samples_per_second"] = rate;
-        j["max_error_ulps"] = {sum.max_ulps[0], sum.max_ulps[1]};
-        j["violations"] = {{"classification", sum.misclassified}, {"error_above_max_ulps", sum.not_rounded},
-                           {"negative_output", sum.negative}, {"energy", sum.energy},
-                           {"nonexpansive", sum.nonexpansive}, {"non_finite", sum.non_finite}};
+        j["reference_through_gmp"] = sum.slow;
+        j["outside_every_cone"] = sum.outside;
+        j["max_error_ulps"] = sum.max_ulps;
+        j["max_relative_error"] = sum.max_rel_error;
+        j["checked_properties"] = {{"nonnegative", facts.properties.nonnegative}, {"energy", facts.properties.energy},
+                                   {"nonexpansive", facts.properties.nonexpansive}};
+        j["violations"] = {{"outside_tolerance", sum.inaccurate}, {"classification", sum.misclassified},
+                           {"non_finite", sum.non_finite}, {"negative_output", sum.negative},
+                           {"energy", sum.energy}, {"nonexpansive", sum.nonexpansive},
+                           {"crashed", sum.crashed}, {"hung", sum.hung}, {"malformed", sum.malformed},
+                           {"refused", sum.refused}};
         Json examples = Json::array();
         for (const auto& v : sum.examples) {
-            Json input = {fuzz::hex(v.sample.a.g[0]), fuzz::hex(v.sample.a.g[1])};
-            examples.push_back({{"index", v.index}, {"what", v.what}, {"generator", v.sample.kind}, {"input", input},
-                                {"output", {fuzz::hex(v.output[0]), fuzz::hex(v.output[1])}},
-                                {"expected", {fuzz::hex(v.expected[0]), fuzz::hex(v.expected[1])}},
-                                {"replay", v.replay}});
+            Json e = {{"index", v.index}, {"what", v.what}, {"generator", v.kind}, {"input", hexes(v.input)}};
+            if (!v.input_b.empty())
+                e["input_b"] = hexes(v.input_b);
+            e["output"] = hexes(v.output);
+            e["expected"] = hexes(v.expected);
+            e["replay"] = v.replay;
+            examples.push_back(e);
         }
         j["examples"] = examples;
         j["verdict"] = sum.violations() ? "violations" : "no violation";
         std::cout << j.dump(2) << "\n";
     } else {
-        std::printf("impactcert fuzz: %s vs the exact law (seed %llu, %u job%s)\n", target.c_str(),
-                    static_cast<unsigned long long>(options.seed), options.jobs, options.jobs == 1 ? "" : "s");
-        std::printf("  samples                        %llu (%llu close pairs)\n",
-                    static_cast<unsigned long long>(sum.samples), static_cast<unsigned long long>(sum.pairs));
-        std::printf("  time                           %.2f s (%.1f M samples/s, %.1f M/s per job)\n", sum.seconds,
+        auto u = [](std::uint64_t x) { return static_cast<unsigned long long>(x); };
+        std::string ulps;
+        for (auto e : sum.max_ulps)
+            ulps += (ulps.empty() ? "" : ", ") + std::to_string(e);
+        std::printf("impactcert fuzz: %s vs the exact law %s, in %s (seed %llu, %u job%s)\n", target.c_str(),
+                    model.law().name.c_str(), space.c_str(), u(options.seed), options.jobs, options.jobs == 1 ? "" : "s");
+        std::printf("  tolerance                      %s\n", tolerance.c_str());
+        std::printf("  samples                        %llu (%llu close pairs; %llu reference points through GMP)\n",
+                    u(sum.samples), u(sum.pairs), u(sum.slow));
+        std::printf("  time                           %.2f s (%.2f M samples/s, %.2f M/s per job)\n", sum.seconds,
                     rate / 1e6, rate / 1e6 / std::max(1u, options.jobs));
-        std::printf("  max error                      %llu ulp (gamma1+), %llu ulp (gamma2+)\n",
-                    static_cast<unsigned long long>(sum.max_ulps[0]), static_cast<unsigned long long>(sum.max_ulps[1]));
-        std::printf("  classification disagreements   %llu\n", static_cast<unsigned long long>(sum.misclassified));
-        std::printf("  errors above %llu ulp             %llu\n", static_cast<unsigned long long>(options.max_ulps),
-                    static_cast<unsigned long long>(sum.not_rounded));
-        std::printf("  negative outputs (gamma+ < 0)  %llu\n", static_cast<unsigned long long>(sum.negative));
-        std::printf("  energy increases               %llu\n", static_cast<unsigned long long>(sum.energy));
-        std::printf("  non-expansivity violations     %llu\n", static_cast<unsigned long long>(sum.nonexpansive));
-        std::printf("  non-finite outputs             %llu\n", static_cast<unsigned long long>(sum.non_finite));
-        for (const auto& v : sum.examples)
-            std::printf("  violation at sample %llu (%s): %s\n    input %a %a -> output %a %a, exact %a %a\n    replay: %s\n",
-                        static_cast<unsigned long long>(v.index), v.sample.kind, v.what.c_str(), v.sample.a.g[0],
-                        v.sample.a.g[1], v.output[0], v.output[1], v.expected[0], v.expected[1], v.replay.c_str());
+        std::printf("  max error                      %s ulp per component; %.3g relative (normwise)\n", ulps.c_str(),
+                    sum.max_rel_error);
+        std::printf("  outside the tolerance          %llu (classification: %llu, non-finite: %llu)\n", u(sum.inaccurate),
+                    u(sum.misclassified), u(sum.non_finite));
+        std::printf("  negative contact velocities    %llu%s\n", u(sum.negative), facts.properties.nonnegative ? "" : " (not checked: not proved for this law)");
+        std::printf("  energy increases               %llu%s\n", u(sum.energy), facts.properties.energy ? "" : " (not checked: not proved for this law)");
+        std::printf("  non-expansivity violations     %llu%s\n", u(sum.nonexpansive), facts.properties.nonexpansive ? "" : " (not checked: not proved for this law)");
+        std::printf("  implementation failures        %llu crashed, %llu hung, %llu malformed, %llu refused\n",
+                    u(sum.crashed), u(sum.hung), u(sum.malformed), u(sum.refused));
+        if (sum.outside)
+            std::printf("  points in no cone (skipped)    %llu\n", u(sum.outside));
+        for (const auto& v : sum.examples) {
+            std::string in, out, ex;
+            for (double x : v.input)
+                in += " " + fuzz::hex(x);
+            if (!v.input_b.empty())
+                in += " |";
+            for (double x : v.input_b)
+                in += " " + fuzz::hex(x);
+            for (double x : v.output)
+                out += " " + fuzz::hex(x);
+            for (double x : v.expected)
+                ex += " " + fuzz::hex(x);
+            std::printf("  violation at sample %llu (%s): %s\n    input%s -> output%s, exact%s\n    replay: %s\n",
+                        u(v.index), v.kind.c_str(), v.what.c_str(), in.c_str(), out.empty() ? " (none)" : out.c_str(),
+                        ex.empty() ? " (none)" : ex.c_str(), v.replay.c_str());
+        }
         std::printf("verdict: %s\n", sum.violations() ? "violations found" : "no violation");
     }
     return sum.violations() ? kExitRefuted : kExitProved;
 }
 
 int run_eval(const std::string& law_path, bool velocities, const std::vector<std::string>& args, bool as_float,
-             const std::string& impl_spec) {
-    if (!impl_spec.empty() && !as_float)
-        throw InputError("--impl needs --float");
+             FuzzArgs float_args) {
+    if ((!float_args.impl_spec.empty() || !float_args.impl_cmd.empty()) && !as_float)
+        throw InputError("--impl and --impl-cmd need --float");
     if (as_float) {
-        const std::size_t dim = !law_path.empty() ? load_model(law_path).contacts() : velocities ? 3 : 2;
+        float_args.law_path = law_path;
+        float_args.velocities = velocities;
+        const Model dims = load_model(law_path);
+        const std::size_t dim = velocities ? dims.balls() : dims.contacts();
         std::vector<std::vector<std::string>> points;
         std::vector<std::string> toks;
         for (const auto& a : args)
@@ -476,7 +618,7 @@ int run_eval(const std::string& law_path, bool velocities, const std::vector<std
                 points.emplace_back(toks.begin() + static_cast<std::ptrdiff_t>(i),
                                     toks.begin() + static_cast<std::ptrdiff_t>(i + dim));
         }
-        return run_eval_float(law_path, velocities, impl_spec, points);
+        return run_eval_float(float_args, points);
     }
     const Model model = load_model(law_path);
     const std::size_t dim = velocities ? model.balls() : model.contacts();
@@ -531,8 +673,8 @@ int main(int argc, char** argv) {
 
     std::string law_path, junit_path, out_path;
     bool json = false, velocities = false, as_float = false;
-    std::string impl_spec;
-    fuzz::Options fuzz_options;
+    FuzzArgs fuzz_args, eval_float_args;
+    fuzz::Options& fuzz_options = fuzz_args.options;
     fuzz_options.jobs = std::max(1u, std::thread::hardware_concurrency());
     std::vector<std::string> eval_args;
     DeriveArgs derive_args;
@@ -560,7 +702,9 @@ int main(int argc, char** argv) {
     eval_cmd->add_option("--law", law_path, "law file (impactcert-law/1); default: the paper's 3-ball law");
     eval_cmd->add_flag("--velocities", velocities, "points are ball velocities u- (print u+)");
     eval_cmd->add_flag("--float", as_float, "evaluate the float law in double (inputs read with strtod; output in hex, %a)");
-    eval_cmd->add_option("--impl", impl_spec, "with --float: also run LIB.so:SYMBOL and show its error in ulps");
+    eval_cmd->add_option("--impl", eval_float_args.impl_spec, "with --float: run LIB.so:SYMBOL and show its output against the correctly rounded exact value");
+    eval_cmd->add_option("--impl-cmd", eval_float_args.impl_cmd, "with --float: the same for a command (see fuzz --impl-cmd)");
+    eval_cmd->add_option("--impl-timeout", eval_float_args.timeout, "seconds to wait for --impl-cmd's answer")->check(CLI::PositiveNumber);
     eval_cmd->add_option("points", eval_args, "numbers: rationals (-3/4), decimals (0.1, 2.5e-3), hex floats (0x1.8p-3)");
 
     auto* derive_cmd = app.add_subcommand("derive", "derive an impact law from the mechanics (SPEC section 7)");
@@ -598,9 +742,16 @@ int main(int argc, char** argv) {
     fuzz_cmd->add_option("--samples", fuzz_options.samples, "number of samples")->check(CLI::PositiveNumber);
     fuzz_cmd->add_option("--seconds", fuzz_options.seconds, "stop after this many seconds")->check(CLI::NonNegativeNumber);
     fuzz_cmd->add_option("--jobs", fuzz_options.jobs, "threads")->check(CLI::Range(1u, 256u));
-    fuzz_cmd->add_option("--max-ulps", fuzz_options.max_ulps, "allowed error per component (default 0: correctly rounded)");
-    fuzz_cmd->add_option("--impl", fuzz_options.impl_spec, "LIB.so:SYMBOL, a C function void f(const double* in, double* out)");
-    fuzz_cmd->add_flag("--json", json, "print the summary as impactcert-fuzz/1 JSON");
+    fuzz_cmd->add_option("--law", fuzz_args.law_path, "law file (impactcert-law/1); default: the paper's 3-ball law");
+    fuzz_cmd->add_flag("--velocities", fuzz_args.velocities, "the implementation maps ball velocities u- to u+ (n doubles) instead of contact velocities");
+    fuzz_cmd->add_option("--impl", fuzz_args.impl_spec, "LIB.so:SYMBOL, a C function void f(const double* in, double* out)");
+    fuzz_cmd->add_option("--impl-cmd", fuzz_args.impl_cmd, "a command (any language) reading lines of hex doubles on stdin and writing one line of doubles per line");
+    fuzz_cmd->add_option("--impl-timeout", fuzz_args.timeout, "seconds without an answer from --impl-cmd before a point counts as hung")->check(CLI::PositiveNumber)->capture_default_str();
+    fuzz_cmd->add_option("--max-ulps", fuzz_args.max_ulps, "allowed error per component in ulps of the correctly rounded value (default: 0, or the built-in float law's stated bound with --law)");
+    fuzz_cmd->add_option("--max-rel-error", fuzz_args.max_rel_error, "allowed normwise error |y - S(x)| <= R |x| in the law's metric (H; M for --velocities)");
+    fuzz_cmd->add_option("--keep", fuzz_options.keep, "violations kept as examples")->capture_default_str();
+    fuzz_cmd->add_flag("--json", fuzz_args.json, "print the summary as impactcert-fuzz/1 JSON");
+    fuzz_cmd->add_option("--junit", fuzz_args.junit, "also write a JUnit XML report to this file");
 
     try {
         app.parse(argc, argv);
@@ -631,8 +782,8 @@ int main(int argc, char** argv) {
         if (sweep_cmd->parsed())
             return run_sweep_command(sweep_args, limits);
         if (fuzz_cmd->parsed())
-            return run_fuzz(fuzz_options, json);
-        return run_eval(law_path, velocities, eval_args, as_float, impl_spec);
+            return run_fuzz(fuzz_args);
+        return run_eval(law_path, velocities, eval_args, as_float, eval_float_args);
     } catch (const InputError& e) {
         std::cerr << "impactcert: " << e.what() << "\n";
         return kExitBadInput;

@@ -3,14 +3,15 @@
 #include "float_eval.hpp"
 #include "paper_law.hpp"
 
-#include <impactcert/float_law.hpp>
-
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <limits>
+#include <memory>
+#include <condition_variable>
 #include <mutex>
 #include <thread>
 
@@ -34,6 +35,9 @@ double from_bits(std::uint64_t bits) {
     return d;
 }
 
+std::uint64_t below(std::uint64_t& st, std::uint64_t n) { return splitmix(st) % n; }
+bool coin(std::uint64_t& st) { return splitmix(st) & 1; }
+
 // A finite double with a uniformly random binary exponent over the whole range (subnormals
 // included) and a random sign: log-uniform magnitudes.
 double log_uniform(std::uint64_t& st) {
@@ -44,78 +48,190 @@ double log_uniform(std::uint64_t& st) {
 }
 
 double nudge(double x, int ulps) {
-    const double toward = ulps > 0 ? std::numeric_limits<double>::infinity() : -std::numeric_limits<double>::infinity();
+    const double toward = ulps > 0 ? INFINITY : -INFINITY;
     for (int k = 0; k < std::abs(ulps); ++k)
         x = std::nextafter(x, toward);
     return x;
 }
 
-Point boundary_point(std::uint64_t& st) {
-    // A point on or within a few ulps of one of the six boundary rays.
-    static const int rays[6][2] = {{1, 0}, {0, 1}, {-1, 1}, {-1, 0}, {0, -1}, {1, -1}};
-    const auto& r = rays[splitmix(st) % 6];
-    const double t = std::fabs(log_uniform(st));
-    Point p{{r[0] * t, r[1] * t}};
-    for (double& g : p.g) {
-        const int k = static_cast<int>(splitmix(st) % 9) - 4;
-        if (g == 0.0) {
-            const std::uint64_t pick = splitmix(st) % 4;
-            g = pick == 0 ? 0.0 : pick == 1 ? -0.0 : k * std::numeric_limits<double>::denorm_min();
-        } else {
-            g = nudge(g, k);
-        }
-    }
-    return p;
+double max_abs(const double* p, std::size_t m) {
+    double big = 0;
+    for (std::size_t j = 0; j < m; ++j)
+        big = std::fmax(big, std::fabs(p[j]));
+    return big;
+}
+
+// Scales p by a power of two so that its largest component has binary exponent `e`.
+void rescale(double* p, std::size_t m, int e) {
+    const double big = max_abs(p, m);
+    if (big == 0 || !std::isfinite(big))
+        return;
+    const int shift = e - std::ilogb(big);
+    for (std::size_t j = 0; j < m; ++j)
+        p[j] = std::ldexp(p[j], shift);
 }
 
 } // namespace
 
-Sample make_sample(std::uint64_t seed, std::uint64_t index) {
+Generator::Generator(const LawReference& reference) : g_(reference.geometry()), dim_(reference.in_dim()) {}
+
+const std::vector<std::string>& Generator::kinds() {
+    static const std::vector<std::string> k = {"log-uniform", "common-scale",    "ray",      "facet",
+                                               "near-facet",  "signed-zero",     "subnormal", "overflow-region",
+                                               "close-pair"};
+    return k;
+}
+
+// A point of the facet (a non-negative combination of its rays; in ball velocities plus a
+// multiple of the directions every cone contains), near unit scale. With integer rays the
+// coefficients are small integers and the point lies exactly on the facet; `scale` receives a
+// random binary exponent for the caller to apply (exact for such points away from the
+// subnormal range).
+void Generator::facet_point(std::uint64_t& st, std::size_t facet, double* p, int& scale) const {
+    for (std::size_t j = 0; j < dim_; ++j)
+        p[j] = 0;
+    const auto& rays = g_.facet_rays[facet];
+    for (std::size_t r : rays) {
+        double coef;
+        if (g_.integer_rays) {
+            coef = static_cast<double>(below(st, 4) == 0 ? 0 : below(st, 64));
+        } else {
+            coef = below(st, 4) == 0 ? 0 : std::ldexp(1.0 + static_cast<double>(below(st, 1u << 20)) / (1u << 20),
+                                                       -static_cast<int>(below(st, 40)));
+        }
+        for (std::size_t j = 0; j < dim_; ++j)
+            p[j] += coef * g_.rays[r][j];
+    }
+    for (const auto& k : g_.kernel) {
+        const double t = static_cast<double>(static_cast<std::int64_t>(below(st, 129)) - 64);
+        for (std::size_t j = 0; j < dim_; ++j)
+            p[j] += t * k[j];
+    }
+    scale = static_cast<int>(below(st, 1900)) - 950;
+}
+
+void Generator::make(std::uint64_t seed, std::uint64_t index, Sample& s) const {
     std::uint64_t st = seed * 0xD1B54A32D192ED03ULL ^ (index + 1) * 0x9E3779B97F4A7C15ULL;
-    Sample s;
-    const std::uint64_t kind = splitmix(st) % 16;
-    if (kind < 6) {
+    const std::size_t m = dim_;
+    s.pair = false;
+    const std::uint64_t pick = below(st, 32);
+    const std::size_t facets = g_.facet_rays.size();
+    auto near_facet = [&](double* p, std::size_t& facet, double& delta) {
+        facet = below(st, facets);
+        int scale;
+        facet_point(st, facet, p, scale);
+        for (std::size_t j = 0; j < m; ++j)
+            p[j] = std::ldexp(p[j], scale);
+        const double size = max_abs(p, m);
+        // A distance from one ulp of the point's scale up to the scale itself, log-uniformly.
+        delta = std::ldexp(size > 0 ? size : std::ldexp(1.0, scale), -static_cast<int>(below(st, 54))) *
+                (coin(st) ? 1 : -1);
+        for (std::size_t j = 0; j < m; ++j)
+            p[j] += delta * g_.facet_normals[facet][j];
+    };
+    if (pick < 6) {
         s.kind = "log-uniform";
-        s.a = {{log_uniform(st), log_uniform(st)}};
-    } else if (kind < 10) {
-        s.kind = "boundary-ray";
-        s.a = boundary_point(st);
-    } else if (kind == 10) {
+        for (std::size_t j = 0; j < m; ++j)
+            s.a[j] = below(st, 8) == 0 ? (coin(st) ? 0.0 : -0.0) : log_uniform(st);
+    } else if (pick < 10) {
+        s.kind = "common-scale";
+        const int e = static_cast<int>(below(st, 2000)) - 1000;
+        for (std::size_t j = 0; j < m; ++j) {
+            const double mant = 1.0 + static_cast<double>(splitmix(st) >> 12) * 0x1p-52;
+            s.a[j] = below(st, 6) == 0 ? 0.0 : std::ldexp(mant, e - static_cast<int>(below(st, 64))) * (coin(st) ? 1 : -1);
+        }
+    } else if (pick < 13) {
+        s.kind = "ray";
+        const auto& r = g_.rays[below(st, g_.rays.size())];
+        const double t = std::ldexp(1.0 + static_cast<double>(splitmix(st) >> 12) * 0x1p-52,
+                                    static_cast<int>(below(st, 2000)) - 1040);
+        for (std::size_t j = 0; j < m; ++j) {
+            s.a[j] = r[j] * t;
+            if (!std::isfinite(s.a[j]))
+                s.a[j] = std::copysign(std::numeric_limits<double>::max(), r[j]);
+            const int k = coin(st) ? 0 : static_cast<int>(below(st, 9)) - 4;
+            if (s.a[j] != 0)
+                s.a[j] = nudge(s.a[j], k);
+            else if (k != 0) // off the ray by a few ulps of the point's scale (rarely: of the subnormals)
+                s.a[j] = below(st, 16) == 0 ? k * std::numeric_limits<double>::denorm_min()
+                                             : k * std::ldexp(std::fabs(t), -52 - static_cast<int>(below(st, 8)));
+            if (!std::isfinite(s.a[j]))
+                s.a[j] = 0;
+        }
+    } else if (pick < 17) {
+        s.kind = "facet";
+        int scale;
+        facet_point(st, below(st, facets), s.a, scale);
+        for (std::size_t j = 0; j < m; ++j)
+            s.a[j] = std::ldexp(s.a[j], scale);
+    } else if (pick < 22) {
+        s.kind = "near-facet";
+        std::size_t f;
+        double delta;
+        near_facet(s.a, f, delta);
+    } else if (pick < 24) {
         s.kind = "signed-zero";
-        const double zero = (splitmix(st) & 1) ? 0.0 : -0.0;
-        const double other = (splitmix(st) & 1) ? ((splitmix(st) & 1) ? 0.0 : -0.0) : log_uniform(st);
-        s.a = (splitmix(st) & 1) ? Point{{zero, other}} : Point{{other, zero}};
-    } else if (kind == 11) {
+        int scale;
+        facet_point(st, below(st, facets), s.a, scale);
+        for (std::size_t j = 0; j < m; ++j)
+            s.a[j] = coin(st) ? (coin(st) ? 0.0 : -0.0) : std::ldexp(s.a[j], scale);
+    } else if (pick < 26) {
         s.kind = "subnormal";
-        auto sub = [&] {
-            const double d = from_bits(splitmix(st) & ((1ULL << 52) - 1));
-            return (splitmix(st) & 1) ? -d : d;
-        };
-        s.a = {{sub(), sub()}};
-    } else if (kind == 12) {
+        if (coin(st)) {
+            for (std::size_t j = 0; j < m; ++j)
+                s.a[j] = from_bits(splitmix(st) & ((1ULL << 52) - 1)) * (coin(st) ? 1 : -1);
+        } else {
+            int scale;
+            facet_point(st, below(st, facets), s.a, scale);
+            rescale(s.a, m, -1023 - static_cast<int>(below(st, 40)));
+        }
+    } else if (pick < 28) {
         s.kind = "overflow-region";
-        auto big = [&] {
-            const double d = from_bits((2042ULL + splitmix(st) % 5) << 52 | (splitmix(st) & ((1ULL << 52) - 1)));
-            return (splitmix(st) & 1) ? -d : d;
-        };
-        s.a = {{big(), big()}};
+        if (coin(st)) {
+            for (std::size_t j = 0; j < m; ++j)
+                s.a[j] = log_uniform(st);
+        } else {
+            int scale;
+            facet_point(st, below(st, facets), s.a, scale);
+        }
+        rescale(s.a, m, 1015 + static_cast<int>(below(st, 9)));
     } else {
         s.kind = "close-pair";
-        s.a = (splitmix(st) & 1) ? boundary_point(st) : Point{{log_uniform(st), log_uniform(st)}};
         s.pair = true;
-        s.b = s.a;
-        const int shift = 1 + static_cast<int>(splitmix(st) % 52);
-        for (double& g : s.b.g) {
-            const double scale = std::max(std::fabs(g), std::fabs(s.a.g[0] + s.a.g[1]));
-            const double step = std::ldexp(scale, -shift) * ((splitmix(st) & 1) ? 1 : -1);
-            g = std::isfinite(g + step) ? g + step : g;
+        std::size_t f;
+        double delta;
+        near_facet(s.a, f, delta);
+        if (coin(st)) { // the mirror image across the facet: the pair straddles it
+            for (std::size_t j = 0; j < m; ++j)
+                s.b[j] = s.a[j] - 2 * delta * g_.facet_normals[f][j];
+        } else { // a small step in a random direction
+            const double size = std::fmax(max_abs(s.a, m), std::numeric_limits<double>::denorm_min());
+            const int shift = 1 + static_cast<int>(below(st, 52));
+            for (std::size_t j = 0; j < m; ++j) {
+                const double step = std::ldexp(size, -shift) * (static_cast<double>(below(st, 2001)) - 1000) / 1000;
+                s.b[j] = s.a[j] + step;
+            }
         }
+        for (std::size_t j = 0; j < m; ++j)
+            if (!std::isfinite(s.b[j]))
+                s.b[j] = s.a[j];
     }
+    for (std::size_t j = 0; j < m; ++j)
+        if (!std::isfinite(s.a[j]))
+            s.a[j] = std::copysign(std::numeric_limits<double>::max(), s.a[j]);
+}
+
+Sample make_paper_sample(std::uint64_t seed, std::uint64_t index) {
+    static const Model paper(paper_law());
+    static const LawReference reference(paper, false, true);
+    static const Generator generator(reference);
+    Sample s;
+    generator.make(seed, index, s);
     return s;
 }
 
 // ---------------------------------------------------------------------------------------------
-// References
+// The paper's law, second route
 
 Reference reference_fast(double g1, double g2) {
     // TwoSum: s + e == g1 + g2 exactly, with s = RN(g1 + g2) the correctly rounded sum.
@@ -163,10 +279,486 @@ std::uint64_t ulp_distance(double a, double b) {
                  : static_cast<std::uint64_t>(y) - static_cast<std::uint64_t>(x);
 }
 
-std::string hex(double x) {
-    char buf[64];
-    std::snprintf(buf, sizeof buf, "%a", x);
-    return buf;
+// ---------------------------------------------------------------------------------------------
+// The run
+
+namespace {
+
+// The law's metric in double (H for contact velocities, M for ball velocities): diagnostics with
+// a relative margin, never a proof (every exact question goes through the reference).
+struct Metric {
+    std::size_t m = 0;
+    std::vector<double> h, habs; // row-major
+
+    explicit Metric(const LawReference& ref) : m(ref.in_dim()) {
+        const Model& model = ref.model();
+        for (std::size_t i = 0; i < m; ++i)
+            for (std::size_t j = 0; j < m; ++j) {
+                const Rational q = ref.velocities() ? (i == j ? model.law().masses[i] : Rational(0)) : model.H()(i, j);
+                h.push_back(nearest_double(q));
+                habs.push_back(std::fabs(h.back()));
+            }
+    }
+    double norm(const double* v) const {
+        double s = 0;
+        for (std::size_t i = 0; i < m; ++i)
+            for (std::size_t j = 0; j < m; ++j)
+                s += h[i * m + j] * v[i] * v[j];
+        return std::sqrt(std::fmax(s, 0.0));
+    }
+    double norm_abs(const double* d) const { // >= the norm of any vector with |v_i| <= d_i
+        double s = 0;
+        for (std::size_t i = 0; i < m; ++i)
+            for (std::size_t j = 0; j < m; ++j)
+                s += habs[i * m + j] * d[i] * d[j];
+        return std::sqrt(s);
+    }
+};
+
+double ulp_of(double v) {
+    const double a = std::fabs(v);
+    return std::isfinite(a) ? std::nextafter(a, INFINITY) - a : INFINITY;
+}
+
+constexpr double kMargin = 1e-9; // relative margin of the floating-point property checks
+
+struct Worker {
+    Worker(const Options& o, const LawReference& r, const Properties& p, const Metric& mt, const Generator& g,
+           std::unique_ptr<Implementation> i)
+        : opt(o), ref(r), props(p), metric(mt), gen(g), impl(std::move(i)), m(r.in_dim()), mo(r.out_dim()) {
+        sum.max_ulps.assign(mo, 0);
+    }
+    const Options& opt;
+    const LawReference& ref;
+    const Properties& props;
+    const Metric& metric;
+    const Generator& gen;
+    std::unique_ptr<Implementation> impl;
+    Summary sum;
+    std::size_t m = 0, mo = 0;
+    std::vector<Sample> samples;
+    std::vector<double> in, out, bound;
+    std::vector<ImplStatus> status;
+    RefPoint ra, rb;
+
+    std::string name(std::size_t p) const { return ref.model().pieces()[p].name; }
+
+    std::string replay(const double* x, const double* xb) const {
+        std::string cmd = opt.replay_prefix;
+        const std::string flags = impl->replay_flags();
+        if (!flags.empty())
+            cmd += " " + flags;
+        cmd += " --";
+        for (std::size_t j = 0; j < m; ++j)
+            cmd += " " + hex(x[j]);
+        if (xb)
+            for (std::size_t j = 0; j < m; ++j)
+                cmd += " " + hex(xb[j]);
+        return cmd;
+    }
+
+    void record(std::uint64_t index, const std::string& what, const Sample& s, const double* x, const double* xb,
+                const double* y, const double* expected) {
+        if (sum.examples.size() >= opt.keep)
+            return;
+        Violation v;
+        v.index = index;
+        v.what = what;
+        v.kind = s.kind;
+        v.input.assign(x, x + m);
+        if (xb)
+            v.input_b.assign(xb, xb + m);
+        if (y)
+            v.output.assign(y, y + mo);
+        if (expected)
+            v.expected.assign(expected, expected + mo);
+        v.replay = replay(x, xb);
+        sum.examples.push_back(std::move(v));
+    }
+
+    // Common power-of-two scale for vectors that enter a quadratic form (no overflow).
+    static int scale_of(std::initializer_list<std::pair<const double*, std::size_t>> vs) {
+        double big = 0;
+        for (const auto& [p, n] : vs)
+            for (std::size_t j = 0; j < n; ++j)
+                if (std::isfinite(p[j]))
+                    big = std::fmax(big, std::fabs(p[j]));
+        return big > 0 ? -std::ilogb(big) : 0;
+    }
+
+    // The tolerance around the value v at x in the metric, in units of 2^-k.
+    double tolerance(const double* x, const double* v, const double* b, int k) const {
+        double d[kMaxDim];
+        if (opt.tolerance == Tolerance::relative) {
+            for (std::size_t j = 0; j < m; ++j)
+                d[j] = std::ldexp(x[j], k);
+            return opt.max_rel_error * metric.norm(d) * (1 + kMargin);
+        }
+        for (std::size_t i = 0; i < mo; ++i) {
+            const double allowed = opt.tolerance == Tolerance::ulps
+                                       ? (static_cast<double>(opt.max_ulps) + 1) * ulp_of(v[i])
+                                       : (b ? b[i] : 0) + ulp_of(v[i]);
+            d[i] = std::ldexp(allowed, k);
+        }
+        return metric.norm_abs(d) * (1 + kMargin);
+    }
+
+    // The index of the value nearest y (several only where a law is several-valued).
+    std::size_t nearest_value(const RefPoint& r, const double* y, std::uint64_t& worst) const {
+        std::size_t best = 0;
+        worst = std::numeric_limits<std::uint64_t>::max();
+        for (std::size_t v = 0; v < r.values; ++v) {
+            std::uint64_t w = 0;
+            for (std::size_t i = 0; i < mo; ++i)
+                w = std::max(w, ulp_distance(y[i], r.value[v][i]));
+            if (w < worst) {
+                worst = w;
+                best = v;
+            }
+        }
+        return best;
+    }
+
+    // Within the stated bound b_i, exactly where the floating-point screen cannot tell.
+    bool within_bound(const double* x, const double* y, const double* b, std::size_t piece, const double* v,
+                      const bool* exact) const {
+        bool ok = true;
+        for (std::size_t i = 0; i < mo && ok; ++i) {
+            // |y - X| <= |y - v| + |v - X|, and |v - X| is 0 or at most half the larger gap at v.
+            const double diff = std::fabs(y[i] - v[i]);
+            if (std::isfinite(diff) && diff * (1 + 0x1p-50) + (exact[i] ? 0 : ulp_of(v[i]) / 2) <= b[i])
+                continue;
+            if (!std::isfinite(y[i]) || !std::isfinite(b[i])) {
+                ok = !std::isfinite(b[i]) || y[i] == v[i];
+                continue;
+            }
+            const Vector value = ref.exact_value(x, piece);
+            Rational err = Rational(y[i]) - value[i];
+            if (sign_of(err) == Sign::negative)
+                err = -err;
+            ok = err <= Rational(b[i]);
+        }
+        return ok;
+    }
+
+    // Checks one output. Returns whether it is within the tolerance (failures of the
+    // implementation and points outside every cone count as within: nothing to compare).
+    bool check_point(std::uint64_t index, const Sample& s, const double* x, const double* y, const double* b,
+                     ImplStatus st, RefPoint& r) {
+        ++sum.points;
+        ref.eval(x, r);
+        sum.slow += r.slow ? 1 : 0;
+        if (st == ImplStatus::crashed || st == ImplStatus::hung || st == ImplStatus::malformed) {
+            ++(st == ImplStatus::crashed ? sum.crashed : st == ImplStatus::hung ? sum.hung : sum.malformed);
+            record(index,
+                   st == ImplStatus::crashed ? "the implementation crashed (its process ended) on this input"
+                   : st == ImplStatus::hung  ? "the implementation did not answer within the timeout"
+                                             : "the implementation's answer is not the expected number of values",
+                   s, x, nullptr, nullptr, r.in_domain ? r.value[0] : nullptr);
+            return true;
+        }
+        if (!r.in_domain) {
+            ++sum.outside;
+            return true;
+        }
+        std::uint64_t worst = 0;
+        const std::size_t vi = nearest_value(r, y, worst);
+        const double* v = r.value[vi];
+        if (st == ImplStatus::refused) {
+            bool finite = true;
+            for (std::size_t i = 0; i < mo; ++i)
+                finite = finite && std::isfinite(v[i]);
+            if (finite) {
+                ++sum.refused;
+                record(index, "the built-in implementation refused an input whose exact output is finite", s, x,
+                       nullptr, nullptr, v);
+            }
+            return true;
+        }
+        for (std::size_t i = 0; i < mo; ++i) {
+            if (std::isfinite(v[i]) && !std::isfinite(y[i])) {
+                ++sum.non_finite;
+                ++sum.inaccurate;
+                record(index, "non-finite output where the correctly rounded value is finite", s, x, nullptr, y, v);
+                return false;
+            }
+            sum.max_ulps[i] = std::max(sum.max_ulps[i], ulp_distance(y[i], v[i]));
+        }
+        if (worst == 0 && opt.tolerance != Tolerance::stated_bound)
+            return true;
+        // Not correctly rounded: measure the normwise error and apply the tolerance.
+        const int k = scale_of({{x, m}, {y, mo}, {v, mo}});
+        double e[kMaxDim], xs[kMaxDim], ulps[kMaxDim];
+        for (std::size_t i = 0; i < mo; ++i) {
+            e[i] = std::ldexp(y[i], k) - std::ldexp(v[i], k);
+            ulps[i] = std::ldexp(ulp_of(v[i]) / 2, k);
+        }
+        for (std::size_t j = 0; j < m; ++j)
+            xs[j] = std::ldexp(x[j], k);
+        const double xnorm = metric.norm(xs);
+        const double err = metric.norm(e);
+        if (xnorm > 0)
+            sum.max_rel_error = std::max(sum.max_rel_error, err / xnorm);
+        bool ok = true;
+        switch (opt.tolerance) {
+        case Tolerance::ulps:
+            ok = worst <= opt.max_ulps;
+            break;
+        case Tolerance::relative: // a lower bound of the true error against an upper bound of R |x|
+            ok = err * (1 - kMargin) - metric.norm_abs(ulps) <= opt.max_rel_error * xnorm * (1 + kMargin);
+            break;
+        case Tolerance::stated_bound:
+            ok = b && within_bound(x, y, b, r.piece[vi], v, r.exact[vi]);
+            break;
+        }
+        if (ok)
+            return true;
+        ++sum.inaccurate;
+        // Another piece's formula?
+        std::string what;
+        const std::size_t pieces = ref.model().pieces().size();
+        for (std::size_t p = 0; p < pieces && p < 512 && what.empty(); ++p) {
+            if (p == r.piece[vi])
+                continue;
+            double z[kMaxDim];
+            ref.formula(p, x, z);
+            std::uint64_t w = 0;
+            for (std::size_t i = 0; i < mo; ++i)
+                w = std::max(w, ulp_distance(y[i], z[i]));
+            if (w <= (opt.tolerance == Tolerance::ulps ? opt.max_ulps : 0) && !ref.contains(p, x))
+                what = "classification: the output is piece " + name(p) + "'s formula, the input lies in piece " +
+                       name(r.piece[vi]);
+        }
+        if (!what.empty())
+            ++sum.misclassified;
+        else
+            what = opt.tolerance == Tolerance::ulps        ? "error of " + std::to_string(worst) + " ulp, above --max-ulps " + std::to_string(opt.max_ulps)
+                   : opt.tolerance == Tolerance::relative ? "normwise error above --max-rel-error"
+                                                          : "error above the implementation's stated bound";
+        record(index, what, s, x, nullptr, y, v);
+        // Properties the output breaks beyond the tolerance.
+        if (props.nonnegative) {
+            bool negative = false;
+            if (ref.velocities()) {
+                const Matrix& W = ref.model().W(); // gamma+ = W^T y, exactly
+                for (std::size_t c = 0; c < W.cols() && !negative; ++c) {
+                    Rational g = 0;
+                    for (std::size_t i = 0; i < mo; ++i)
+                        g += W(i, c) * Rational(y[i]);
+                    negative = sign_of(g) == Sign::negative;
+                }
+            } else {
+                for (std::size_t i = 0; i < mo; ++i)
+                    negative = negative || y[i] < 0;
+            }
+            if (negative) {
+                ++sum.negative;
+                record(index, "negative contact velocity after impact (gamma+ >= 0 broken)", s, x, nullptr, y, v);
+            }
+        }
+        if (props.energy) {
+            double ys[kMaxDim];
+            for (std::size_t i = 0; i < mo; ++i)
+                ys[i] = std::ldexp(y[i], k);
+            if (metric.norm(ys) * (1 - kMargin) > xnorm * (1 + kMargin) + tolerance(x, v, b, k)) {
+                ++sum.energy;
+                record(index, "energy increase beyond the tolerance", s, x, nullptr, y, v);
+            }
+        }
+        return false;
+    }
+
+    void check_pair(std::uint64_t index, const Sample& s, const double* ya, const double* yb, const double* ba,
+                    const double* bb) {
+        if (!ra.in_domain || !rb.in_domain)
+            return;
+        std::uint64_t w;
+        const double* va = ra.value[nearest_value(ra, ya, w)];
+        const double* vb = rb.value[nearest_value(rb, yb, w)];
+        for (std::size_t i = 0; i < mo; ++i)
+            if (!std::isfinite(ya[i]) || !std::isfinite(yb[i]))
+                return;
+        const int k = scale_of({{s.a, m}, {s.b, m}, {ya, mo}, {yb, mo}});
+        double dy[kMaxDim], dx[kMaxDim];
+        for (std::size_t i = 0; i < mo; ++i)
+            dy[i] = std::ldexp(ya[i], k) - std::ldexp(yb[i], k);
+        for (std::size_t j = 0; j < m; ++j)
+            dx[j] = std::ldexp(s.a[j], k) - std::ldexp(s.b[j], k);
+        const double lhs = metric.norm(dy) * (1 - kMargin);
+        const double rhs = metric.norm(dx) * (1 + kMargin) + tolerance(s.a, va, ba, k) + tolerance(s.b, vb, bb, k);
+        if (lhs > rhs) {
+            ++sum.nonexpansive;
+            record(index, "non-expansivity broken beyond the tolerance: |S(a) - S(b)| > |a - b|", s, s.a, s.b, ya, yb);
+        }
+    }
+
+    void run_chunk(std::uint64_t begin, std::uint64_t end) {
+        const std::size_t count = static_cast<std::size_t>(end - begin);
+        samples.resize(count);
+        in.clear();
+        for (std::size_t i = 0; i < count; ++i) {
+            gen.make(opt.seed, begin + i, samples[i]);
+            in.insert(in.end(), samples[i].a, samples[i].a + m);
+            if (samples[i].pair)
+                in.insert(in.end(), samples[i].b, samples[i].b + m);
+        }
+        const std::size_t points = in.size() / m;
+        out.assign(points * mo, 0.0);
+        const bool bounded = impl->states_bound();
+        bound.assign(bounded ? points * mo : 0, 0.0);
+        status.assign(points, ImplStatus::ok);
+        impl->eval(in.data(), out.data(), bounded ? bound.data() : nullptr, points, status.data());
+        std::size_t q = 0;
+        for (std::size_t i = 0; i < count; ++i) {
+            const Sample& s = samples[i];
+            const std::uint64_t index = begin + i;
+            ++sum.samples;
+            const double* ya = &out[q * mo];
+            const double* ba = bounded ? &bound[q * mo] : nullptr;
+            const ImplStatus sa = status[q++];
+            const bool ok_a = check_point(index, s, s.a, ya, ba, sa, ra);
+            if (!s.pair)
+                continue;
+            ++sum.pairs;
+            const double* yb = &out[q * mo];
+            const double* bb = bounded ? &bound[q * mo] : nullptr;
+            const ImplStatus sb = status[q++];
+            const bool ok_b = check_point(index, s, s.b, yb, bb, sb, rb);
+            // Outputs within the tolerance cannot break non-expansivity beyond it.
+            if (props.nonexpansive && !(ok_a && ok_b) && sa == ImplStatus::ok && sb == ImplStatus::ok)
+                check_pair(index, s, ya, yb, ba, bb);
+        }
+    }
+};
+
+} // namespace
+
+Summary run(const Options& options, const LawReference& reference, const Implementation& impl,
+            const Properties& properties, const std::function<void(std::uint64_t)>& progress) {
+    const unsigned jobs = std::max(1u, options.jobs);
+    const Metric metric(reference);
+    const Generator gen(reference);
+    std::vector<std::unique_ptr<Worker>> workers;
+    for (unsigned j = 0; j < jobs; ++j) {
+        workers.push_back(std::make_unique<Worker>(options, reference, properties, metric, gen, impl.clone()));
+    }
+    constexpr std::uint64_t kChunk = 256;
+    std::atomic<std::uint64_t> next{0}, done{0};
+    std::atomic<bool> stop{false};
+    const auto start = std::chrono::steady_clock::now();
+    const std::uint64_t n = options.samples;
+    std::vector<std::thread> threads;
+    for (unsigned j = 0; j < jobs; ++j)
+        threads.emplace_back([&, j] {
+            for (;;) {
+                if (stop.load(std::memory_order_relaxed))
+                    return;
+                const std::uint64_t begin = next.fetch_add(kChunk);
+                if (begin >= n)
+                    return;
+                const std::uint64_t end = std::min(n, begin + kChunk);
+                workers[j]->run_chunk(begin, end);
+                done.fetch_add(end - begin, std::memory_order_relaxed);
+            }
+        });
+    // Progress and the time limit, from a watcher that wakes every 200 ms or when the work ends.
+    std::mutex mutex;
+    std::condition_variable wake;
+    bool finished = false;
+    std::thread watcher([&] {
+        std::unique_lock<std::mutex> lock(mutex);
+        while (!wake.wait_for(lock, std::chrono::milliseconds(200), [&] { return finished; })) {
+            const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+            if (options.seconds > 0 && elapsed >= options.seconds)
+                stop = true;
+            if (progress)
+                progress(done.load());
+        }
+    });
+    for (auto& t : threads)
+        t.join();
+    const auto end = std::chrono::steady_clock::now();
+    {
+        std::lock_guard<std::mutex> lock(mutex);
+        finished = true;
+    }
+    wake.notify_all();
+    watcher.join();
+    Summary total;
+    total.seconds = std::chrono::duration<double>(end - start).count();
+    total.max_ulps.assign(reference.out_dim(), 0);
+    for (auto& w : workers) {
+        const Summary& s = w->sum;
+        total.samples += s.samples;
+        total.points += s.points;
+        total.pairs += s.pairs;
+        total.slow += s.slow;
+        total.outside += s.outside;
+        for (std::size_t k = 0; k < total.max_ulps.size(); ++k)
+            total.max_ulps[k] = std::max(total.max_ulps[k], s.max_ulps[k]);
+        total.max_rel_error = std::max(total.max_rel_error, s.max_rel_error);
+        total.inaccurate += s.inaccurate;
+        total.misclassified += s.misclassified;
+        total.negative += s.negative;
+        total.energy += s.energy;
+        total.nonexpansive += s.nonexpansive;
+        total.non_finite += s.non_finite;
+        total.crashed += s.crashed;
+        total.hung += s.hung;
+        total.malformed += s.malformed;
+        total.refused += s.refused;
+        for (const auto& v : s.examples)
+            total.examples.push_back(v);
+    }
+    std::stable_sort(total.examples.begin(), total.examples.end(),
+                     [](const Violation& a, const Violation& b) { return a.index < b.index; });
+    if (total.examples.size() > options.keep)
+        total.examples.resize(options.keep);
+    return total;
+}
+
+std::string explain(const LawReference& reference, Implementation* impl, const double* x) {
+    const std::size_t m = reference.in_dim(), mo = reference.out_dim();
+    RefPoint r;
+    reference.eval(x, r);
+    std::string text;
+    auto line = [&](const char* label, const double* v) {
+        text += label;
+        for (std::size_t i = 0; i < mo; ++i)
+            text += " " + hex(v[i]);
+    };
+    double y[kMaxDim];
+    if (impl) {
+        ImplStatus st = ImplStatus::ok;
+        impl->eval(x, y, nullptr, 1, &st);
+        if (st != ImplStatus::ok)
+            text += std::string("impl  (") +
+                    (st == ImplStatus::crashed ? "crashed" : st == ImplStatus::hung ? "no answer" : st == ImplStatus::refused ? "refused" : "malformed answer") +
+                    ")\n";
+        else {
+            line("impl ", y);
+            text += "\n";
+        }
+        if (st != ImplStatus::ok)
+            impl = nullptr;
+    }
+    if (!r.in_domain) {
+        text += "exact (the input lies in no cone of the law)\n";
+        return text;
+    }
+    for (std::size_t v = 0; v < r.values; ++v) {
+        line("exact", r.value[v]);
+        text += "  # correctly rounded, piece " + reference.model().pieces()[r.piece[v]].name;
+        if (impl) {
+            text += ", error";
+            for (std::size_t i = 0; i < mo; ++i)
+                text += (i ? ", " : " ") + std::to_string(ulp_distance(y[i], r.value[v][i]));
+            text += " ulp";
+        }
+        text += "\n";
+    }
+    (void)m;
+    return text;
 }
 
 std::optional<std::uint64_t> parse_seed(std::string_view text, std::string* why) {
@@ -185,204 +777,6 @@ std::optional<std::uint64_t> parse_seed(std::string_view text, std::string* why)
         value = value * 10 + digit;
     }
     return value;
-}
-
-// ---------------------------------------------------------------------------------------------
-// The run
-
-namespace {
-
-// |x|_H^2 for the paper's law (H = (1/3) [[2,1],[1,2]]), exactly.
-Rational energy(const Rational& x1, const Rational& x2) {
-    return (Rational(2) * x1 * x1 + Rational(2) * x1 * x2 + Rational(2) * x2 * x2) / 3;
-}
-
-const Rational& growth() { // (1 + 2^-53)^2: the rounding allowance of a correctly rounded result
-    static const Rational g = [] {
-        Rational u = 1;
-        for (int k = 0; k < 53; ++k)
-            u /= 2;
-        return (1 + u) * (1 + u);
-    }();
-    return g;
-}
-
-long double energy_ld(long double x1, long double x2) { return (2 * x1 * x1 + 2 * x1 * x2 + 2 * x2 * x2) / 3; }
-
-struct Worker {
-    const Options& opt;
-    Impl impl;
-    Summary sum;
-
-    void eval(const Point& p, double* out) const {
-        if (impl)
-            impl(p.g, out);
-        else
-            fp::S(p.g[0], p.g[1], out);
-    }
-
-    std::string replay(const Sample& s) const {
-        std::string cmd = "impactcert eval --float";
-        if (!opt.impl_spec.empty())
-            cmd += " --impl " + opt.impl_spec;
-        cmd += " -- " + hex(s.a.g[0]) + " " + hex(s.a.g[1]);
-        if (s.pair)
-            cmd += " " + hex(s.b.g[0]) + " " + hex(s.b.g[1]);
-        return cmd;
-    }
-
-    void record(std::uint64_t index, const char* what, const Sample& s, const double* out, const double* expected) {
-        if (sum.examples.size() >= opt.keep)
-            return;
-        Violation v;
-        v.index = index;
-        v.what = what;
-        v.sample = s;
-        v.output[0] = out[0];
-        v.output[1] = out[1];
-        v.expected[0] = expected[0];
-        v.expected[1] = expected[1];
-        v.replay = replay(s);
-        sum.examples.push_back(std::move(v));
-    }
-
-    // Checks one point; returns whether the output was correctly rounded. Fills out.
-    bool check_point(std::uint64_t index, const Sample& s, const Point& p, double* out, bool spot) {
-        eval(p, out);
-        const Reference ref = reference_fast(p.g[0], p.g[1]);
-        if (!std::isfinite(out[0]) || !std::isfinite(out[1])) {
-            ++sum.non_finite;
-            record(index, "non-finite output", s, out, ref.value);
-            return false;
-        }
-        const std::uint64_t e0 = ulp_distance(out[0], ref.value[0]), e1 = ulp_distance(out[1], ref.value[1]);
-        sum.max_ulps[0] = std::max(sum.max_ulps[0], e0);
-        sum.max_ulps[1] = std::max(sum.max_ulps[1], e1);
-        if (out[0] < 0 || out[1] < 0) {
-            ++sum.negative;
-            record(index, "negative output (gamma+ >= 0 violated)", s, out, ref.value);
-        }
-        const bool exact = e0 == 0 && e1 == 0;
-        if (!exact) {
-            // Another cone's formula? Then the implementation chose the wrong cone.
-            bool other = false;
-            const double g1 = p.g[0], g2 = p.g[1], sm = g1 + g2;
-            const double formulas[6][2] = {{g1, g2}, {-g1, sm}, {g2, -sm}, {-g2, -g1}, {-sm, g1}, {sm, -g2}};
-            for (int c = 0; c < 6; ++c)
-                other = other || (c != ref.cone && ulp_distance(out[0], formulas[c][0]) == 0 &&
-                                  ulp_distance(out[1], formulas[c][1]) == 0);
-            if (other) {
-                ++sum.misclassified;
-                record(index, "classification disagreement (another cone's formula)", s, out, ref.value);
-            } else if (e0 > opt.max_ulps || e1 > opt.max_ulps) {
-                ++sum.not_rounded;
-                record(index, "error above the allowed ulps", s, out, ref.value);
-            }
-        }
-        if (!exact || spot) {
-            // Exact energy check (GMP): |y|_H^2 <= (1 + 2^-53)^2 |gamma-|_H^2.
-            const Rational ey = energy(Rational(out[0]), Rational(out[1]));
-            if (ey > growth() * energy(Rational(p.g[0]), Rational(p.g[1]))) {
-                ++sum.energy;
-                record(index, "energy increase beyond rounding", s, out, ref.value);
-            }
-        }
-        return exact;
-    }
-
-    void run_range(std::uint64_t begin, std::uint64_t end, std::atomic<std::uint64_t>& done,
-                   const std::atomic<bool>& stop) {
-        for (std::uint64_t i = begin; i < end; ++i) {
-            if ((i & 4095) == 0) {
-                if (stop.load(std::memory_order_relaxed))
-                    return;
-            }
-            const Sample s = make_sample(opt.seed, i);
-            double ya[2], yb[2];
-            const bool spot = (i & 1023) == 0;
-            const bool exact_a = check_point(i, s, s.a, ya, spot);
-            ++sum.samples;
-            if (s.pair) {
-                ++sum.pairs;
-                const bool exact_b = check_point(i, s, s.b, yb, spot);
-                // Correctly rounded outputs cannot violate the bound (proofs/README.md, fuzzing);
-                // otherwise, and on spot checks, measure it.
-                if (!(exact_a && exact_b) || spot) {
-                    const long double da1 = s.a.g[0] - static_cast<long double>(s.b.g[0]);
-                    const long double da2 = s.a.g[1] - static_cast<long double>(s.b.g[1]);
-                    const long double lhs = std::sqrt(energy_ld(static_cast<long double>(ya[0]) - yb[0],
-                                                                static_cast<long double>(ya[1]) - yb[1]));
-                    const long double rhs = std::sqrt(energy_ld(da1, da2));
-                    const long double u = std::ldexp(1.0L, -53);
-                    const long double slack = u * (std::sqrt(energy_ld(s.a.g[0], s.a.g[1])) +
-                                                   std::sqrt(energy_ld(s.b.g[0], s.b.g[1])));
-                    if (lhs > (rhs + slack) * (1 + 1e-15L)) {
-                        ++sum.nonexpansive;
-                        record(i, "non-expansivity violated beyond rounding", s, ya, yb);
-                    }
-                }
-            }
-            if ((i & 1023) == 1023)
-                done.fetch_add(1024, std::memory_order_relaxed);
-        }
-    }
-};
-
-} // namespace
-
-Summary run(const Options& options, Impl impl, const std::function<void(std::uint64_t)>& progress) {
-    const unsigned jobs = std::max(1u, options.jobs);
-    std::vector<Worker> workers;
-    for (unsigned j = 0; j < jobs; ++j)
-        workers.push_back(Worker{options, impl, {}});
-    std::atomic<std::uint64_t> done{0};
-    std::atomic<bool> stop{false};
-    const auto start = std::chrono::steady_clock::now();
-    std::vector<std::thread> threads;
-    const std::uint64_t n = options.samples;
-    for (unsigned j = 0; j < jobs; ++j) {
-        const std::uint64_t begin = n * j / jobs, end = n * (j + 1) / jobs;
-        threads.emplace_back([&, j, begin, end] { workers[j].run_range(begin, end, done, stop); });
-    }
-    // Coordinate: progress and the time limit.
-    std::atomic<unsigned> finished{0};
-    std::thread watcher([&] {
-        for (;;) {
-            std::this_thread::sleep_for(std::chrono::milliseconds(200));
-            const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-            if (options.seconds > 0 && elapsed >= options.seconds)
-                stop = true;
-            if (finished.load() == jobs)
-                return;
-            if (progress)
-                progress(done.load());
-        }
-    });
-    for (auto& t : threads)
-        t.join();
-    finished = jobs;
-    watcher.join();
-    Summary total;
-    total.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    for (auto& w : workers) {
-        const Summary& s = w.sum;
-        total.samples += s.samples;
-        total.pairs += s.pairs;
-        for (int k = 0; k < 2; ++k)
-            total.max_ulps[k] = std::max(total.max_ulps[k], s.max_ulps[k]);
-        total.misclassified += s.misclassified;
-        total.not_rounded += s.not_rounded;
-        total.negative += s.negative;
-        total.energy += s.energy;
-        total.nonexpansive += s.nonexpansive;
-        total.non_finite += s.non_finite;
-        for (const auto& v : s.examples)
-            if (total.examples.size() < options.keep)
-                total.examples.push_back(v);
-    }
-    std::sort(total.examples.begin(), total.examples.end(),
-              [](const Violation& a, const Violation& b) { return a.index < b.index; });
-    return total;
 }
 
 } // namespace impactcert::fuzz

@@ -1,22 +1,30 @@
-// fuzz.hpp -- differential testing of a floating-point impact law against the exact one.
+// fuzz.hpp -- differential testing of floating-point implementations of any law against the
+// exact law.
 //
 // Contract:
 //   - Samples are a pure function of (seed, index) (SplitMix64), so a run is reproducible from
-//     --seed whatever --jobs is, and any sample can be replayed alone.
-//   - reference_fast(g1, g2): the correctly rounded exact value of the paper's law without GMP.
-//     It is derived independently of the float law: the cone is the exact ordering of the ball
-//     velocities (0, g1, g1+g2), every output is a difference of two of them (+-g1, +-g2 or
-//     +-(g1+g2)), and g1+g2 is formed by TwoSum, whose rounded part is the correctly rounded sum.
-//   - reference_naive(model, g1, g2): the same through GMP rationals and the exact law of a
-//     Model, rounded to nearest-even by exact comparison. The slow path the tests and the
-//     benchmark compare against.
-//   - run(options, impl): fuzzes `impl` (the built-in float law when null) and summarises.
+//     --seed whatever --jobs is, and any sample can be replayed alone. The generators work for
+//     any law, in contact or ball velocities: log-uniform magnitudes over the whole double range,
+//     a common scale with spread components, points on rays and (exactly, for integer rays) on
+//     facets, at distances from facets spread log-uniformly from an ulp to the point's scale,
+//     signed zeros, subnormals, the overflow region, and close pairs straddling facets.
+//   - The reference is LawReference (fuzz_reference.hpp): exact, correctly rounded, fast.
+//   - Tolerances: --max-ulps K (componentwise, in ulps of the correctly rounded value),
+//     --max-rel-error R (normwise in the law's metric: |y - S(x)| <= R |x|, H for contact
+//     velocities, M for ball velocities), or an implementation's own stated bound (FloatLaw).
+//     An output outside its tolerance is a violation; for such an output the fuzzer also reports
+//     what it breaks among the law's properties that `verify` proved (Properties): a negative
+//     contact velocity, an energy increase or a non-expansivity violation beyond the tolerance.
+//     (An output inside the tolerance cannot break them: proofs/README.md, "Fuzzing any law".)
+//   - reference_fast / reference_naive: the paper's law only, by TwoSum and by GMP; a second,
+//     independent route the tests compare the general reference with.
 //   - parse_seed: the --seed grammar, a decimal integer in [0, 2^64 - 1], nothing else.
 #pragma once
 
+#include "fuzz_impl.hpp"
+#include "fuzz_reference.hpp"
 #include "law.hpp"
 
-#include <atomic>
 #include <cstdint>
 #include <functional>
 #include <optional>
@@ -26,20 +34,34 @@
 
 namespace impactcert::fuzz {
 
-using Impl = void (*)(const double* gamma_minus, double* gamma_plus);
-
-struct Point {
-    double g[2];
-};
+// ---------------------------------------------------------------------------------------------
+// Samples
 
 struct Sample {
-    Point a;           // the input
-    bool pair = false; // also check non-expansivity against b
-    Point b;
+    double a[kMaxDim] = {};
+    double b[kMaxDim] = {};
+    bool pair = false;     // also check non-expansivity between a and b
     const char* kind = ""; // generator name
 };
 
-Sample make_sample(std::uint64_t seed, std::uint64_t index);
+class Generator {
+  public:
+    Generator(const LawReference& reference);
+    std::size_t dim() const { return dim_; }
+    void make(std::uint64_t seed, std::uint64_t index, Sample& s) const;
+    static const std::vector<std::string>& kinds();
+
+  private:
+    LawReference::Geometry g_;
+    std::size_t dim_;
+    void facet_point(std::uint64_t& st, std::size_t facet, double* p, int& scale) const;
+};
+
+// The paper's law's generator (contact velocities), for tests and benchmarks.
+Sample make_paper_sample(std::uint64_t seed, std::uint64_t index);
+
+// ---------------------------------------------------------------------------------------------
+// The paper's law, second route
 
 struct Reference {
     double value[2];    // correctly rounded exact S(g1, g2)
@@ -50,16 +72,19 @@ struct Reference {
 Reference reference_fast(double g1, double g2);
 Reference reference_naive(const Model& paper, double g1, double g2);
 
-// Distance in units in the last place between two finite doubles (+0 and -0 are equal).
+// Distance in units in the last place between two doubles (+0 and -0 are equal; an infinity
+// is one ulp beyond the largest double).
 std::uint64_t ulp_distance(double a, double b);
 
-struct Violation {
-    std::uint64_t index = 0;
-    std::string what;     // "not correctly rounded", "negative output", ...
-    Sample sample;
-    double output[2] = {0, 0};
-    double expected[2] = {0, 0};
-    std::string replay;   // a ready impactcert eval command
+// ---------------------------------------------------------------------------------------------
+// The run
+
+enum class Tolerance { ulps, relative, stated_bound };
+
+struct Properties { // proved by `verify` for this law; checked only then
+    bool nonnegative = false;  // kinematic: gamma+ >= 0
+    bool energy = false;       // energetic: |S(x)| <= |x|
+    bool nonexpansive = false; // |S(a) - S(b)| <= |a - b|
 };
 
 struct Options {
@@ -67,31 +92,47 @@ struct Options {
     std::uint64_t samples = 1000000;
     double seconds = 0;        // > 0: stop after this long (whichever comes first)
     unsigned jobs = 1;
-    std::uint64_t max_ulps = 0; // allowed error per component
-    std::string impl_spec;      // for replay commands
-    std::size_t keep = 10;      // violations kept as examples
+    Tolerance tolerance = Tolerance::ulps;
+    std::uint64_t max_ulps = 0;
+    double max_rel_error = 0;
+    std::size_t keep = 10;     // violations kept as examples
+    std::string replay_prefix = "impactcert eval --float"; // + law and space options
+};
+
+struct Violation {
+    std::uint64_t index = 0;
+    std::string what;
+    std::string kind; // generator
+    std::vector<double> input, input_b, output, expected;
+    std::string replay; // a ready command that shows it again
 };
 
 struct Summary {
-    std::uint64_t samples = 0, pairs = 0;
+    std::uint64_t samples = 0, points = 0, pairs = 0;
+    std::uint64_t slow = 0;    // reference decided through GMP
+    std::uint64_t outside = 0; // points in no cone (a law that is not a tiling)
     double seconds = 0;
-    std::uint64_t max_ulps[2] = {0, 0};
-    std::uint64_t misclassified = 0;    // output is another cone's formula
-    std::uint64_t not_rounded = 0;      // error above max_ulps
-    std::uint64_t negative = 0;         // gamma+ < 0
-    std::uint64_t energy = 0;           // |gamma+|_H > |gamma-|_H beyond rounding
-    std::uint64_t nonexpansive = 0;     // |S(a)-S(b)|_H > |a-b|_H beyond rounding
-    std::uint64_t non_finite = 0;       // NaN or infinite output for finite input
+    std::vector<std::uint64_t> max_ulps; // per output component
+    double max_rel_error = 0;            // normwise, over the outputs that were not exact
+    // Violations:
+    std::uint64_t inaccurate = 0;    // outside the tolerance (classification ones included)
+    std::uint64_t misclassified = 0; // of those: the output is another piece's formula
+    std::uint64_t negative = 0, energy = 0, nonexpansive = 0; // properties broken beyond tolerance
+    std::uint64_t non_finite = 0;    // NaN or infinity where the correctly rounded value is finite
+    std::uint64_t crashed = 0, hung = 0, malformed = 0, refused = 0; // implementation failures
     std::vector<Violation> examples;
     std::uint64_t violations() const {
-        return misclassified + not_rounded + negative + energy + nonexpansive + non_finite;
+        return inaccurate + negative + energy + nonexpansive + non_finite + crashed + hung + malformed + refused;
     }
 };
 
 // progress(done) is called from the coordinating thread about every 200 ms.
-Summary run(const Options& options, Impl impl, const std::function<void(std::uint64_t)>& progress);
+Summary run(const Options& options, const LawReference& reference, const Implementation& impl,
+            const Properties& properties, const std::function<void(std::uint64_t)>& progress);
 
-std::string hex(double x); // "%a"
+// One point explained (for `eval --float` replays): the implementation's output, the correctly
+// rounded value(s), the piece(s) and the error in ulps, as lines of text.
+std::string explain(const LawReference& reference, Implementation* impl, const double* x);
 
 // A seed as the command line gives it: decimal digits only, value in [0, 2^64 - 1]. No sign,
 // exponent, hex or white space (they used to wrap or saturate silently); `why` gets the reason.

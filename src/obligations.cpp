@@ -124,8 +124,8 @@ Json certificate_json(const CopositivityResult& r) {
 
 class Prover {
   public:
-    Prover(const Model& m, const Limits& limits, const Progress& progress)
-        : m_(m), c_(m.contacts()), pieces_(m.pieces()), limits_(limits), progress_(progress) {}
+    Prover(const Model& m, const Limits& limits, const Progress& progress, const std::vector<std::string>* only)
+        : m_(m), c_(m.contacts()), pieces_(m.pieces()), limits_(limits), progress_(progress), only_(only) {}
 
     VerifyReport run() {
         VerifyReport report;
@@ -135,7 +135,10 @@ class Prover {
             ObligationResult r;
             r.id = id;
             r.claimed = m_.claimed(id);
-            if (!m_.applies(id)) {
+            if (only_ && std::find(only_->begin(), only_->end(), r.id) == only_->end()) {
+                r.verdict = Verdict::skipped;
+                r.method = "not requested";
+            } else if (!m_.applies(id)) {
                 r.verdict = Verdict::skipped;
                 r.method = "nothing declared";
             } else {
@@ -165,6 +168,7 @@ class Prover {
     const std::vector<Piece>& pieces_;
     const Limits& limits_;
     const Progress& progress_;
+    const std::vector<std::string>* only_;
     std::optional<FanResult> fan_;
     std::optional<LimitExceeded> fan_limit_; // the fan's decision exceeded a limit
     std::optional<Outcome> p1_;
@@ -719,8 +723,9 @@ class Prover {
 
 } // namespace
 
-VerifyReport verify(const Model& model, const Limits& limits, const Progress& progress) {
-    return Prover(model, limits, progress).run();
+VerifyReport verify(const Model& model, const Limits& limits, const Progress& progress,
+                    const std::vector<std::string>* only) {
+    return Prover(model, limits, progress, only).run();
 }
 
 } // namespace impactcert

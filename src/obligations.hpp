@@ -53,7 +53,9 @@ struct VerifyReport {
 // Progress on long runs: called now and then with the obligation id and a one-line status.
 using Progress = std::function<void(const std::string& id, const std::string& status)>;
 
-VerifyReport verify(const Model& model, const Limits& limits = {}, const Progress& progress = {});
+// only: when given, the obligations outside it are `skipped` ("not requested") without cost.
+VerifyReport verify(const Model& model, const Limits& limits = {}, const Progress& progress = {},
+                    const std::vector<std::string>* only = nullptr);
 
 // Helpers shared with the CLI, the certificate writer and tests.
 Json to_json(const Rational& x);

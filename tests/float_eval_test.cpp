@@ -39,8 +39,8 @@ TEST_CASE("float evaluator: the paper's law file, bound holds exactly on 100,000
     const FloatLaw law(m);
     std::size_t fallbacks = 0;
     for (std::uint64_t i = 0; i < 100000; ++i) {
-        const auto s = fuzz::make_sample(5, i);
-        const std::vector<double> g = {s.a.g[0], s.a.g[1]};
+        const auto s = fuzz::make_paper_sample(5, i);
+        const std::vector<double> g = {s.a[0], s.a[1]};
         const auto r = law.eval(g);
         INFO(fuzz::hex(g[0]) << " " << fuzz::hex(g[1]));
         if (!r.ok) {

@@ -22,9 +22,9 @@ struct Inputs {
     std::vector<double> g1, g2;
     explicit Inputs(std::size_t n) {
         for (std::size_t i = 0; i < n; ++i) {
-            const auto s = fuzz::make_sample(99, i);
-            g1.push_back(s.a.g[0]);
-            g2.push_back(s.a.g[1]);
+            const auto s = fuzz::make_paper_sample(99, i);
+            g1.push_back(s.a[0]);
+            g2.push_back(s.a[1]);
         }
     }
 };

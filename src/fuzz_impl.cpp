@@ -1,0 +1,400 @@
+#include "fuzz_impl.hpp"
+
+#include "float_eval.hpp"
+
+#include <impactcert/float_law.hpp>
+
+#include <cerrno>
+#include <chrono>
+#include <cmath>
+#include <csignal>
+#include <cstdlib>
+#include <cstring>
+#include <dlfcn.h>
+#include <fcntl.h>
+#include <poll.h>
+#include <sys/types.h>
+#include <sys/wait.h>
+#include <unistd.h>
+#include <vector>
+
+namespace impactcert::fuzz {
+
+// ---------------------------------------------------------------------------------------------
+// Text
+
+char* hex_to(double x, char* out) {
+    std::uint64_t b;
+    std::memcpy(&b, &x, sizeof b);
+    if (b >> 63)
+        *out++ = '-';
+    const int e = static_cast<int>((b >> 52) & 0x7ff);
+    std::uint64_t mant = b & ((std::uint64_t{1} << 52) - 1);
+    auto put = [&](const char* s) {
+        while (*s)
+            *out++ = *s++;
+    };
+    if (e == 0x7ff) {
+        put(mant ? "nan" : "inf");
+        return out;
+    }
+    if (e == 0 && mant == 0) {
+        put("0x0p+0");
+        return out;
+    }
+    put(e == 0 ? "0x0" : "0x1");
+    if (mant) {
+        *out++ = '.';
+        int digits = 13;
+        while ((mant & 0xf) == 0) {
+            mant >>= 4;
+            --digits;
+        }
+        for (int k = digits - 1; k >= 0; --k)
+            *out++ = "0123456789abcdef"[(mant >> (4 * k)) & 0xf];
+    }
+    int exponent = e == 0 ? -1022 : e - 1023;
+    *out++ = 'p';
+    *out++ = exponent < 0 ? '-' : '+';
+    exponent = std::abs(exponent);
+    char digits[8];
+    int nd = 0;
+    do {
+        digits[nd++] = static_cast<char>('0' + exponent % 10);
+        exponent /= 10;
+    } while (exponent);
+    while (nd)
+        *out++ = digits[--nd];
+    return out;
+}
+
+std::string hex(double x) {
+    char buf[40];
+    return std::string(buf, hex_to(x, buf));
+}
+
+std::string shell_quote(const std::string& s) {
+    std::string q = "'";
+    for (char ch : s)
+        q += ch == '\'' ? std::string("'\\''") : std::string(1, ch);
+    return q + "'";
+}
+
+namespace {
+
+// ---------------------------------------------------------------------------------------------
+// Built-ins and shared objects
+
+class PaperImpl final : public Implementation {
+  public:
+    explicit PaperImpl(bool velocities) : velocities_(velocities) {}
+    void eval(const double* in, double* out, double*, std::size_t count, ImplStatus* status) override {
+        const std::size_t m = velocities_ ? 3 : 2;
+        for (std::size_t i = 0; i < count; ++i, in += m, out += m) {
+            status[i] = ImplStatus::ok;
+            if (velocities_) {
+                std::memcpy(out, in, 3 * sizeof(double));
+                fp::sort_velocities(out);
+            } else {
+                fp::S(in[0], in[1], out);
+            }
+        }
+    }
+    std::unique_ptr<Implementation> clone() const override { return std::make_unique<PaperImpl>(velocities_); }
+    std::string describe() const override { return "built-in float law (paper)"; }
+    std::string replay_flags() const override { return ""; }
+
+  private:
+    bool velocities_;
+};
+
+class FloatLawImpl final : public Implementation {
+  public:
+    explicit FloatLawImpl(const Model& model) : model_(model), law_(model) {}
+    void eval(const double* in, double* out, double* bound, std::size_t count, ImplStatus* status) override {
+        const std::size_t m = model_.contacts();
+        std::vector<double> x(m);
+        for (std::size_t i = 0; i < count; ++i, in += m, out += m) {
+            x.assign(in, in + m);
+            const auto r = law_.eval(x);
+            status[i] = r.ok ? ImplStatus::ok : ImplStatus::refused;
+            for (std::size_t j = 0; j < m; ++j) {
+                out[j] = r.ok ? r.value[j] : NAN;
+                if (bound)
+                    bound[i * m + j] = r.ok ? r.bound[j] : INFINITY;
+            }
+        }
+    }
+    bool states_bound() const override { return true; }
+    std::unique_ptr<Implementation> clone() const override { return std::make_unique<FloatLawImpl>(model_); }
+    std::string describe() const override { return "built-in float law (FloatLaw, against its stated bound)"; }
+    std::string replay_flags() const override { return ""; }
+
+  private:
+    const Model& model_;
+    FloatLaw law_;
+};
+
+using CFunction = void (*)(const double*, double*);
+
+class SymbolImpl final : public Implementation {
+  public:
+    SymbolImpl(std::string spec, CFunction f, std::size_t in_dim, std::size_t out_dim)
+        : spec_(std::move(spec)), f_(f), in_dim_(in_dim), out_dim_(out_dim) {}
+    void eval(const double* in, double* out, double*, std::size_t count, ImplStatus* status) override {
+        for (std::size_t i = 0; i < count; ++i) {
+            f_(in + i * in_dim_, out + i * out_dim_);
+            status[i] = ImplStatus::ok;
+        }
+    }
+    std::unique_ptr<Implementation> clone() const override {
+        return std::make_unique<SymbolImpl>(spec_, f_, in_dim_, out_dim_);
+    }
+    std::string describe() const override { return spec_; }
+    std::string replay_flags() const override { return "--impl " + shell_quote(spec_); }
+  private:
+    std::string spec_;
+    CFunction f_;
+    std::size_t in_dim_, out_dim_;
+};
+
+// ---------------------------------------------------------------------------------------------
+// A separate process
+
+class CommandImpl final : public Implementation {
+  public:
+    CommandImpl(std::string cmd, std::size_t in_dim, std::size_t out_dim, double timeout)
+        : cmd_(std::move(cmd)), in_dim_(in_dim), out_dim_(out_dim), timeout_(timeout) {}
+    ~CommandImpl() override { stop(); }
+    CommandImpl(const CommandImpl&) = delete;
+    CommandImpl& operator=(const CommandImpl&) = delete;
+
+    void eval(const double* in, double* out, double*, std::size_t count, ImplStatus* status) override {
+        std::size_t done = 0;
+        while (done < count) {
+            if (pid_ < 0)
+                start();
+            const std::size_t answered = batch(in + done * in_dim_, out + done * out_dim_, count - done, status + done);
+            done += answered;
+            if (done < count) { // the point at `done` crashed or hung the process
+                status[done] = failure_;
+                for (std::size_t j = 0; j < out_dim_; ++j)
+                    out[done * out_dim_ + j] = NAN;
+                ++done;
+                stop();
+            }
+        }
+    }
+    std::unique_ptr<Implementation> clone() const override {
+        return std::make_unique<CommandImpl>(cmd_, in_dim_, out_dim_, timeout_);
+    }
+    std::string describe() const override { return cmd_; }
+    std::string replay_flags() const override { return "--impl-cmd " + shell_quote(cmd_); }
+
+    // Why the last process ended (for the probe's error message).
+    std::string last_exit() const { return last_exit_; }
+    ImplStatus failure() const { return failure_; }
+
+  private:
+    std::string cmd_;
+    std::size_t in_dim_, out_dim_;
+    double timeout_;
+    pid_t pid_ = -1;
+    int to_child_ = -1, from_child_ = -1;
+    std::string rbuf_, wbuf_;
+    ImplStatus failure_ = ImplStatus::crashed;
+    std::string last_exit_;
+
+    void start() {
+        std::signal(SIGPIPE, SIG_IGN); // a dead child must not kill the fuzzer through a write
+        int in_pipe[2], out_pipe[2];
+        if (pipe(in_pipe) != 0 || pipe(out_pipe) != 0)
+            throw std::runtime_error(std::string("pipe: ") + std::strerror(errno));
+        const pid_t pid = fork();
+        if (pid < 0)
+            throw std::runtime_error(std::string("fork: ") + std::strerror(errno));
+        if (pid == 0) {
+            setpgid(0, 0);
+            dup2(in_pipe[0], STDIN_FILENO);
+            dup2(out_pipe[1], STDOUT_FILENO);
+            close(in_pipe[0]);
+            close(in_pipe[1]);
+            close(out_pipe[0]);
+            close(out_pipe[1]);
+            execl("/bin/sh", "sh", "-c", cmd_.c_str(), static_cast<char*>(nullptr));
+            _exit(127);
+        }
+        close(in_pipe[0]);
+        close(out_pipe[1]);
+        pid_ = pid;
+        to_child_ = in_pipe[1];
+        from_child_ = out_pipe[0];
+        fcntl(to_child_, F_SETFL, fcntl(to_child_, F_GETFL) | O_NONBLOCK);
+        fcntl(from_child_, F_SETFL, fcntl(from_child_, F_GETFL) | O_NONBLOCK);
+        fcntl(to_child_, F_SETFD, FD_CLOEXEC);
+        fcntl(from_child_, F_SETFD, FD_CLOEXEC);
+        rbuf_.clear();
+    }
+
+    void stop() {
+        if (pid_ < 0)
+            return;
+        close(to_child_);
+        close(from_child_);
+        kill(-pid_, SIGKILL);
+        kill(pid_, SIGKILL);
+        int st = 0;
+        waitpid(pid_, &st, 0);
+        if (WIFEXITED(st))
+            last_exit_ = "exit status " + std::to_string(WEXITSTATUS(st));
+        else if (WIFSIGNALED(st))
+            last_exit_ = "signal " + std::to_string(WTERMSIG(st));
+        pid_ = -1;
+        to_child_ = from_child_ = -1;
+    }
+
+    // Parses one answer line into out; false when it is not out_dim numbers.
+    bool parse_line(const char* begin, const char* end, double* out) const {
+        std::string line(begin, end);
+        const char* p = line.c_str();
+        for (std::size_t j = 0; j < out_dim_; ++j) {
+            char* next = nullptr;
+            out[j] = std::strtod(p, &next);
+            if (next == p)
+                return false;
+            p = next;
+        }
+        while (*p == ' ' || *p == '\t' || *p == '\r')
+            ++p;
+        return *p == 0;
+    }
+
+    // Sends `count` points and reads answers until all are in or the process fails; returns the
+    // number answered (failure_ says why when fewer).
+    std::size_t batch(const double* in, double* out, std::size_t count, ImplStatus* status) {
+        wbuf_.clear();
+        char tmp[64];
+        for (std::size_t i = 0; i < count; ++i) {
+            for (std::size_t j = 0; j < in_dim_; ++j) {
+                char* e = hex_to(in[i * in_dim_ + j], tmp);
+                *e++ = j + 1 == in_dim_ ? '\n' : ' ';
+                wbuf_.append(tmp, e);
+            }
+        }
+        std::size_t wpos = 0, answered = 0;
+        auto last_progress = std::chrono::steady_clock::now();
+        char chunk[1 << 16];
+        while (answered < count) {
+            // Answers already buffered.
+            std::size_t start = 0;
+            for (;;) {
+                const auto nl = rbuf_.find('\n', start);
+                if (nl == std::string::npos || answered == count)
+                    break;
+                const bool ok = parse_line(rbuf_.data() + start, rbuf_.data() + nl, out + answered * out_dim_);
+                status[answered] = ok ? ImplStatus::ok : ImplStatus::malformed;
+                if (!ok)
+                    for (std::size_t j = 0; j < out_dim_; ++j)
+                        out[answered * out_dim_ + j] = NAN;
+                ++answered;
+                start = nl + 1;
+            }
+            rbuf_.erase(0, start);
+            if (answered == count)
+                break;
+            pollfd fds[2];
+            nfds_t nfds = 0;
+            fds[nfds++] = {from_child_, POLLIN, 0};
+            if (wpos < wbuf_.size())
+                fds[nfds++] = {to_child_, POLLOUT, 0};
+            const double waited =
+                std::chrono::duration<double>(std::chrono::steady_clock::now() - last_progress).count();
+            if (waited >= timeout_) {
+                failure_ = ImplStatus::hung;
+                return answered;
+            }
+            const int wait_ms = static_cast<int>(std::ceil((timeout_ - waited) * 1000));
+            const int r = poll(fds, nfds, wait_ms);
+            if (r < 0) {
+                if (errno == EINTR)
+                    continue;
+                throw std::runtime_error(std::string("poll: ") + std::strerror(errno));
+            }
+            if (r == 0)
+                continue; // the timeout check above decides
+            if (nfds == 2 && (fds[1].revents & (POLLOUT | POLLERR | POLLHUP))) {
+                const ssize_t w = write(to_child_, wbuf_.data() + wpos, wbuf_.size() - wpos);
+                if (w > 0) {
+                    wpos += static_cast<std::size_t>(w);
+                } else if (w < 0 && errno != EAGAIN && errno != EINTR) {
+                    wpos = wbuf_.size(); // the reader is gone: wait for the end of its output
+                }
+            }
+            if (fds[0].revents & (POLLIN | POLLHUP | POLLERR)) {
+                const ssize_t n = read(from_child_, chunk, sizeof chunk);
+                if (n > 0) {
+                    rbuf_.append(chunk, static_cast<std::size_t>(n));
+                    last_progress = std::chrono::steady_clock::now();
+                } else if (n == 0 || (errno != EAGAIN && errno != EINTR)) {
+                    // End of output. A final line without a newline still counts.
+                    if (!rbuf_.empty() && answered < count) {
+                        const bool ok = parse_line(rbuf_.data(), rbuf_.data() + rbuf_.size(), out + answered * out_dim_);
+                        status[answered] = ok ? ImplStatus::ok : ImplStatus::malformed;
+                        ++answered;
+                        rbuf_.clear();
+                    }
+                    failure_ = ImplStatus::crashed;
+                    return answered;
+                }
+            }
+        }
+        return answered;
+    }
+};
+
+} // namespace
+
+std::unique_ptr<Implementation> builtin_paper(bool velocities) { return std::make_unique<PaperImpl>(velocities); }
+
+std::unique_ptr<Implementation> builtin_float_law(const Model& model) { return std::make_unique<FloatLawImpl>(model); }
+
+std::unique_ptr<Implementation> load_symbol(const std::string& spec, std::size_t in_dim, std::size_t out_dim) {
+    const auto colon = spec.rfind(':');
+    if (colon == std::string::npos || colon == 0 || colon + 1 == spec.size())
+        throw InputError("--impl " + spec + ": expected LIB.so:SYMBOL");
+    const std::string lib = spec.substr(0, colon), symbol = spec.substr(colon + 1);
+    void* handle = dlopen(lib.find('/') == std::string::npos ? ("./" + lib).c_str() : lib.c_str(), RTLD_NOW);
+    if (!handle) {
+        const char* why = dlerror();
+        throw InputError("--impl " + spec + ": cannot load: " + (why ? why : "unknown reason"));
+    }
+    void* f = dlsym(handle, symbol.c_str());
+    if (!f)
+        throw InputError("--impl " + spec + ": no symbol " + symbol + " in " + lib);
+    CFunction fn;
+    static_assert(sizeof fn == sizeof f);
+    std::memcpy(&fn, &f, sizeof f);
+    return std::make_unique<SymbolImpl>(spec, fn, in_dim, out_dim);
+}
+
+std::unique_ptr<Implementation> command(const std::string& cmd, std::size_t in_dim, std::size_t out_dim,
+                                        double timeout_seconds) {
+    if (cmd.empty())
+        throw InputError("--impl-cmd: empty command");
+    auto impl = std::make_unique<CommandImpl>(cmd, in_dim, out_dim, timeout_seconds);
+    // A first probe: the zero vector must get one line of out_dim numbers.
+    std::vector<double> zero(in_dim, 0.0), out(out_dim);
+    ImplStatus st = ImplStatus::ok;
+    impl->eval(zero.data(), out.data(), nullptr, 1, &st);
+    if (st == ImplStatus::crashed)
+        throw InputError("--impl-cmd " + cmd + ": the command ended without answering (" + impl->last_exit() +
+                         "; is it a command that reads lines of " + std::to_string(in_dim) + " doubles?)");
+    if (st == ImplStatus::hung)
+        throw InputError("--impl-cmd " + cmd + ": no answer within the timeout to the first input line");
+    if (st == ImplStatus::malformed)
+        throw InputError("--impl-cmd " + cmd + ": its answer to the first input line is not " +
+                         std::to_string(out_dim) + " numbers");
+    return impl;
+}
+
+} // namespace impactcert::fuzz

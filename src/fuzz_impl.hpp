@@ -1,0 +1,58 @@
+// fuzz_impl.hpp -- the implementations the fuzzer can test.
+//
+// Contract:
+//   - An Implementation maps points of in_dim doubles to points of out_dim doubles, in batches;
+//     each point gets a status: ok, or (for a separate process) crashed, hung or malformed. A
+//     failing point never stops the run: the process is restarted and the batch goes on.
+//   - clone() gives an independent instance for another worker thread (its own process).
+//   - Built-ins: the paper's float law (fp::S, or fp::sort_velocities on ball velocities) and
+//     FloatLaw for any law (contact velocities; it also reports its stated error bound).
+//   - `--impl LIB.so:SYMBOL`: a C function void f(const double* in, double* out) (dlopen).
+//   - `--impl-cmd CMD`: `/bin/sh -c CMD`; one line of in_dim hex doubles (%a) per point on its
+//     stdin, one line of out_dim doubles (hex or decimal, anything strtod reads) expected back per
+//     line, in order. The fuzzer writes and reads at once (poll), so a batch never deadlocks on a
+//     full pipe; a point with no answer within `timeout` seconds is `hung`; an early end of
+//     output is `crashed`; a line that is not out_dim numbers is `malformed`. A command that
+//     answers nothing at all (not found, not executable, exits at once) is bad input (InputError).
+//   - replay_flags(): the command-line options that select this implementation again.
+#pragma once
+
+#include "law.hpp"
+
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <string>
+
+namespace impactcert::fuzz {
+
+enum class ImplStatus : std::uint8_t { ok, crashed, hung, malformed, refused }; // refused: a built-in declined
+
+class Implementation {
+  public:
+    virtual ~Implementation() = default;
+    // bound: null, or out_dim per point: the implementation's own stated error bound.
+    virtual void eval(const double* in, double* out, double* bound, std::size_t count, ImplStatus* status) = 0;
+    virtual bool states_bound() const { return false; }
+    virtual std::unique_ptr<Implementation> clone() const = 0;
+    virtual std::string describe() const = 0;
+    virtual std::string replay_flags() const = 0;
+};
+
+// The paper's law in double (contact velocities g1, g2; or ball velocities, sorted).
+std::unique_ptr<Implementation> builtin_paper(bool velocities);
+// FloatLaw of any law (contact velocities), with its stated bound. Keeps a reference to model.
+std::unique_ptr<Implementation> builtin_float_law(const Model& model);
+// LIB.so:SYMBOL. Throws InputError (missing library or symbol).
+std::unique_ptr<Implementation> load_symbol(const std::string& spec, std::size_t in_dim, std::size_t out_dim);
+// CMD through /bin/sh. Throws InputError when the command does not answer a first probe.
+std::unique_ptr<Implementation> command(const std::string& cmd, std::size_t in_dim, std::size_t out_dim,
+                                        double timeout_seconds);
+
+// Single-quotes `s` for a POSIX shell.
+std::string shell_quote(const std::string& s);
+// "%a"-style hex text of a double, fast (parseable by strtod and Python's float.fromhex).
+std::string hex(double x);
+char* hex_to(double x, char* out); // writes at out, returns the end (no terminator)
+
+} // namespace impactcert::fuzz

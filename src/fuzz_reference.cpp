@@ -1,0 +1,291 @@
+#include "fuzz_reference.hpp"
+
+#include "float_eval.hpp" // nearest_double
+
+#include <gmp.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace impactcert::fuzz {
+
+namespace {
+
+bool fits53(const mpz_t z) { return mpz_sizeinbase(z, 2) <= 53; } // |z| < 2^53
+
+// lcm of the denominators of `row`, then the integer numerators; for a sign-only row the common
+// factor is divided out as well. False when an entry or the denominator needs 53 bits or more.
+bool to_int_row(const Vector& row, bool keep_denominator, eft::IntRow& out) {
+    if (row.size() > eft::kMaxTerms)
+        return false;
+    mpz_t d, g, t;
+    mpz_inits(d, g, t, nullptr);
+    mpz_set_ui(d, 1);
+    for (const auto& q : row)
+        mpz_lcm(d, d, mpq_denref(q.mpq()));
+    std::vector<Rational> ints;
+    mpz_set_ui(g, 0);
+    for (const auto& q : row) {
+        Rational v = q * Rational(d);
+        mpz_gcd(g, g, mpq_numref(v.mpq()));
+        ints.push_back(v);
+    }
+    if (keep_denominator)
+        mpz_gcd(g, g, d);
+    bool ok = true;
+    out.m = row.size();
+    if (mpz_sgn(g) == 0) { // the zero row
+        for (std::size_t j = 0; j < row.size(); ++j)
+            out.a[j] = 0;
+        out.d = 1;
+    } else {
+        for (std::size_t j = 0; j < row.size(); ++j) {
+            mpz_divexact(t, mpq_numref(ints[j].mpq()), g);
+            ok = ok && fits53(t);
+            out.a[j] = ok ? mpz_get_d(t) : 0;
+        }
+        if (keep_denominator) {
+            mpz_divexact(t, d, g);
+            ok = ok && fits53(t);
+            out.d = ok ? mpz_get_d(t) : 1;
+        } else {
+            out.d = 1;
+        }
+    }
+    mpz_clears(d, g, t, nullptr);
+    return ok;
+}
+
+std::vector<double> to_doubles(const Vector& v) {
+    std::vector<double> out;
+    for (const auto& q : v)
+        out.push_back(nearest_double(q));
+    return out;
+}
+
+bool same_value(const double* a, const double* b, std::size_t m) {
+    for (std::size_t i = 0; i < m; ++i)
+        if (!(a[i] == b[i] || (std::isnan(a[i]) && std::isnan(b[i]))))
+            return false;
+    return true;
+}
+
+void keep_value(RefPoint& out, std::size_t piece, const double* y, const bool* exact, std::size_t m) {
+    for (std::size_t v = 0; v < out.values; ++v)
+        if (same_value(out.value[v], y, m))
+            return;
+    if (out.values == kMaxValues)
+        return;
+    out.piece[out.values] = piece;
+    std::copy(y, y + m, out.value[out.values]);
+    std::copy(exact, exact + m, out.exact[out.values]);
+    ++out.values;
+}
+
+} // namespace
+
+LawReference::LawReference(const Model& model, bool velocities, bool continuous_tiling)
+    : model_(model), velocities_(velocities), continuous_(continuous_tiling) {
+    const std::size_t c = model.contacts(), n = model.balls();
+    in_dim_ = out_dim_ = velocities ? n : c;
+    if (in_dim_ > kMaxDim)
+        throw InputError("the fuzzer handles laws of at most " + std::to_string(kMaxDim) + " " +
+                         (velocities ? "balls" : "contacts") + " (this one has " + std::to_string(in_dim_) + ")");
+    const Matrix Wt = transpose(model.W());
+    const Matrix lift = model.M_inv() * model.W() * model.H(); // n x c: gamma -> a u with W^T u = gamma
+    for (const auto& piece : model.pieces()) {
+        Matrix F = velocities ? piece.R_inv * Wt : piece.R_inv;
+        Matrix A = velocities ? Matrix::identity(n) + lift * (piece.Q - Matrix::identity(c)) * Wt : piece.Q;
+        Kernel k;
+        for (std::size_t i = 0; i < F.rows(); ++i) {
+            eft::IntRow r;
+            fast_ = to_int_row(F.row(i), false, r) && fast_;
+            r.prepare();
+            k.facets.push_back(r);
+        }
+        for (std::size_t i = 0; i < A.rows(); ++i) {
+            eft::IntRow r;
+            fast_ = to_int_row(A.row(i), true, r) && fast_;
+            r.prepare();
+            k.values.push_back(r);
+        }
+        facets_.push_back(std::move(F));
+        maps_.push_back(std::move(A));
+        kernels_.push_back(std::move(k));
+    }
+    // Geometry for the generators.
+    geometry_.integer_rays = true;
+    for (const auto& r : model.rays()) {
+        const Vector v = velocities ? primitive_ray(lift * r) : r;
+        for (const auto& q : v)
+            geometry_.integer_rays = geometry_.integer_rays && mpz_cmp_ui(mpq_denref(q.mpq()), 1) == 0 &&
+                                     mpz_sizeinbase(mpq_numref(q.mpq()), 2) <= 40;
+        geometry_.rays.push_back(to_doubles(v));
+    }
+    for (std::size_t p = 0; p < model.pieces().size(); ++p) {
+        const auto& piece = model.pieces()[p];
+        for (std::size_t i = 0; i < c; ++i) {
+            std::vector<std::size_t> ids;
+            for (std::size_t j = 0; j < c; ++j)
+                if (j != i)
+                    ids.push_back(piece.ray_ids[j]);
+            geometry_.facet_rays.push_back(ids);
+            std::vector<double> normal = to_doubles(facets_[p].row(i));
+            double big = 0;
+            for (double x : normal)
+                big = std::max(big, std::fabs(x));
+            for (double& x : normal)
+                x = big > 0 ? x / big : 0;
+            geometry_.facet_normals.push_back(normal);
+        }
+    }
+    if (velocities) {
+        std::vector<Vector> rows;
+        for (std::size_t i = 0; i < Wt.rows(); ++i)
+            rows.push_back(Wt.row(i));
+        for (const auto& k : null_space(rows, n))
+            geometry_.kernel.push_back(to_doubles(k));
+    }
+}
+
+bool LawReference::fast_eval(const double* x, RefPoint& out) const {
+    // The scaled copy of x is made only when a row needs it (simple rows work on x itself).
+    double xs[kMaxDim];
+    int k = 0;
+    bool scaled = false;
+    auto ensure_scaled = [&] {
+        if (!scaled)
+            scaled = eft::scale_into_safe_range(x, in_dim_, xs, k) ? true : false;
+        return scaled;
+    };
+    for (std::size_t j = 0; j < in_dim_; ++j)
+        if (!std::isfinite(x[j]))
+            return false;
+    out.in_domain = false;
+    out.slow = false;
+    out.values = 0;
+    double y[kMaxDim];
+    bool exact[kMaxDim];
+    for (std::size_t p = 0; p < kernels_.size(); ++p) {
+        const Kernel& kp = kernels_[p];
+        bool inside = true;
+        for (const auto& row : kp.facets) {
+            int sign;
+            if (row.terms >= 0)
+                sign = row.simple_sign(x);
+            else if (ensure_scaled())
+                sign = row.sign(xs);
+            else
+                return false;
+            if (sign < 0) {
+                inside = false;
+                break;
+            }
+        }
+        if (!inside)
+            continue;
+        out.in_domain = true;
+        for (std::size_t i = 0; i < out_dim_; ++i) {
+            const auto& row = kp.values[i];
+            if (row.terms >= 0) {
+                y[i] = row.simple_value(x);
+                exact[i] = row.simple_exact(x);
+            } else if (!ensure_scaled() || !row.nearest(xs, k, y[i], exact[i])) {
+                return false;
+            }
+        }
+        keep_value(out, p, y, exact, out_dim_);
+        if (continuous_)
+            break;
+    }
+    return true;
+}
+
+void LawReference::eval(const double* x, RefPoint& out) const {
+    if (fast_ && fast_eval(x, out))
+        return;
+    eval_exact(x, out);
+}
+
+bool LawReference::contains(std::size_t piece, const double* x) const {
+    Vector xr;
+    for (std::size_t j = 0; j < in_dim_; ++j)
+        xr.push_back(Rational(x[j]));
+    const Vector s = facets_[piece] * xr;
+    return std::all_of(s.begin(), s.end(), [](const Rational& t) { return sign_of(t) != Sign::negative; });
+}
+
+Vector LawReference::exact_value(const double* x, std::size_t piece) const {
+    Vector xr;
+    for (std::size_t j = 0; j < in_dim_; ++j)
+        xr.push_back(Rational(x[j]));
+    return maps_[piece] * xr;
+}
+
+namespace {
+
+// In-place GMP arithmetic for the exact path: no allocation per point once warmed up.
+struct ExactScratch {
+    std::vector<Rational> x;
+    Rational acc, term;
+};
+
+// acc = sum_j row_j x_j (mpq in place).
+void exact_row(const Matrix& A, std::size_t i, ExactScratch& s) {
+    mpq_set_ui(s.acc.mpq(), 0, 1);
+    for (std::size_t j = 0; j < A.cols(); ++j) {
+        if (mpq_sgn(A(i, j).mpq()) == 0 || mpq_sgn(s.x[j].mpq()) == 0)
+            continue;
+        mpq_mul(s.term.mpq(), A(i, j).mpq(), s.x[j].mpq());
+        mpq_add(s.acc.mpq(), s.acc.mpq(), s.term.mpq());
+    }
+}
+
+} // namespace
+
+void LawReference::eval_exact(const double* x, RefPoint& out) const {
+    out.in_domain = false;
+    out.slow = true;
+    out.values = 0;
+    thread_local ExactScratch s;
+    s.x.resize(in_dim_);
+    for (std::size_t j = 0; j < in_dim_; ++j)
+        mpq_set_d(s.x[j].mpq(), x[j]); // exact: a finite double is a dyadic rational
+    double y[kMaxDim];
+    bool exact[kMaxDim];
+    for (std::size_t p = 0; p < facets_.size(); ++p) {
+        bool inside = true;
+        for (std::size_t i = 0; i < facets_[p].rows() && inside; ++i) {
+            exact_row(facets_[p], i, s);
+            inside = mpq_sgn(s.acc.mpq()) >= 0;
+        }
+        if (!inside)
+            continue;
+        out.in_domain = true;
+        for (std::size_t i = 0; i < out_dim_; ++i) {
+            exact_row(maps_[p], i, s);
+            y[i] = nearest_double(s.acc);
+            exact[i] = std::isfinite(y[i]) && mpq_cmp(Rational(y[i]).mpq(), s.acc.mpq()) == 0;
+        }
+        keep_value(out, p, y, exact, out_dim_);
+        if (continuous_)
+            break;
+    }
+}
+
+void LawReference::formula(std::size_t piece, const double* x, double* y) const {
+    double xs[kMaxDim];
+    int k = 0;
+    if (fast_ && eft::scale_into_safe_range(x, in_dim_, xs, k)) {
+        bool ok = true, exact = false;
+        for (std::size_t i = 0; i < out_dim_ && ok; ++i)
+            ok = kernels_[piece].values[i].nearest(xs, k, y[i], exact);
+        if (ok)
+            return;
+    }
+    const Vector v = exact_value(x, piece);
+    for (std::size_t i = 0; i < out_dim_; ++i)
+        y[i] = nearest_double(v[i]);
+}
+
+} // namespace impactcert::fuzz

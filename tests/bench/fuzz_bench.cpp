@@ -1,0 +1,105 @@
+// fuzz_bench.cpp -- fuzzing throughput against its honest naive baseline, measured in one run
+// (printed by scripts/bench):
+//   - for the paper's law and for proofs/newton4/law.json: samples per second per core of the
+//     fuzzer (generators, implementation, exact reference, checks: fuzz::run with one job) and
+//     of a naive cross-check of the same samples and implementation (every point converted to
+//     GMP rationals, classified and evaluated exactly, rounded to nearest, compared in ulps);
+//   - the --impl-cmd protocol with the cheapest program (tests/impls/echo_impl.cpp), all cores.
+// Usage: impactcert_fuzz_bench SOURCE_DIR NEWTON4_IMPLS.so ECHO_PROGRAM
+#include "fuzz.hpp"
+#include "law_json.hpp"
+#include "paper_law.hpp"
+
+#include <chrono>
+#include <cstdio>
+#include <string>
+#include <thread>
+
+using namespace impactcert;
+
+namespace {
+
+double seconds_since(std::chrono::steady_clock::time_point t) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+}
+
+// The naive cross-check: same samples, same implementation, GMP for every point.
+double naive_rate(const fuzz::LawReference& ref, fuzz::Implementation& impl, std::uint64_t samples) {
+    const fuzz::Generator gen(ref);
+    const std::size_t m = ref.in_dim();
+    std::uint64_t bad = 0;
+    const auto start = std::chrono::steady_clock::now();
+    for (std::uint64_t i = 0; i < samples; ++i) {
+        fuzz::Sample s;
+        gen.make(7, i, s);
+        for (const double* x : {s.a, s.b}) {
+            if (x == s.b && !s.pair)
+                break;
+            double y[fuzz::kMaxDim];
+            fuzz::ImplStatus st;
+            impl.eval(x, y, nullptr, 1, &st);
+            fuzz::RefPoint r;
+            ref.eval_exact(x, r);
+            for (std::size_t j = 0; j < m && r.values; ++j)
+                bad += fuzz::ulp_distance(y[j], r.value[0][j]) > 0;
+        }
+    }
+    const double t = seconds_since(start);
+    std::fprintf(stderr, "%s", bad == 12345 ? " " : "");
+    return static_cast<double>(samples) / t;
+}
+
+double fuzz_rate(const fuzz::LawReference& ref, const fuzz::Implementation& impl, std::uint64_t samples,
+                 unsigned jobs, const fuzz::Properties& props) {
+    fuzz::Options o;
+    o.seed = 7;
+    o.samples = samples;
+    o.jobs = jobs;
+    o.tolerance = fuzz::Tolerance::relative;
+    o.max_rel_error = 1e-12;
+    const auto sum = fuzz::run(o, ref, impl, props, nullptr);
+    return static_cast<double>(sum.samples) / sum.seconds;
+}
+
+void compare(const char* name, const Model& model, const fuzz::Implementation& impl, std::uint64_t naive_samples) {
+    const fuzz::LawReference ref(model, false, true);
+    const fuzz::Properties props{true, true, true};
+    auto naive_impl = impl.clone();
+    const double naive = naive_rate(ref, *naive_impl, naive_samples);
+    const double fast = fuzz_rate(ref, impl, 20 * naive_samples, 1, props);
+    std::printf("%-28s fuzzer %8.3f M samples/s/core   naive GMP cross-check %7.3f M/s   ratio %6.1fx (target >= 30x)\n",
+                name, fast / 1e6, naive / 1e6, fast / naive);
+}
+
+} // namespace
+
+int main(int argc, char** argv) {
+    if (argc != 4) {
+        std::fprintf(stderr, "usage: impactcert_fuzz_bench SOURCE_DIR NEWTON4_IMPLS.so ECHO_PROGRAM\n");
+        return 2;
+    }
+    const std::string source = argv[1];
+    const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
+    std::printf("fuzz throughput (%u cores on this machine; per-core figures use one job)\n", cores);
+    const Model paper(paper_law());
+    compare("paper's law (built-in)", paper, *fuzz::builtin_paper(false), 200000);
+    const Model newton4(load_law_file(source + "/proofs/newton4/law.json"));
+    compare("newton4 (newton4_sorted)", newton4, *fuzz::load_symbol(std::string(argv[2]) + ":newton4_sorted", 3, 3), 20000);
+    // --impl-cmd with the echo program: protocol overhead only (every answer is "wrong").
+    const fuzz::LawReference ref(newton4, false, true);
+    const auto echo = fuzz::command(argv[3], 3, 3, 10);
+    fuzz::Options o;
+    o.seed = 7;
+    o.samples = 2000000;
+    o.jobs = cores;
+    o.keep = 1;
+    o.tolerance = fuzz::Tolerance::relative;
+    o.max_rel_error = 1e300; // nothing to report: measure the protocol, not the diagnostics
+    const auto start = std::chrono::steady_clock::now();
+    const auto sum = fuzz::run(o, ref, *echo, fuzz::Properties{}, nullptr);
+    const double t = seconds_since(start);
+    std::printf("%-28s %8.3f M samples/s with %u jobs (%llu samples in %.2f s; goal >= 1 M/s)\n",
+                "--impl-cmd echo (newton4)", static_cast<double>(sum.samples) / t / 1e6, cores,
+                static_cast<unsigned long long>(sum.samples), t);
+    return 0;
+}

@@ -1,0 +1,83 @@
+/* newton4_impls.c -- float implementations of the 4-ball cradle law (proofs/newton4/law.json:
+ * equal masses, e = 1, so u+ = sort(u-)) in contact velocities gamma = (u2-u1, u3-u2, u4-u3),
+ * the way simulators write them. For `impactcert fuzz --law proofs/newton4/law.json --impl`.
+ * C ABI: void f(const double* gamma_minus, double* gamma_plus), 3 doubles each.
+ *
+ *   newton4_sorted          correct, not correctly rounded: rebuilds ball velocities by
+ *                           summation (rounding), sorts them, takes differences. Passes
+ *                           --max-rel-error 1e-12, fails --max-ulps 0.
+ *   newton4_tolerance       WRONG: pairwise exchanges with an absolute tolerance (a contact
+ *                           with gamma_k > -1e-9 counts as separating): at small velocities
+ *                           nothing is exchanged and approaching contacts stay negative.
+ *   newton4_two_sweeps      WRONG: two sweeps of pairwise impacts, left to right; some
+ *                           orderings of four balls need three.
+ *   newton4_impulse         WRONG near overflow: the impulse form u_k += (u_{k+1} - u_k) of an
+ *                           equal-mass exchange; the difference overflows for large opposite
+ *                           velocities whose exact result is finite.
+ */
+#include <math.h>
+
+static void to_balls(const double* g, double* u) {
+    u[0] = 0;
+    u[1] = g[0];
+    u[2] = u[1] + g[1];
+    u[3] = u[2] + g[2];
+}
+
+static void to_contacts(const double* u, double* g) {
+    g[0] = u[1] - u[0];
+    g[1] = u[2] - u[1];
+    g[2] = u[3] - u[2];
+}
+
+void newton4_sorted(const double* in, double* out) {
+    double u[4];
+    to_balls(in, u);
+    for (int i = 1; i < 4; ++i) /* insertion sort */
+        for (int j = i; j > 0 && u[j] < u[j - 1]; --j) {
+            const double t = u[j];
+            u[j] = u[j - 1];
+            u[j - 1] = t;
+        }
+    to_contacts(u, out);
+}
+
+void newton4_tolerance(const double* in, double* out) {
+    double u[4];
+    to_balls(in, u);
+    for (int sweep = 0; sweep < 3; ++sweep)
+        for (int k = 0; k < 3; ++k)
+            if (u[k + 1] - u[k] < -1e-9) { /* approaching beyond a tolerance */
+                const double t = u[k];
+                u[k] = u[k + 1];
+                u[k + 1] = t;
+            }
+    to_contacts(u, out);
+}
+
+void newton4_two_sweeps(const double* in, double* out) {
+    double u[4];
+    to_balls(in, u);
+    for (int sweep = 0; sweep < 2; ++sweep)
+        for (int k = 0; k < 3; ++k)
+            if (u[k + 1] < u[k]) {
+                const double t = u[k];
+                u[k] = u[k + 1];
+                u[k + 1] = t;
+            }
+    to_contacts(u, out);
+}
+
+void newton4_impulse(const double* in, double* out) {
+    double u[4];
+    to_balls(in, u);
+    for (int sweep = 0; sweep < 3; ++sweep)
+        for (int k = 0; k < 3; ++k) {
+            const double rel = u[k + 1] - u[k]; /* overflows for large opposite velocities */
+            if (rel < 0 || isnan(rel)) {
+                u[k] += rel;
+                u[k + 1] -= rel;
+            }
+        }
+    to_contacts(u, out);
+}
