@@ -240,13 +240,26 @@ std::optional<Vector> simulate_balls(const std::vector<Rational>& m, const std::
     }
 }
 
+// PPL switches the FPU to rounding upward when it is initialised and expects that mode while it
+// works (for its inexact coefficient types, unused here); the rest of impactcert (the float law,
+// the fuzzer's error-free transformations) needs round-to-nearest. So the mode PPL wants is set
+// only while derive_sequential runs, and the caller's mode is restored on every way out.
+struct PplRounding {
+    PplRounding() { PPL::set_rounding_for_PPL(); }
+    ~PplRounding() { PPL::restore_pre_PPL_rounding(); }
+    PplRounding(const PplRounding&) = delete;
+    PplRounding& operator=(const PplRounding&) = delete;
+};
+
 DeriveResult derive_sequential(const DeriveOptions& options) {
     validate(options);
     static const bool ppl_ready = [] {
-        PPL::initialize();
+        PPL::initialize(); // saves the caller's rounding mode, sets PPL's
+        PPL::restore_pre_PPL_rounding();
         return true;
     }();
     (void)ppl_ready;
+    const PplRounding rounding;
     const std::size_t n = options.masses.size(), c = n - 1;
     const Matrix G = chain_G(options.masses);
     std::vector<Matrix> Qk;

@@ -109,6 +109,23 @@ struct IntRow {
     int terms = -1;
     std::size_t i0 = 0, i1 = 0;
 
+    bool unit = false; // every entry is 0 or +-1: products are exact without scaling
+
+    // The sign for a unit row from unscaled x by a floating-point filter alone: 2 when it cannot
+    // tell (near zero, or an overflow). |t - exact| <= gamma_m sum |x_j| (products are exact,
+    // sums never add an underflow error).
+    int unit_sign(const double* x) const {
+        double t = 0, s = 0;
+        for (std::size_t j = 0; j < m; ++j) {
+            t += a[j] * x[j];
+            s += std::fabs(a[j] * x[j]);
+        }
+        const double bound = static_cast<double>(m + 2) * 0x1p-52 * s;
+        if (!(s <= std::numeric_limits<double>::max()))
+            return 2;
+        return t > bound ? 1 : t < -bound ? -1 : 2;
+    }
+
     void prepare() {
         int count = 0;
         bool units = true;
@@ -121,28 +138,8 @@ struct IntRow {
         terms = -1;
         if (d == 1 && (count <= 1 || (count == 2 && units)))
             terms = count;
+        unit = units;
     }
-    // For a simple row (terms >= 0), unscaled finite x: the sign, and the nearest double.
-    int simple_sign(const double* x) const {
-        const double v = simple_value(x);
-        return v > 0 ? 1 : v < 0 ? -1 : 0;
-    }
-    double simple_value(const double* x) const {
-        switch (terms) {
-        case 0: return 0;
-        case 1: return a[i0] * x[i0];
-        default: return a[i0] * x[i0] + a[i1] * x[i1]; // a = +-1: exact negations, one rounding
-        }
-    }
-    bool simple_exact(const double* x) const {
-        if (terms < 2)
-            return terms == 0 || std::fabs(a[i0]) == 1 ||
-                   (std::isfinite(a[i0] * x[i0]) && std::fma(a[i0], x[i0], -(a[i0] * x[i0])) == 0);
-        double sum, err;
-        two_sum(a[i0] * x[i0], a[i1] * x[i1], sum, err);
-        return std::isfinite(sum) && err == 0;
-    }
-
     // The exact value times d (the numerator) as an expansion, for scaled x (see above).
     void numerator(const double* x, Expansion& e) const {
         e.n = 0;

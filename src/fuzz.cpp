@@ -1,9 +1,11 @@
 #include "fuzz.hpp"
 
+#include "eft.hpp"
 #include "float_eval.hpp"
 #include "paper_law.hpp"
 
 #include <algorithm>
+#include <cfenv>
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -35,7 +37,8 @@ double from_bits(std::uint64_t bits) {
     return d;
 }
 
-std::uint64_t below(std::uint64_t& st, std::uint64_t n) { return splitmix(st) % n; }
+// Uniform in [0, n) for n < 2^32 by a multiply-shift (no division; bias below n 2^-32).
+std::uint64_t below(std::uint64_t& st, std::uint64_t n) { return ((splitmix(st) >> 32) * n) >> 32; }
 bool coin(std::uint64_t& st) { return splitmix(st) & 1; }
 
 // A finite double with a uniformly random binary exponent over the whole range (subnormals
@@ -68,7 +71,7 @@ void rescale(double* p, std::size_t m, int e) {
         return;
     const int shift = e - std::ilogb(big);
     for (std::size_t j = 0; j < m; ++j)
-        p[j] = std::ldexp(p[j], shift);
+        p[j] = eft::ldexp_fast(p[j], shift);
 }
 
 } // namespace
@@ -96,7 +99,7 @@ void Generator::facet_point(std::uint64_t& st, std::size_t facet, double* p, int
         if (g_.integer_rays) {
             coef = static_cast<double>(below(st, 4) == 0 ? 0 : below(st, 64));
         } else {
-            coef = below(st, 4) == 0 ? 0 : std::ldexp(1.0 + static_cast<double>(below(st, 1u << 20)) / (1u << 20),
+            coef = below(st, 4) == 0 ? 0 : eft::ldexp_fast(1.0 + static_cast<double>(below(st, 1u << 20)) / (1u << 20),
                                                        -static_cast<int>(below(st, 40)));
         }
         for (std::size_t j = 0; j < dim_; ++j)
@@ -121,10 +124,10 @@ void Generator::make(std::uint64_t seed, std::uint64_t index, Sample& s) const {
         int scale;
         facet_point(st, facet, p, scale);
         for (std::size_t j = 0; j < m; ++j)
-            p[j] = std::ldexp(p[j], scale);
+            p[j] = eft::ldexp_fast(p[j], scale);
         const double size = max_abs(p, m);
         // A distance from one ulp of the point's scale up to the scale itself, log-uniformly.
-        delta = std::ldexp(size > 0 ? size : std::ldexp(1.0, scale), -static_cast<int>(below(st, 54))) *
+        delta = eft::ldexp_fast(size > 0 ? size : eft::ldexp_fast(1.0, scale), -static_cast<int>(below(st, 54))) *
                 (coin(st) ? 1 : -1);
         for (std::size_t j = 0; j < m; ++j)
             p[j] += delta * g_.facet_normals[facet][j];
@@ -138,12 +141,12 @@ void Generator::make(std::uint64_t seed, std::uint64_t index, Sample& s) const {
         const int e = static_cast<int>(below(st, 2000)) - 1000;
         for (std::size_t j = 0; j < m; ++j) {
             const double mant = 1.0 + static_cast<double>(splitmix(st) >> 12) * 0x1p-52;
-            s.a[j] = below(st, 6) == 0 ? 0.0 : std::ldexp(mant, e - static_cast<int>(below(st, 64))) * (coin(st) ? 1 : -1);
+            s.a[j] = below(st, 6) == 0 ? 0.0 : eft::ldexp_fast(mant, e - static_cast<int>(below(st, 64))) * (coin(st) ? 1 : -1);
         }
     } else if (pick < 13) {
         s.kind = "ray";
         const auto& r = g_.rays[below(st, g_.rays.size())];
-        const double t = std::ldexp(1.0 + static_cast<double>(splitmix(st) >> 12) * 0x1p-52,
+        const double t = eft::ldexp_fast(1.0 + static_cast<double>(splitmix(st) >> 12) * 0x1p-52,
                                     static_cast<int>(below(st, 2000)) - 1040);
         for (std::size_t j = 0; j < m; ++j) {
             s.a[j] = r[j] * t;
@@ -154,7 +157,7 @@ void Generator::make(std::uint64_t seed, std::uint64_t index, Sample& s) const {
                 s.a[j] = nudge(s.a[j], k);
             else if (k != 0) // off the ray by a few ulps of the point's scale (rarely: of the subnormals)
                 s.a[j] = below(st, 16) == 0 ? k * std::numeric_limits<double>::denorm_min()
-                                             : k * std::ldexp(std::fabs(t), -52 - static_cast<int>(below(st, 8)));
+                                             : k * eft::ldexp_fast(std::fabs(t), -52 - static_cast<int>(below(st, 8)));
             if (!std::isfinite(s.a[j]))
                 s.a[j] = 0;
         }
@@ -163,7 +166,7 @@ void Generator::make(std::uint64_t seed, std::uint64_t index, Sample& s) const {
         int scale;
         facet_point(st, below(st, facets), s.a, scale);
         for (std::size_t j = 0; j < m; ++j)
-            s.a[j] = std::ldexp(s.a[j], scale);
+            s.a[j] = eft::ldexp_fast(s.a[j], scale);
     } else if (pick < 22) {
         s.kind = "near-facet";
         std::size_t f;
@@ -174,7 +177,7 @@ void Generator::make(std::uint64_t seed, std::uint64_t index, Sample& s) const {
         int scale;
         facet_point(st, below(st, facets), s.a, scale);
         for (std::size_t j = 0; j < m; ++j)
-            s.a[j] = coin(st) ? (coin(st) ? 0.0 : -0.0) : std::ldexp(s.a[j], scale);
+            s.a[j] = coin(st) ? (coin(st) ? 0.0 : -0.0) : eft::ldexp_fast(s.a[j], scale);
     } else if (pick < 26) {
         s.kind = "subnormal";
         if (coin(st)) {
@@ -208,7 +211,7 @@ void Generator::make(std::uint64_t seed, std::uint64_t index, Sample& s) const {
             const double size = std::fmax(max_abs(s.a, m), std::numeric_limits<double>::denorm_min());
             const int shift = 1 + static_cast<int>(below(st, 52));
             for (std::size_t j = 0; j < m; ++j) {
-                const double step = std::ldexp(size, -shift) * (static_cast<double>(below(st, 2001)) - 1000) / 1000;
+                const double step = eft::ldexp_fast(size, -shift) * (static_cast<double>(below(st, 2001)) - 1000) / 1000;
                 s.b[j] = s.a[j] + step;
             }
         }
@@ -391,14 +394,14 @@ struct Worker {
         double d[kMaxDim];
         if (opt.tolerance == Tolerance::relative) {
             for (std::size_t j = 0; j < m; ++j)
-                d[j] = std::ldexp(x[j], k);
+                d[j] = eft::ldexp_fast(x[j], k);
             return opt.max_rel_error * metric.norm(d) * (1 + kMargin);
         }
         for (std::size_t i = 0; i < mo; ++i) {
             const double allowed = opt.tolerance == Tolerance::ulps
                                        ? (static_cast<double>(opt.max_ulps) + 1) * ulp_of(v[i])
                                        : (b ? b[i] : 0) + ulp_of(v[i]);
-            d[i] = std::ldexp(allowed, k);
+            d[i] = eft::ldexp_fast(allowed, k);
         }
         return metric.norm_abs(d) * (1 + kMargin);
     }
@@ -490,11 +493,11 @@ struct Worker {
         const int k = scale_of({{x, m}, {y, mo}, {v, mo}});
         double e[kMaxDim], xs[kMaxDim], ulps[kMaxDim];
         for (std::size_t i = 0; i < mo; ++i) {
-            e[i] = std::ldexp(y[i], k) - std::ldexp(v[i], k);
-            ulps[i] = std::ldexp(ulp_of(v[i]) / 2, k);
+            e[i] = eft::ldexp_fast(y[i], k) - eft::ldexp_fast(v[i], k);
+            ulps[i] = eft::ldexp_fast(ulp_of(v[i]) / 2, k);
         }
         for (std::size_t j = 0; j < m; ++j)
-            xs[j] = std::ldexp(x[j], k);
+            xs[j] = eft::ldexp_fast(x[j], k);
         const double xnorm = metric.norm(xs);
         const double err = metric.norm(e);
         if (xnorm > 0)
@@ -559,7 +562,7 @@ struct Worker {
         if (props.energy) {
             double ys[kMaxDim];
             for (std::size_t i = 0; i < mo; ++i)
-                ys[i] = std::ldexp(y[i], k);
+                ys[i] = eft::ldexp_fast(y[i], k);
             if (metric.norm(ys) * (1 - kMargin) > xnorm * (1 + kMargin) + tolerance(x, v, b, k)) {
                 ++sum.energy;
                 record(index, "energy increase beyond the tolerance", s, x, nullptr, y, v);
@@ -581,9 +584,9 @@ struct Worker {
         const int k = scale_of({{s.a, m}, {s.b, m}, {ya, mo}, {yb, mo}});
         double dy[kMaxDim], dx[kMaxDim];
         for (std::size_t i = 0; i < mo; ++i)
-            dy[i] = std::ldexp(ya[i], k) - std::ldexp(yb[i], k);
+            dy[i] = eft::ldexp_fast(ya[i], k) - eft::ldexp_fast(yb[i], k);
         for (std::size_t j = 0; j < m; ++j)
-            dx[j] = std::ldexp(s.a[j], k) - std::ldexp(s.b[j], k);
+            dx[j] = eft::ldexp_fast(s.a[j], k) - eft::ldexp_fast(s.b[j], k);
         const double lhs = metric.norm(dy) * (1 - kMargin);
         const double rhs = metric.norm(dx) * (1 + kMargin) + tolerance(s.a, va, ba, k) + tolerance(s.b, vb, bb, k);
         if (lhs > rhs) {
@@ -650,6 +653,8 @@ Summary run(const Options& options, const LawReference& reference, const Impleme
     std::vector<std::thread> threads;
     for (unsigned j = 0; j < jobs; ++j)
         threads.emplace_back([&, j] {
+            // The reference's error-free transformations need IEEE round-to-nearest.
+            std::fesetround(FE_TONEAREST);
             for (;;) {
                 if (stop.load(std::memory_order_relaxed))
                     return;

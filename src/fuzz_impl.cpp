@@ -163,8 +163,8 @@ class SymbolImpl final : public Implementation {
 
 class CommandImpl final : public Implementation {
   public:
-    CommandImpl(std::string cmd, std::size_t in_dim, std::size_t out_dim, double timeout)
-        : cmd_(std::move(cmd)), in_dim_(in_dim), out_dim_(out_dim), timeout_(timeout) {}
+    CommandImpl(std::string cmd, std::size_t in_dim, std::size_t out_dim, double timeout, bool quiet = false)
+        : cmd_(std::move(cmd)), in_dim_(in_dim), out_dim_(out_dim), timeout_(timeout), quiet_(quiet) {}
     ~CommandImpl() override { stop(); }
     CommandImpl(const CommandImpl&) = delete;
     CommandImpl& operator=(const CommandImpl&) = delete;
@@ -199,6 +199,7 @@ class CommandImpl final : public Implementation {
     std::string cmd_;
     std::size_t in_dim_, out_dim_;
     double timeout_;
+    bool quiet_; // the probe: the command's stderr goes to /dev/null (our error says it in one line)
     pid_t pid_ = -1;
     int to_child_ = -1, from_child_ = -1;
     std::string rbuf_, wbuf_;
@@ -221,6 +222,11 @@ class CommandImpl final : public Implementation {
             close(in_pipe[1]);
             close(out_pipe[0]);
             close(out_pipe[1]);
+            if (quiet_) {
+                const int null = open("/dev/null", O_WRONLY);
+                if (null >= 0)
+                    dup2(null, STDERR_FILENO);
+            }
             execl("/bin/sh", "sh", "-c", cmd_.c_str(), static_cast<char*>(nullptr));
             _exit(127);
         }
@@ -246,7 +252,9 @@ class CommandImpl final : public Implementation {
         int st = 0;
         waitpid(pid_, &st, 0);
         if (WIFEXITED(st))
-            last_exit_ = "exit status " + std::to_string(WEXITSTATUS(st));
+            last_exit_ = WEXITSTATUS(st) == 127   ? "command not found (exit status 127)"
+                         : WEXITSTATUS(st) == 126 ? "not executable (exit status 126)"
+                                                  : "exit status " + std::to_string(WEXITSTATUS(st));
         else if (WIFSIGNALED(st))
             last_exit_ = "signal " + std::to_string(WTERMSIG(st));
         pid_ = -1;
@@ -381,7 +389,7 @@ std::unique_ptr<Implementation> command(const std::string& cmd, std::size_t in_d
                                         double timeout_seconds) {
     if (cmd.empty())
         throw InputError("--impl-cmd: empty command");
-    auto impl = std::make_unique<CommandImpl>(cmd, in_dim, out_dim, timeout_seconds);
+    auto impl = std::make_unique<CommandImpl>(cmd, in_dim, out_dim, timeout_seconds, true);
     // A first probe: the zero vector must get one line of out_dim numbers.
     std::vector<double> zero(in_dim, 0.0), out(out_dim);
     ImplStatus st = ImplStatus::ok;
@@ -394,7 +402,7 @@ std::unique_ptr<Implementation> command(const std::string& cmd, std::size_t in_d
     if (st == ImplStatus::malformed)
         throw InputError("--impl-cmd " + cmd + ": its answer to the first input line is not " +
                          std::to_string(out_dim) + " numbers");
-    return impl;
+    return impl->clone(); // the probe (stderr silenced) ends here; the run gets fresh processes
 }
 
 } // namespace impactcert::fuzz

@@ -5,6 +5,7 @@
 #include <gmp.h>
 
 #include <algorithm>
+#include <cfenv>
 #include <cmath>
 
 namespace impactcert::fuzz {
@@ -84,6 +85,15 @@ void keep_value(RefPoint& out, std::size_t piece, const double* y, const bool* e
 
 } // namespace
 
+LawReference::Row LawReference::compact(const eft::IntRow& r, std::vector<eft::IntRow>& general) {
+    Row row{r.terms, static_cast<std::uint32_t>(r.i0), static_cast<std::uint32_t>(r.i1), r.a[r.i0], r.a[r.i1], 0};
+    if (r.terms < 0) {
+        row.general = static_cast<std::uint32_t>(general.size());
+        general.push_back(r);
+    }
+    return row;
+}
+
 LawReference::LawReference(const Model& model, bool velocities, bool continuous_tiling)
     : model_(model), velocities_(velocities), continuous_(continuous_tiling) {
     const std::size_t c = model.contacts(), n = model.balls();
@@ -101,13 +111,13 @@ LawReference::LawReference(const Model& model, bool velocities, bool continuous_
             eft::IntRow r;
             fast_ = to_int_row(F.row(i), false, r) && fast_;
             r.prepare();
-            k.facets.push_back(r);
+            k.facets.push_back(compact(r, k.general));
         }
         for (std::size_t i = 0; i < A.rows(); ++i) {
             eft::IntRow r;
             fast_ = to_int_row(A.row(i), true, r) && fast_;
             r.prepare();
-            k.values.push_back(r);
+            k.values.push_back(compact(r, k.general));
         }
         facets_.push_back(std::move(F));
         maps_.push_back(std::move(A));
@@ -148,15 +158,24 @@ LawReference::LawReference(const Model& model, bool velocities, bool continuous_
     }
 }
 
+namespace {
+
+// The simple rows (eft::IntRow::prepare): exact by IEEE arithmetic itself.
+inline double simple_value(int terms, double a0, double a1, double x0, double x1) {
+    return terms == 0 ? 0.0 : terms == 1 ? a0 * x0 : a0 * x0 + a1 * x1;
+}
+
+} // namespace
+
 bool LawReference::fast_eval(const double* x, RefPoint& out) const {
     // The scaled copy of x is made only when a row needs it (simple rows work on x itself).
     double xs[kMaxDim];
     int k = 0;
-    bool scaled = false;
+    int scaled = 0; // 0 not yet, 1 done, -1 impossible
     auto ensure_scaled = [&] {
-        if (!scaled)
-            scaled = eft::scale_into_safe_range(x, in_dim_, xs, k) ? true : false;
-        return scaled;
+        if (scaled == 0)
+            scaled = eft::scale_into_safe_range(x, in_dim_, xs, k) ? 1 : -1;
+        return scaled > 0;
     };
     for (std::size_t j = 0; j < in_dim_; ++j)
         if (!std::isfinite(x[j]))
@@ -169,14 +188,20 @@ bool LawReference::fast_eval(const double* x, RefPoint& out) const {
     for (std::size_t p = 0; p < kernels_.size(); ++p) {
         const Kernel& kp = kernels_[p];
         bool inside = true;
-        for (const auto& row : kp.facets) {
-            int sign;
-            if (row.terms >= 0)
-                sign = row.simple_sign(x);
-            else if (ensure_scaled())
-                sign = row.sign(xs);
-            else
-                return false;
+        for (const Row& row : kp.facets) {
+            double sign;
+            if (row.terms >= 0) {
+                sign = simple_value(row.terms, row.a0, row.a1, x[row.i0], x[row.i1]);
+            } else {
+                const eft::IntRow& g = kp.general[row.general];
+                const int quick = g.unit ? g.unit_sign(x) : 2;
+                if (quick != 2)
+                    sign = quick;
+                else if (ensure_scaled())
+                    sign = g.sign(xs);
+                else
+                    return false;
+            }
             if (sign < 0) {
                 inside = false;
                 break;
@@ -186,11 +211,18 @@ bool LawReference::fast_eval(const double* x, RefPoint& out) const {
             continue;
         out.in_domain = true;
         for (std::size_t i = 0; i < out_dim_; ++i) {
-            const auto& row = kp.values[i];
+            const Row& row = kp.values[i];
             if (row.terms >= 0) {
-                y[i] = row.simple_value(x);
-                exact[i] = row.simple_exact(x);
-            } else if (!ensure_scaled() || !row.nearest(xs, k, y[i], exact[i])) {
+                y[i] = simple_value(row.terms, row.a0, row.a1, x[row.i0], x[row.i1]);
+                exact[i] = true; // terms == 0: the value 0
+                double sum, err;
+                if (row.terms == 1) {
+                    exact[i] = std::fabs(row.a0) == 1 || std::fma(row.a0, x[row.i0], -y[i]) == 0;
+                } else if (row.terms == 2) {
+                    eft::two_sum(row.a0 * x[row.i0], row.a1 * x[row.i1], sum, err);
+                    exact[i] = std::isfinite(sum) && err == 0;
+                }
+            } else if (!ensure_scaled() || !kp.general[row.general].nearest(xs, k, y[i], exact[i])) {
                 return false;
             }
         }
@@ -202,7 +234,8 @@ bool LawReference::fast_eval(const double* x, RefPoint& out) const {
 }
 
 void LawReference::eval(const double* x, RefPoint& out) const {
-    if (fast_ && fast_eval(x, out))
+    // The fast path is exact only under IEEE round-to-nearest (the fuzzer's threads set it).
+    if (fast_ && std::fegetround() == FE_TONEAREST && fast_eval(x, out))
         return;
     eval_exact(x, out);
 }
@@ -279,7 +312,13 @@ void LawReference::formula(std::size_t piece, const double* x, double* y) const 
     if (fast_ && eft::scale_into_safe_range(x, in_dim_, xs, k)) {
         bool ok = true, exact = false;
         for (std::size_t i = 0; i < out_dim_ && ok; ++i)
-            ok = kernels_[piece].values[i].nearest(xs, k, y[i], exact);
+        {
+            const Row& row = kernels_[piece].values[i];
+            if (row.terms >= 0)
+                y[i] = simple_value(row.terms, row.a0, row.a1, x[row.i0], x[row.i1]);
+            else
+                ok = kernels_[piece].general[row.general].nearest(xs, k, y[i], exact);
+        }
         if (ok)
             return;
     }

@@ -68,8 +68,15 @@ class LawReference {
     const Geometry& geometry() const { return geometry_; }
 
   private:
+    struct Row { // compact: a simple row inline, or the index of a general one
+        int terms;   // as eft::IntRow::terms; -1: general, see `general`
+        std::uint32_t i0, i1;
+        double a0, a1;
+        std::uint32_t general;
+    };
     struct Kernel { // the integer rows of one piece (fast path)
-        std::vector<eft::IntRow> facets, values;
+        std::vector<Row> facets, values;
+        std::vector<eft::IntRow> general;
     };
     const Model& model_;
     bool velocities_, continuous_, fast_ = true;
@@ -80,6 +87,7 @@ class LawReference {
     Geometry geometry_;
 
     bool fast_eval(const double* x, RefPoint& out) const;
+    static Row compact(const eft::IntRow& r, std::vector<eft::IntRow>& general);
 };
 
 } // namespace impactcert::fuzz

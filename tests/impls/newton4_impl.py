@@ -13,6 +13,8 @@ import sys
 
 
 def law(g, mode):
+    scale = 0.25 if max(abs(x) for x in g) > 2.0**1020 else 1.0  # keep the sums finite (exact)
+    g = [x * scale for x in g]
     u = [0.0, g[0], g[0] + g[1], g[0] + g[1] + g[2]]
     if mode == "sorted":
         u.sort()
@@ -23,7 +25,7 @@ def law(g, mode):
                     u[k], u[k + 1] = u[k + 1], u[k]
     else:
         raise SystemExit("unknown mode " + mode)
-    return [u[1] - u[0], u[2] - u[1], u[3] - u[2]]
+    return [(u[1] - u[0]) / scale, (u[2] - u[1]) / scale, (u[3] - u[2]) / scale]
 
 
 def main():
