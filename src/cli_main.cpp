@@ -489,7 +489,11 @@ int run_fuzz(FuzzArgs a) {
     const std::string target = impl->describe();
     const std::string space = a.velocities ? "ball velocities" : "contact velocities";
     const std::string tolerance =
-        options.tolerance == fuzz::Tolerance::relative ? "--max-rel-error " + fuzz::hex(options.max_rel_error)
+        options.tolerance == fuzz::Tolerance::relative ? "--max-rel-error " + [&] {
+            char buf[32];
+            std::snprintf(buf, sizeof buf, "%.3g", options.max_rel_error);
+            return std::string(buf);
+        }()
         : options.tolerance == fuzz::Tolerance::ulps   ? "--max-ulps " + std::to_string(options.max_ulps)
                                                        : "the implementation's stated bound";
     auto hexes = [](const std::vector<double>& v) {
