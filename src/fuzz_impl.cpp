@@ -163,6 +163,7 @@ class SymbolImpl final : public Implementation {
 
 class CommandImpl final : public Implementation {
   public:
+    static constexpr double kStartupGrace = 2.0; // seconds
     CommandImpl(std::string cmd, std::size_t in_dim, std::size_t out_dim, double timeout, bool quiet = false)
         : cmd_(std::move(cmd)), in_dim_(in_dim), out_dim_(out_dim), timeout_(timeout), quiet_(quiet) {}
     ~CommandImpl() override { stop(); }
@@ -189,6 +190,7 @@ class CommandImpl final : public Implementation {
         return std::make_unique<CommandImpl>(cmd_, in_dim_, out_dim_, timeout_);
     }
     std::string describe() const override { return cmd_; }
+    std::size_t batch_samples() const override { return 2048; }
     std::string replay_flags() const override { return "--impl-cmd " + shell_quote(cmd_); }
 
     // Why the last process ended (for the probe's error message).
@@ -205,6 +207,7 @@ class CommandImpl final : public Implementation {
     std::string rbuf_, wbuf_;
     ImplStatus failure_ = ImplStatus::crashed;
     std::string last_exit_;
+    bool fresh_ = false; // started and not answered yet: its start-up time is not a hang
 
     void start() {
         std::signal(SIGPIPE, SIG_IGN); // a dead child must not kill the fuzzer through a write
@@ -240,6 +243,7 @@ class CommandImpl final : public Implementation {
         fcntl(to_child_, F_SETFD, FD_CLOEXEC);
         fcntl(from_child_, F_SETFD, FD_CLOEXEC);
         rbuf_.clear();
+        fresh_ = true;
     }
 
     void stop() {
@@ -317,11 +321,14 @@ class CommandImpl final : public Implementation {
                 fds[nfds++] = {to_child_, POLLOUT, 0};
             const double waited =
                 std::chrono::duration<double>(std::chrono::steady_clock::now() - last_progress).count();
-            if (waited >= timeout_) {
+            // A process that has not answered yet also gets its start-up time (an interpreter
+            // on a loaded machine can take a second to start).
+            const double limit = fresh_ ? timeout_ + kStartupGrace : timeout_;
+            if (waited >= limit) {
                 failure_ = ImplStatus::hung;
                 return answered;
             }
-            const int wait_ms = static_cast<int>(std::ceil((timeout_ - waited) * 1000));
+            const int wait_ms = static_cast<int>(std::ceil((limit - waited) * 1000));
             const int r = poll(fds, nfds, wait_ms);
             if (r < 0) {
                 if (errno == EINTR)
@@ -343,6 +350,7 @@ class CommandImpl final : public Implementation {
                 if (n > 0) {
                     rbuf_.append(chunk, static_cast<std::size_t>(n));
                     last_progress = std::chrono::steady_clock::now();
+                    fresh_ = false;
                 } else if (n == 0 || (errno != EAGAIN && errno != EINTR)) {
                     // End of output. A final line without a newline still counts.
                     if (!rbuf_.empty() && answered < count) {

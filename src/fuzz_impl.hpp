@@ -11,7 +11,8 @@
 //   - `--impl-cmd CMD`: `/bin/sh -c CMD`; one line of in_dim hex doubles (%a) per point on its
 //     stdin, one line of out_dim doubles (hex or decimal, anything strtod reads) expected back per
 //     line, in order. The fuzzer writes and reads at once (poll), so a batch never deadlocks on a
-//     full pipe; a point with no answer within `timeout` seconds is `hung`; an early end of
+//     full pipe; a point with no answer within `timeout` seconds (plus 2 s for a process that
+//     has not answered anything yet: its start-up) is `hung`; an early end of
 //     output is `crashed`; a line that is not out_dim numbers is `malformed`. A command that
 //     answers nothing at all (not found, not executable, exits at once) is bad input (InputError).
 //   - replay_flags(): the command-line options that select this implementation again.
@@ -34,6 +35,9 @@ class Implementation {
     // bound: null, or out_dim per point: the implementation's own stated error bound.
     virtual void eval(const double* in, double* out, double* bound, std::size_t count, ImplStatus* status) = 0;
     virtual bool states_bound() const { return false; }
+    // Samples per batch: small for in-process implementations (the batch stays in cache),
+    // large for a separate process (fewer round trips through the pipes).
+    virtual std::size_t batch_samples() const { return 64; }
     virtual std::unique_ptr<Implementation> clone() const = 0;
     virtual std::string describe() const = 0;
     virtual std::string replay_flags() const = 0;

@@ -5,7 +5,11 @@
 #include <gmp.h>
 
 #include <algorithm>
+#include <cassert>
 #include <cfenv>
+#if defined(__x86_64__) && defined(__SSE2__)
+#include <xmmintrin.h>
+#endif
 #include <cmath>
 
 namespace impactcert::fuzz {
@@ -64,29 +68,34 @@ std::vector<double> to_doubles(const Vector& v) {
     return out;
 }
 
-bool same_value(const double* a, const double* b, std::size_t m) {
+inline bool same_value(const double* a, const double* b, std::size_t m) {
     for (std::size_t i = 0; i < m; ++i)
         if (!(a[i] == b[i] || (std::isnan(a[i]) && std::isnan(b[i]))))
             return false;
     return true;
 }
 
-void keep_value(RefPoint& out, std::size_t piece, const double* y, const bool* exact, std::size_t m) {
+inline void keep_value(RefPoint& out, std::size_t piece, const double* y, const bool* exact, std::size_t m) {
     for (std::size_t v = 0; v < out.values; ++v)
         if (same_value(out.value[v], y, m))
             return;
     if (out.values == kMaxValues)
         return;
     out.piece[out.values] = piece;
-    std::copy(y, y + m, out.value[out.values]);
-    std::copy(exact, exact + m, out.exact[out.values]);
+    for (std::size_t i = 0; i < m; ++i) { // short: a loop beats a call to memmove
+        out.value[out.values][i] = y[i];
+        out.exact[out.values][i] = exact[i];
+    }
     ++out.values;
 }
 
 } // namespace
 
 LawReference::Row LawReference::compact(const eft::IntRow& r, std::vector<eft::IntRow>& general) {
-    Row row{r.terms, static_cast<std::uint32_t>(r.i0), static_cast<std::uint32_t>(r.i1), r.a[r.i0], r.a[r.i1], 0};
+    // Simple rows are evaluated branch-free as a0 x_i0 + a1 x_i1, with a1 = 0 (one term) and
+    // a0 = 0 (none): adding an exact zero changes nothing but the sign of a zero.
+    Row row{r.terms, static_cast<std::uint32_t>(r.i0), static_cast<std::uint32_t>(r.i1),
+            r.terms >= 1 ? r.a[r.i0] : 0.0, r.terms >= 2 ? r.a[r.i1] : 0.0, 0};
     if (r.terms < 0) {
         row.general = static_cast<std::uint32_t>(general.size());
         general.push_back(r);
@@ -122,6 +131,23 @@ LawReference::LawReference(const Model& model, bool velocities, bool continuous_
         facets_.push_back(std::move(F));
         maps_.push_back(std::move(A));
         kernels_.push_back(std::move(k));
+    }
+    bool all_simple = true;
+    std::size_t facet_rows = 0;
+    for (const auto& k : kernels_) {
+        for (const auto& r : k.facets)
+            all_simple = all_simple && r.terms >= 0;
+        facet_rows += k.facets.size();
+    }
+    if (all_simple && facet_rows <= 64) {
+        for (const auto& k : kernels_) {
+            std::uint64_t mask = 0;
+            for (const auto& r : k.facets) {
+                mask |= std::uint64_t{1} << flat_facets_.size();
+                flat_facets_.push_back(r);
+            }
+            piece_masks_.push_back(mask);
+        }
     }
     // Geometry for the generators.
     geometry_.integer_rays = true;
@@ -161,13 +187,20 @@ LawReference::LawReference(const Model& model, bool velocities, bool continuous_
 namespace {
 
 // The simple rows (eft::IntRow::prepare): exact by IEEE arithmetic itself.
-inline double simple_value(int terms, double a0, double a1, double x0, double x1) {
-    return terms == 0 ? 0.0 : terms == 1 ? a0 * x0 : a0 * x0 + a1 * x1;
+inline double simple_value(int, double a0, double a1, double x0, double x1) { return a0 * x0 + a1 * x1; }
+
+// IEEE round-to-nearest in effect? (SSE control word on x86-64: one instruction.)
+inline bool round_to_nearest() {
+#if defined(__x86_64__) && defined(__SSE2__)
+    return (_mm_getcsr() & 0x6000u) == 0;
+#else
+    return std::fegetround() == FE_TONEAREST;
+#endif
 }
 
 } // namespace
 
-bool LawReference::fast_eval(const double* x, RefPoint& out) const {
+bool LawReference::fast_eval(const double* x, RefPoint& out, bool want_exact) const {
     // The scaled copy of x is made only when a row needs it (simple rows work on x itself).
     double xs[kMaxDim];
     int k = 0;
@@ -185,9 +218,18 @@ bool LawReference::fast_eval(const double* x, RefPoint& out) const {
     out.values = 0;
     double y[kMaxDim];
     bool exact[kMaxDim];
+    std::uint64_t negative = 0;
+    for (std::size_t r = 0; r < flat_facets_.size(); ++r) {
+        const Row& row = flat_facets_[r];
+        negative |= static_cast<std::uint64_t>(simple_value(row.terms, row.a0, row.a1, x[row.i0], x[row.i1]) < 0) << r;
+    }
     for (std::size_t p = 0; p < kernels_.size(); ++p) {
         const Kernel& kp = kernels_[p];
         bool inside = true;
+        if (!piece_masks_.empty()) {
+            if (negative & piece_masks_[p])
+                continue;
+        } else
         for (const Row& row : kp.facets) {
             double sign;
             if (row.terms >= 0) {
@@ -215,10 +257,11 @@ bool LawReference::fast_eval(const double* x, RefPoint& out) const {
             if (row.terms >= 0) {
                 y[i] = simple_value(row.terms, row.a0, row.a1, x[row.i0], x[row.i1]);
                 exact[i] = true; // terms == 0: the value 0
-                double sum, err;
-                if (row.terms == 1) {
+                if (!want_exact) {
+                } else if (row.terms == 1) {
                     exact[i] = std::fabs(row.a0) == 1 || std::fma(row.a0, x[row.i0], -y[i]) == 0;
                 } else if (row.terms == 2) {
+                    double sum, err;
                     eft::two_sum(row.a0 * x[row.i0], row.a1 * x[row.i1], sum, err);
                     exact[i] = std::isfinite(sum) && err == 0;
                 }
@@ -233,9 +276,12 @@ bool LawReference::fast_eval(const double* x, RefPoint& out) const {
     return true;
 }
 
-void LawReference::eval(const double* x, RefPoint& out) const {
-    // The fast path is exact only under IEEE round-to-nearest (the fuzzer's threads set it).
-    if (fast_ && std::fegetround() == FE_TONEAREST && fast_eval(x, out))
+void LawReference::eval(const double* x, RefPoint& out, bool want_exact) const {
+    // The fast path is exact only under IEEE round-to-nearest: reading the control word costs
+    // as much as a classification, so it is checked once per thread and call site batch by
+    // the callers (fuzz::run per chunk, explain); here only in debug builds.
+    assert(round_to_nearest());
+    if (fast_ && fast_eval(x, out, want_exact))
         return;
     eval_exact(x, out);
 }

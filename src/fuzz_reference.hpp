@@ -36,7 +36,7 @@ struct RefPoint {
     std::size_t values = 0;     // distinct values kept (1 for a continuous law)
     std::size_t piece[kMaxValues] = {};
     double value[kMaxValues][kMaxDim] = {};
-    bool exact[kMaxValues][kMaxDim] = {}; // value equals the exact value (no rounding)
+    bool exact[kMaxValues][kMaxDim] = {}; // value equals the exact value (no rounding); see set_want_exact
 };
 
 class LawReference {
@@ -49,7 +49,10 @@ class LawReference {
     bool fast_path() const { return fast_; } // every row fits the integer kernels
     const Model& model() const { return model_; }
 
-    void eval(const double* x, RefPoint& out) const;
+    // Requires IEEE round-to-nearest (std::fesetround(FE_TONEAREST); the fuzzer's threads and
+    // explain() set it). want_exact: fill RefPoint::exact (false: the flags of simple rows are left true; the
+    // fuzzer needs them only to check a stated bound).
+    void eval(const double* x, RefPoint& out, bool want_exact = true) const;
     void eval_exact(const double* x, RefPoint& out) const;
     Vector exact_value(const double* x, std::size_t piece) const;
     bool contains(std::size_t piece, const double* x) const; // exact, closed cone
@@ -84,9 +87,14 @@ class LawReference {
     std::vector<Matrix> facets_; // per piece: rows are inward facet normals (input space)
     std::vector<Matrix> maps_;   // per piece: the output map (input -> output)
     std::vector<Kernel> kernels_;
+    // When every facet row is simple and there are at most 64: all of them in one flat array,
+    // evaluated branch-free into a bit mask of negative signs; piece p contains x iff
+    // (mask & piece_masks_[p]) == 0.
+    std::vector<Row> flat_facets_;
+    std::vector<std::uint64_t> piece_masks_;
     Geometry geometry_;
 
-    bool fast_eval(const double* x, RefPoint& out) const;
+    bool fast_eval(const double* x, RefPoint& out, bool want_exact) const;
     static Row compact(const eft::IntRow& r, std::vector<eft::IntRow>& general);
 };
 

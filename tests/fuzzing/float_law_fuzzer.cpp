@@ -1,12 +1,19 @@
-// float_law_fuzzer.cpp -- libFuzzer target: the float law against the exact law, coverage-guided.
+// float_law_fuzzer.cpp -- libFuzzer target: float implementations against the exact law,
+// coverage-guided.
 //
-// Input: 16 bytes, read as two doubles (gamma1-, gamma2-); non-finite inputs are outside the
-// domain and skipped. Checks, aborting on failure (libFuzzer then saves the input):
+// Without IMPACTCERT_FUZZ_LAW: the paper's law. Input: 16 bytes, read as two doubles (gamma1-,
+// gamma2-); non-finite inputs are outside the domain and skipped. Checks, aborting on failure
+// (libFuzzer then saves the input):
 //   - fp::S is correctly rounded: 0 ulp from the naive GMP reference (exact rationals);
 //   - the fast TwoSum reference of `impactcert fuzz` agrees with the GMP one;
 //   - gamma+ >= 0, and the batch form equals the scalar form.
+// With IMPACTCERT_FUZZ_LAW=path/to/law.json: that law (c contacts). Input: 8c bytes, c doubles.
+// Checks: the fuzzer's fast exact reference equals its GMP path (values and exactness), and
+// FloatLaw's output lies within its stated bound of the exact value (exact comparison).
 // Built only with -DIMPACTCERT_LIBFUZZER=ON and clang; see README.md beside this file.
+#include "float_eval.hpp"
 #include "fuzz.hpp"
+#include "law_json.hpp"
 #include "paper_law.hpp"
 
 #include <impactcert/float_law.hpp>
@@ -16,9 +23,72 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <vector>
+
+namespace {
+
+// The law named by IMPACTCERT_FUZZ_LAW, or null.
+struct LawTarget {
+    impactcert::Model model;
+    impactcert::fuzz::LawReference reference;
+    impactcert::FloatLaw float_law;
+    explicit LawTarget(const char* path)
+        : model(impactcert::load_law_file(path)), reference(model, false, false), float_law(model) {}
+};
+
+const LawTarget* law_target() {
+    static const LawTarget* target = [] {
+        const char* path = std::getenv("IMPACTCERT_FUZZ_LAW");
+        return path && *path ? new LawTarget(path) : nullptr;
+    }();
+    return target;
+}
+
+int check_law(const LawTarget& t, const std::uint8_t* data, std::size_t size) {
+    using namespace impactcert;
+    const std::size_t c = t.model.contacts();
+    if (size < c * sizeof(double))
+        return 0;
+    std::vector<double> x(c);
+    std::memcpy(x.data(), data, c * sizeof(double));
+    for (double v : x)
+        if (!std::isfinite(v))
+            return 0;
+    fuzz::RefPoint fast, exact;
+    t.reference.eval(x.data(), fast);
+    t.reference.eval_exact(x.data(), exact);
+    bool ok = fast.in_domain == exact.in_domain && fast.values == exact.values;
+    for (std::size_t v = 0; ok && v < fast.values; ++v)
+        for (std::size_t i = 0; i < c; ++i)
+            ok = ok && fuzz::ulp_distance(fast.value[v][i], exact.value[v][i]) == 0 &&
+                 fast.exact[v][i] == exact.exact[v][i];
+    const auto r = t.float_law.eval(x);
+    if (ok && r.ok) {
+        const Vector value = t.reference.exact_value(x.data(), r.piece);
+        for (std::size_t i = 0; i < c && ok; ++i) {
+            Rational err = Rational(r.value[i]) - value[i];
+            if (sign_of(err) == Sign::negative)
+                err = -err;
+            ok = std::isinf(r.bound[i]) || err <= Rational(r.bound[i]);
+        }
+        ok = ok && t.reference.contains(r.piece, x.data());
+    }
+    if (!ok) {
+        std::fprintf(stderr, "mismatch at");
+        for (double v : x)
+            std::fprintf(stderr, " %a", v);
+        std::fprintf(stderr, "\n");
+        std::abort();
+    }
+    return 0;
+}
+
+} // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
     using namespace impactcert;
+    if (const LawTarget* t = law_target())
+        return check_law(*t, data, size);
     if (size < 2 * sizeof(double))
         return 0;
     double g[2];

@@ -88,3 +88,28 @@ void newton4_impulse(const double* in, double* out) {
         }
     to_contacts(u, out);
 }
+
+/* Ball velocities (fuzz --velocities): u- -> u+, 4 doubles each.
+ *   newton4_balls_sorted    correct and exact: u+ = sort(u-) (equal masses, e = 1).
+ *   newton4_balls_one_sweep WRONG: a single left-to-right sweep of pairwise exchanges. */
+void newton4_balls_sorted(const double* in, double* out) {
+    for (int i = 0; i < 4; ++i)
+        out[i] = in[i];
+    for (int i = 1; i < 4; ++i)
+        for (int j = i; j > 0 && out[j] < out[j - 1]; --j) {
+            const double t = out[j];
+            out[j] = out[j - 1];
+            out[j - 1] = t;
+        }
+}
+
+void newton4_balls_one_sweep(const double* in, double* out) {
+    for (int i = 0; i < 4; ++i)
+        out[i] = in[i];
+    for (int k = 0; k < 3; ++k)
+        if (out[k + 1] < out[k]) {
+            const double t = out[k];
+            out[k] = out[k + 1];
+            out[k + 1] = t;
+        }
+}
