@@ -190,7 +190,7 @@ namespace {
 inline double simple_value(int, double a0, double a1, double x0, double x1) { return a0 * x0 + a1 * x1; }
 
 // IEEE round-to-nearest in effect? (SSE control word on x86-64: one instruction.)
-inline bool round_to_nearest() {
+[[maybe_unused]] inline bool round_to_nearest() {
 #if defined(__x86_64__) && defined(__SSE2__)
     return (_mm_getcsr() & 0x6000u) == 0;
 #else
