@@ -142,7 +142,8 @@ TEST_CASE("certificates: certify + impactcert-check as processes, exit statuses"
 }
 
 TEST_CASE("certificates: every fixture gives its registered exit status and reason", "[certificate]") {
-    // valid/: exit 0; fail/: exit 1 (content does not follow); parse/: exit 2 (unreadable).
+    // valid/: exit 0; fail/: exit 1 (content does not follow); parse/: exit 2 (unreadable);
+    // limit/: exit 3 (undecided: checking it would exceed a limit, which the message names).
     const std::map<std::string, std::string> registered = {
         {"valid/two_ball_proved.json", "verified (two-ball-elastic: proved)"},
         {"valid/two_ball_refuted.json", "verified (two-ball-expansive: refuted)"},
@@ -182,9 +183,27 @@ TEST_CASE("certificates: every fixture gives its registered exit status and reas
         {"parse/missing_system.json", "missing key \"system\""},
         {"parse/not_json.json", "malformed JSON"},
         {"parse/wrong_format.json", "$.format: not an impactcert-certificate/1 document"},
+        // Checker hardening (review 2): each defect as a fixture named after it.
+        {"parse/p1_intersections_key_on_face_to_face.json", "$.obligations[1].data.intersections: unknown key"},
+        {"parse/added_key_in_p2_counterexample.json", "$.obligations[2].counterexample.bogus: unknown key"},
+        {"parse/added_key_in_evidence_entry.json", "$.obligations[2].data.QtHQ[0].bogus: unknown key"},
+        {"parse/added_key_in_copositivity_certificate.json", "$.obligations[6].data.pieces[0].certificate.bogus: unknown key"},
+        {"parse/note_in_system.json", "$.system.note: unknown key"},
+        {"fail/skipped_with_evidence.json", "$.obligations[7].data: a skipped obligation carries no evidence"},
+        {"fail/psd_plus_nonnegative_n_one_column.json", "$.obligations[9].data.pairs[0].certificate.N: expected 2 x 2, got 2 x 1"},
+        {"fail/psd_ldlt_l_one_column.json", "$.obligations[9].data.pairs[0].certificate.L: expected 2 x 2, got 2 x 1"},
+        {"parse/newline_in_key.json", "malformed: $.obligations[0].bad\\nkey: unknown key"},
+        {"parse/contact_as_float.json", "$.obligations[8].data.impacts[0].contact: expected a non-negative integer"},
+        {"parse/rational_not_in_lowest_terms.json", "$.system.G[0][0]: \"4/2\" is not in canonical form"},
+        {"fail/p2_refutation_hidden_as_undecided.json", "$.obligations[2].limit: the prover decides P2 without a limit"},
+        {"fail/energetic_undecided_by_the_wrong_limit.json", "$.obligations[6].limit: names no limit that can stop energetic"},
+        {"fail/p1_undecided_on_a_face_to_face_fan.json", "$.obligations[1].limit: the cones meet face to face"},
+        {"limit/kkt_faces_beyond_max_faces.json", "undecided: max-faces exceeded: $.obligations[6].data.pieces[0].certificate"},
+        {"limit/p1_intersections_beyond_max_subsets.json", "undecided: max-subsets exceeded: $.obligations[1].data.intersections"},
+        {"limit/identity_product_beyond_max_product_bits.json", "undecided: max-product-bits exceeded: $.law.identities[0].product"},
     };
     std::set<std::string> on_disk;
-    for (const char* dir : {"valid", "fail", "parse"})
+    for (const char* dir : {"valid", "fail", "parse", "limit"})
         for (const auto& f : files_in(source_path(std::string("tests/certificates/") + dir)))
             on_disk.insert(std::string(dir) + "/" + f);
     for (const auto& f : on_disk) {
@@ -195,9 +214,10 @@ TEST_CASE("certificates: every fixture gives its registered exit status and reas
         INFO(name);
         REQUIRE(on_disk.count(name) == 1);
         const auto outcome = impactcert_check::check_text(read_file(source_path("tests/certificates/" + name)));
-        const int expected = name.rfind("valid/", 0) == 0  ? impactcert_check::kVerified
-                             : name.rfind("fail/", 0) == 0 ? impactcert_check::kRejected
-                                                           : impactcert_check::kMalformed;
+        const int expected = name.rfind("valid/", 0) == 0   ? impactcert_check::kVerified
+                             : name.rfind("fail/", 0) == 0  ? impactcert_check::kRejected
+                             : name.rfind("limit/", 0) == 0 ? 3 // undecided (impactcert-check's exit 3)
+                                                            : impactcert_check::kMalformed;
         INFO(outcome.message);
         CHECK(outcome.status == expected);
         CHECK(outcome.message.find(reason) != std::string::npos);

@@ -17,6 +17,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <fstream>
+#include <functional>
 #include <iostream>
 #include <map>
 #include <optional>
@@ -39,9 +40,29 @@ struct Malformed {
 struct Rejected {
     std::string path, why;
 };
+// A decision the prover bounds by a limit would exceed the checker's copy of that limit: the
+// certificate is neither verified nor rejected (it may be right, made with a raised limit).
+struct Undecided {
+    std::string option, path, why; // option: "--max-faces", "--max-chambers" or "--max-subsets"
+};
+
+// The prover's limits (src/limits.hpp), with the same defaults and options, counted the same
+// way and checked before the work is done.
+struct Limits {
+    std::size_t max_faces = 16384;     // --max-faces: simplex faces of one KKT enumeration
+    std::size_t max_chambers = 200000; // --max-chambers: steps of the chamber enumeration
+    std::size_t max_subsets = 5000000; // --max-subsets: constraint subsets for cone intersections
+    // The checker's own: the bits of an entry of a declared identity's product (about 1.26
+    // million decimal digits), bounded from the factors before multiplying; a product of many
+    // large factors grows without a bound the prover checks.
+    std::size_t max_product_bits = 4194304; // --max-product-bits
+};
 
 [[noreturn]] void malformed(const std::string& path, const std::string& why) { throw Malformed{path, why}; }
 [[noreturn]] void reject(const std::string& path, const std::string& why) { throw Rejected{path, why}; }
+[[noreturn]] void undecided(const std::string& option, const std::string& path, const std::string& why) {
+    throw Undecided{option, path, why};
+}
 void require(bool ok, const std::string& path, const std::string& why) {
     if (!ok)
         reject(path, why);
@@ -138,9 +159,16 @@ std::string str(const Json& j, const std::string& path) {
     return j.get<std::string>();
 }
 
+// A count or index: the JSON integer type only (1.0 is a number equal to 1, not an integer).
+std::size_t natural(const Json& j, const std::string& path) {
+    if (!j.is_number_unsigned())
+        malformed(path, "expected a non-negative integer");
+    return j.get<std::size_t>();
+}
+
+// A rational: a string in canonical form (lowest terms, no sign on zero, no leading zeros, no
+// "+", no "/1"), as the prover writes it, so that no rational can be re-spelled unnoticed.
 Q rat(const Json& j, const std::string& path) {
-    if (j.is_number_integer())
-        return Q(j.dump());
     if (!j.is_string())
         malformed(path, "expected a rational string");
     const std::string s = j.get<std::string>();
@@ -163,6 +191,8 @@ Q rat(const Json& j, const std::string& path) {
     if (s.find('/') != std::string::npos && q.get_den() == 0)
         malformed(path, "zero denominator");
     q.canonicalize();
+    if (q.get_str() != s)
+        malformed(path, "\"" + s + "\" is not in canonical form (\"" + q.get_str() + "\")");
     return q;
 }
 
@@ -413,6 +443,18 @@ std::size_t count_chambers(const std::vector<Vec>& normals, std::size_t d, std::
     return total;
 }
 
+// The prover's count of chamber-enumeration steps (src/fan.cpp, charge): one per call and one
+// per point of a restriction; more than --max-chambers of them and the prover gives up.
+struct ChamberSteps {
+    std::size_t done, max;
+    std::string path;
+    void charge() {
+        if (++done > max)
+            undecided("--max-chambers", path,
+                      "the facet arrangement needs more than " + std::to_string(max) + " chamber-enumeration steps");
+    }
+};
+
 // One point per chamber, by the prover's rule (proofs/README.md, "Check, complete"): the
 // hyperplanes added in order; after adding h (normal n) the earlier points off h are kept, and
 // every point y of the earlier hyperplanes restricted to h (in the primitive kernel basis of n)
@@ -420,10 +462,12 @@ std::size_t count_chambers(const std::vector<Vec>& normals, std::size_t d, std::
 // then the first point of every sign vector is kept. The checker regenerates the list to demand
 // the canonical one (so no point can be changed unnoticed) and counts the chambers by a second
 // route (count_chambers) to know that the list is complete.
-std::vector<Vec> canonical_chamber_points(const std::vector<Vec>& normals, std::size_t d, std::size_t& budget) {
+std::vector<Vec> canonical_chamber_points(const std::vector<Vec>& normals, std::size_t d, std::size_t& budget,
+                                          ChamberSteps& steps) {
     if (budget == 0)
         reject("$.obligations[0].data.chamber_points", "more chamber-enumeration work than the certificate lists points");
     --budget;
+    steps.charge();
     if (d == 1)
         return normals.empty() ? std::vector<Vec>{Vec{Q(1)}} : std::vector<Vec>{Vec{Q(1)}, Vec{Q(-1)}};
     Vec first(d, Q(0));
@@ -447,7 +491,7 @@ std::vector<Vec> canonical_chamber_points(const std::vector<Vec>& normals, std::
             if (std::find(restricted.begin(), restricted.end(), line) == restricted.end())
                 restricted.push_back(line);
         }
-        for (const auto& local : canonical_chamber_points(restricted, d - 1, budget)) {
+        for (const auto& local : canonical_chamber_points(restricted, d - 1, budget, steps)) {
             Vec y(d, Q(0));
             for (std::size_t i = 0; i + 1 < d; ++i)
                 for (std::size_t j = 0; j < d; ++j)
@@ -464,6 +508,7 @@ std::vector<Vec> canonical_chamber_points(const std::vector<Vec>& normals, std::
                     z[j] += side * eps * n[j];
                 next.push_back(primitive(z));
             }
+            steps.charge();
         }
         std::set<std::vector<int>> seen;
         points.clear();
@@ -582,22 +627,42 @@ struct Piece {
     std::vector<Vec> rays; // primitive
 };
 
+struct Identity {
+    std::size_t lhs;
+    std::vector<std::size_t> product;
+    Json lhs_json, product_json; // as declared, for comparison with the evidence
+};
+struct SingleImpact {
+    std::size_t piece, contact; // contact in 1..c
+    Q restitution;
+    Json piece_json;
+};
+struct OutcomeDecl {
+    std::string name;
+    Vec u_minus, u_plus;
+};
+
 struct Law {
     Json json;
     Vec masses;
     Mat W, M_inv, G, H;
     std::size_t n = 0, c = 0;
     std::vector<Piece> pieces;
-    std::vector<Vec> distinct_rays;
+    std::map<std::string, std::size_t> piece_index;
+    std::vector<Vec> distinct_rays;     // in order of first appearance
+    std::map<Vec, std::size_t> ray_index; // into distinct_rays
+    std::vector<Identity> identities;
+    std::vector<SingleImpact> single_impacts;
+    std::vector<OutcomeDecl> outcomes;
     std::set<std::string> claimed_ids;
     bool claims_given = false;
 
     std::size_t piece(const Json& name, const std::string& path) const {
         const std::string s = str(name, path);
-        for (std::size_t p = 0; p < pieces.size(); ++p)
-            if (pieces[p].name == s)
-                return p;
-        reject(path, "unknown piece \"" + s + "\"");
+        const auto it = piece_index.find(s);
+        if (it == piece_index.end())
+            reject(path, "unknown piece \"" + s + "\"");
+        return it->second;
     }
     bool in_cone(std::size_t p, const Vec& g) const { return nonneg(mul(pieces[p].R_inv, g)); }
     bool in_interior(std::size_t p, const Vec& g) const { return positive(mul(pieces[p].R_inv, g)); }
@@ -633,8 +698,10 @@ const std::vector<std::string> kIds = {"fan", "P1", "P2", "P3", "kinematic", "ki
                                        "identities", "single-impacts", "nonexpansive", "nonexpansive-lemma",
                                        "outcomes"};
 
-// An object with exactly the keys `required` plus some of `optional` (free text `note` and
-// `description` allowed everywhere).
+// An object with exactly the keys `required` plus some of `optional`. Every object the checker
+// reads goes through here first (then `field`), so that no key is read unchecked and nothing
+// outside the schema rides along. A certificate is written by the prover and carries no free
+// text: its law is in canonical form, which drops `note` and `description`.
 void expect_keys(const Json& j, const std::string& path, std::initializer_list<const char*> required,
                  std::initializer_list<const char*> optional = {}) {
     if (!j.is_object())
@@ -645,15 +712,15 @@ void expect_keys(const Json& j, const std::string& path, std::initializer_list<c
     for (const auto& item : j.items()) {
         const std::string& k = item.key();
         const bool known = std::any_of(required.begin(), required.end(), [&](const char* r) { return k == r; }) ||
-                           std::any_of(optional.begin(), optional.end(), [&](const char* o) { return k == o; }) ||
-                           ((k == "note" || k == "description") && item.value().is_string());
+                           std::any_of(optional.begin(), optional.end(), [&](const char* o) { return k == o; });
         if (!known)
             malformed(at(path, k), "unknown key");
     }
 }
 
-// The declarations that make identities, single-impacts and outcomes apply (non-empty lists).
-bool declares(const Json& law, const char* key) { return law.contains(key) && !law[key].empty(); }
+// The declarations that make identities, single-impacts and outcomes apply (non-empty lists;
+// read_law has checked that each is an array when present).
+bool declares(const Json& law, const char* key) { return law.contains(key) && !law.at(key).empty(); }
 bool applies(const Json& law, const std::string& id) {
     if (id == "identities")
         return declares(law, "identities");
@@ -670,8 +737,8 @@ Law read_law(const Json& j, const std::string& path) {
     // The prover's input rules (SPEC section 4): a law it rejects is never verified.
     expect_keys(j, path, {"format", "name", "masses", "contacts", "pieces"},
                 {"identities", "single_impacts", "outcomes", "claims"});
-    require(j["format"] == "impactcert-law/1", at(path, "format"), "is not \"impactcert-law/1\"");
-    require(!str(j["name"], at(path, "name")).empty(), at(path, "name"), "empty law name");
+    require(field(j, path, "format") == "impactcert-law/1", at(path, "format"), "is not \"impactcert-law/1\"");
+    require(!str(field(j, path, "name"), at(path, "name")).empty(), at(path, "name"), "empty law name");
     law.masses = vec(field(j, path, "masses"), at(path, "masses"));
     law.n = law.masses.size();
     require(law.n >= 1, at(path, "masses"), "no balls");
@@ -706,23 +773,23 @@ Law read_law(const Json& j, const std::string& path) {
         Piece piece;
         piece.name = str(field(pieces[p], pp, "name"), at(pp, "name"));
         require(!piece.name.empty(), at(pp, "name"), "empty piece name");
-        for (const auto& other : law.pieces)
-            require(other.name != piece.name, at(pp, "name"), "duplicate piece name");
+        require(law.piece_index.emplace(piece.name, p).second, at(pp, "name"), "duplicate piece name");
         piece.Q_ = mat(field(pieces[p], pp, "Q"), at(pp, "Q"));
         require(piece.Q_.size() == law.c && piece.Q_[0].size() == law.c, at(pp, "Q"), "not c x c");
         std::vector<Vec> rays;
         if (pieces[p].contains("rays")) {
-            if (!pieces[p]["rays"].is_array())
+            const Json& listed = field(pieces[p], pp, "rays");
+            if (!listed.is_array())
                 malformed(at(pp, "rays"), "expected an array of rays");
-            for (std::size_t k = 0; k < pieces[p]["rays"].size(); ++k)
-                rays.push_back(vec(pieces[p]["rays"][k], at(at(pp, "rays"), k)));
+            require(listed.size() == law.c, at(pp, "rays"), "needs c rays");
+            for (std::size_t k = 0; k < listed.size(); ++k)
+                rays.push_back(vec(listed[k], at(at(pp, "rays"), k)));
         } else {
             Mat q_inv;
             require(invert(piece.Q_, q_inv), at(pp, "Q"), "singular Q and no rays");
             for (std::size_t k = 0; k < law.c; ++k)
                 rays.push_back(col(q_inv, k));
         }
-        require(rays.size() == law.c, at(pp, "rays"), "needs c rays");
         for (std::size_t k = 0; k < rays.size(); ++k) {
             require(rays[k].size() == law.c && !std::all_of(rays[k].begin(), rays[k].end(), [](const Q& x) { return sgn(x) == 0; }),
                     at(at(pp, "rays"), k), "zero or mis-sized ray");
@@ -731,14 +798,14 @@ Law read_law(const Json& j, const std::string& path) {
         piece.R = from_cols(piece.rays);
         require(invert(piece.R, piece.R_inv), at(pp, "rays"), "dependent rays");
         for (const auto& r : piece.rays)
-            if (std::find(law.distinct_rays.begin(), law.distinct_rays.end(), r) == law.distinct_rays.end())
+            if (law.ray_index.emplace(r, law.distinct_rays.size()).second)
                 law.distinct_rays.push_back(r);
         law.pieces.push_back(std::move(piece));
     }
-    // Declarations: their shape is checked here once, so that no later step reads a missing
-    // key or a vector of the wrong length (a hash can be recomputed for any law).
+    // Declarations: their shape is checked here once and kept parsed, so that no later step
+    // reads a missing key or a vector of the wrong length (a hash can be recomputed for any law).
     auto entries = [&](const char* key) {
-        const Json& l = j.contains(key) ? j[key] : Json::array();
+        const Json& l = j.contains(key) ? field(j, path, key) : Json::array();
         if (!l.is_array())
             malformed(at(path, key), "expected an array");
         return l;
@@ -747,42 +814,53 @@ Law read_law(const Json& j, const std::string& path) {
     for (std::size_t i = 0; i < identities.size(); ++i) {
         const std::string ip = at(at(path, "identities"), i);
         expect_keys(identities[i], ip, {"lhs", "product"});
-        law.piece(field(identities[i], ip, "lhs"), at(ip, "lhs"));
-        const Json& product = field(identities[i], ip, "product");
-        if (!product.is_array() || product.empty())
+        Identity d;
+        d.lhs_json = field(identities[i], ip, "lhs");
+        d.lhs = law.piece(d.lhs_json, at(ip, "lhs"));
+        d.product_json = field(identities[i], ip, "product");
+        if (!d.product_json.is_array() || d.product_json.empty())
             malformed(at(ip, "product"), "expected a non-empty array of piece names");
-        for (std::size_t k = 0; k < product.size(); ++k)
-            law.piece(product[k], at(at(ip, "product"), k));
+        for (std::size_t k = 0; k < d.product_json.size(); ++k)
+            d.product.push_back(law.piece(d.product_json[k], at(at(ip, "product"), k)));
+        law.identities.push_back(std::move(d));
     }
     const Json impacts = entries("single_impacts");
     for (std::size_t i = 0; i < impacts.size(); ++i) {
         const std::string ip = at(at(path, "single_impacts"), i);
         expect_keys(impacts[i], ip, {"piece", "contact", "restitution"});
-        law.piece(field(impacts[i], ip, "piece"), at(ip, "piece"));
-        const Json& contact = field(impacts[i], ip, "contact");
-        if (!contact.is_number_unsigned() || contact.get<std::size_t>() < 1 || contact.get<std::size_t>() > law.c)
+        SingleImpact d;
+        d.piece_json = field(impacts[i], ip, "piece");
+        d.piece = law.piece(d.piece_json, at(ip, "piece"));
+        d.contact = natural(field(impacts[i], ip, "contact"), at(ip, "contact"));
+        if (d.contact < 1 || d.contact > law.c)
             malformed(at(ip, "contact"), "expected a contact number in 1..c");
-        const Q e = rat(field(impacts[i], ip, "restitution"), at(ip, "restitution"));
-        require(sgn(e) >= 0 && e <= 1, at(ip, "restitution"), "restitution outside [0, 1]");
+        d.restitution = rat(field(impacts[i], ip, "restitution"), at(ip, "restitution"));
+        require(sgn(d.restitution) >= 0 && d.restitution <= 1, at(ip, "restitution"), "restitution outside [0, 1]");
+        law.single_impacts.push_back(std::move(d));
     }
     const Json outcomes = entries("outcomes");
+    std::set<std::string> outcome_names;
     for (std::size_t i = 0; i < outcomes.size(); ++i) {
         const std::string op = at(at(path, "outcomes"), i);
         expect_keys(outcomes[i], op, {"name", "u_minus", "u_plus"});
-        const std::string oname = str(field(outcomes[i], op, "name"), at(op, "name"));
-        for (std::size_t k = 0; k < i; ++k)
-            require(outcomes[k]["name"] != oname, at(op, "name"), "duplicate outcome name");
-        for (const char* key : {"u_minus", "u_plus"})
-            if (vec(field(outcomes[i], op, key), at(op, key)).size() != law.n)
-                malformed(at(op, key), "expected one velocity per ball");
+        OutcomeDecl d;
+        d.name = str(field(outcomes[i], op, "name"), at(op, "name"));
+        require(outcome_names.insert(d.name).second, at(op, "name"), "duplicate outcome name");
+        d.u_minus = vec(field(outcomes[i], op, "u_minus"), at(op, "u_minus"));
+        d.u_plus = vec(field(outcomes[i], op, "u_plus"), at(op, "u_plus"));
+        for (const Vec* v : {&d.u_minus, &d.u_plus})
+            if (v->size() != law.n)
+                malformed(at(op, v == &d.u_minus ? "u_minus" : "u_plus"), "expected one velocity per ball");
+        law.outcomes.push_back(std::move(d));
     }
     if (j.contains("claims")) {
         law.claims_given = true;
-        if (!j["claims"].is_array())
+        const Json& claims = field(j, path, "claims");
+        if (!claims.is_array())
             malformed(at(path, "claims"), "expected an array");
-        require(!j["claims"].empty(), at(path, "claims"), "no obligation claimed");
-        for (std::size_t i = 0; i < j["claims"].size(); ++i) {
-            const std::string id = str(j["claims"][i], at(at(path, "claims"), i));
+        require(!claims.empty(), at(path, "claims"), "no obligation claimed");
+        for (std::size_t i = 0; i < claims.size(); ++i) {
+            const std::string id = str(claims[i], at(at(path, "claims"), i));
             require(std::find(kIds.begin(), kIds.end(), id) != kIds.end(), at(at(path, "claims"), i), "unknown obligation");
             require(law.claimed_ids.insert(id).second, at(at(path, "claims"), i), "claimed twice");
             require(applies(j, id), at(at(path, "claims"), i), "claimed but the law declares nothing for it");
@@ -810,10 +888,21 @@ Mat ldlt(const Mat& L, const Vec& D) {
     return mul(mul(L, DL), tr(L));
 }
 
+// A matrix of the given shape (mat() has made it rectangular and non-empty).
+Mat shaped(const Json& j, const std::string& path, std::size_t rows, std::size_t cols) {
+    Mat m = mat(j, path);
+    require(m.size() == rows && m[0].size() == cols, path,
+            "expected " + std::to_string(rows) + " x " + std::to_string(cols) + ", got " + std::to_string(m.size()) +
+                " x " + std::to_string(m[0].size()));
+    return m;
+}
+
+// L and D (keys checked by the caller) with L D L^T = B.
 bool check_psd_evidence(const Mat& B, const Json& j, const std::string& path) {
-    const Mat L = mat(field(j, path, "L"), at(path, "L"));
+    const std::size_t n = B.size();
+    const Mat L = shaped(field(j, path, "L"), at(path, "L"), n, n);
     const Vec D = vec(field(j, path, "D"), at(path, "D"));
-    require(L.size() == B.size() && D.size() == B.size(), path, "L or D has the wrong size");
+    require(D.size() == n, at(path, "D"), "L or D has the wrong size");
     require(lower_unit(L), at(path, "L"), "not unit lower triangular");
     require(nonneg(D), at(path, "D"), "negative entry in D");
     for (std::size_t k = 0; k < D.size(); ++k)
@@ -823,24 +912,42 @@ bool check_psd_evidence(const Mat& B, const Json& j, const std::string& path) {
     return true;
 }
 
-bool check_copositive_evidence(const Mat& A, const Json& j, const std::string& path) {
+// The prover's bound (src/copositivity.cpp): 2^n - 1 faces, refused before the enumeration,
+// and before 1 << n could overflow.
+void check_face_limit(std::size_t n, std::size_t max_faces, const std::string& path) {
+    if (n >= 63 || (std::size_t{1} << n) - 1 > max_faces)
+        undecided("--max-faces", path,
+                  "the KKT enumeration of a " + std::to_string(n) + "x" + std::to_string(n) + " form has 2^" +
+                      std::to_string(n) + " - 1 faces, more than " + std::to_string(max_faces));
+}
+
+bool check_copositive_evidence(const Mat& A, const Json& j, const std::string& path, std::size_t max_faces) {
     const std::string method = str(field(j, path, "method"), at(path, "method"));
     const std::size_t n = A.size();
     if (method == "nonnegative-entries") {
+        expect_keys(j, path, {"method"});
         for (const auto& row : A)
             require(nonneg(row), path, "matrix has a negative entry");
         return true;
     }
-    if (method == "psd-ldlt")
+    if (method == "psd-ldlt") {
+        expect_keys(j, path, {"method", "L", "D"});
         return check_psd_evidence(A, j, path);
+    }
     if (method == "psd-plus-nonnegative") {
-        const Mat N = mat(field(j, path, "N"), at(path, "N"));
-        require(N.size() == n, at(path, "N"), "wrong size");
+        expect_keys(j, path, {"method", "N", "L", "D"});
+        const Mat N = shaped(field(j, path, "N"), at(path, "N"), n, n);
         for (const auto& row : N)
             require(nonneg(row), at(path, "N"), "negative entry in N");
         return check_psd_evidence(sub(A, N), j, path);
     }
     if (method == "kkt-enumeration") {
+        expect_keys(j, path, {"method", "candidates", "minimum"});
+        const Json& cands = field(j, path, "candidates");
+        if (!cands.is_array())
+            malformed(at(path, "candidates"), "expected an array");
+        const Q listed_minimum = rat(field(j, path, "minimum"), at(path, "minimum"));
+        check_face_limit(n, max_faces, path);
         // Re-enumerate every face and compare with the listed candidates.
         std::vector<std::pair<std::vector<std::size_t>, Vec>> mine;
         Q minimum;
@@ -870,14 +977,17 @@ bool check_copositive_evidence(const Mat& A, const Json& j, const std::string& p
             have = true;
             mine.push_back({J, x});
         }
-        const Json& cands = field(j, path, "candidates");
         require(cands.size() == mine.size(), at(path, "candidates"),
                 "lists " + std::to_string(cands.size()) + " KKT candidates, there are " + std::to_string(mine.size()));
         for (std::size_t k = 0; k < mine.size(); ++k) {
             const std::string cp = at(at(path, "candidates"), k);
+            expect_keys(cands[k], cp, {"support", "x", "value"});
+            const Json& sj = field(cands[k], cp, "support");
+            if (!sj.is_array())
+                malformed(at(cp, "support"), "expected an array of indices");
             std::vector<std::size_t> support;
-            for (const auto& i : field(cands[k], cp, "support"))
-                support.push_back(i.get<std::size_t>());
+            for (std::size_t a = 0; a < sj.size(); ++a)
+                support.push_back(natural(sj[a], at(at(cp, "support"), a)));
             require(support == mine[k].first, at(cp, "support"), "not the face it should be");
             require(vec(field(cands[k], cp, "x"), at(cp, "x")) == mine[k].second, at(cp, "x"), "not the face's KKT point");
             require(rat(field(cands[k], cp, "value"), at(cp, "value")) == form(A, [&] {
@@ -888,8 +998,7 @@ bool check_copositive_evidence(const Mat& A, const Json& j, const std::string& p
                     }()),
                     at(cp, "value"), "not the form's value at x");
         }
-        require(have && rat(field(j, path, "minimum"), at(path, "minimum")) == minimum, at(path, "minimum"),
-                "not the least candidate");
+        require(have && listed_minimum == minimum, at(path, "minimum"), "not the least candidate");
         return sgn(minimum) >= 0;
     }
     malformed(at(path, "method"), "unknown method \"" + method + "\"");
@@ -910,7 +1019,7 @@ bool ccw_before(const Vec& a, const Vec& x, const Vec& y) {
 
 class Checker {
   public:
-    Checker(const Law& law, const Json& obligations) : law_(law), obl_(obligations) {}
+    Checker(const Law& law, const Json& obligations, const Limits& limits) : law_(law), obl_(obligations), limits_(limits) {}
 
     enum class Truth { proved, refuted, undecided };
 
@@ -920,6 +1029,8 @@ class Checker {
     Truth holds(std::size_t k) {
         if (auto it = decided_.find(kIds[k]); it != decided_.end())
             return it->second;
+        // check() has validated the obligation's keys, and visits obligations in order: the
+        // only ones reached from here out of order (fan, P1) come first.
         const Json& o = obl_[k];
         const std::string path = at("$.obligations", k);
         const std::string verdict = str(field(o, path, "verdict"), at(path, "verdict"));
@@ -928,9 +1039,10 @@ class Checker {
             malformed(at(path, "data"), "expected an object");
         Truth truth;
         if (verdict == "undecided") {
-            // A limit was reached: nothing is claimed, so nothing is checked but the shape.
+            // A limit was reached: nothing is claimed, so nothing is checked but the shape, and
+            // that the prover could have stopped there.
             require(data.empty(), at(path, "data"), "an undecided obligation carries no evidence");
-            require(!str(field(o, path, "limit"), at(path, "limit")).empty(), at(path, "limit"), "names no limit");
+            could_be_undecided(kIds[k], str(field(o, path, "limit"), at(path, "limit")), at(path, "limit"));
             truth = Truth::undecided;
         } else {
             require(!o.contains("limit"), at(path, "limit"), "only an undecided obligation names a limit");
@@ -958,11 +1070,16 @@ class Checker {
   private:
     const Law& law_;
     const Json& obl_;
+    const Limits& limits_;
     std::map<std::string, Truth> decided_;
     std::vector<Vec> fan_points_;              // the fan's validated test points (when decided)
+    std::vector<std::size_t> fan_cover_;       // how many open cones contain each of them
     std::optional<bool> face_to_face_;        // the fast path of the fan holds
     std::optional<bool> walls_tile_;          // the cones tile R^c (decided by walls)
     std::optional<std::optional<Json>> domain_; // the canonical domain witness, if any
+    std::vector<std::size_t> q_class_, next_other_; // see number_matrices
+    std::size_t distinct_pairs_ = 0;
+    std::map<std::size_t, Mat> products_;       // identity index -> its product
 
     Truth holds(const std::string& id) {
         return holds(static_cast<std::size_t>(std::find(kIds.begin(), kIds.end(), id) - kIds.begin()));
@@ -998,6 +1115,54 @@ class Checker {
         require(any_failed || listed == total, path, "is incomplete");
     }
 
+    // Whether the prover can have left obligation `id` undecided with this `limit` text. In the
+    // prover (src/obligations.cpp) only three decisions throw LimitExceeded: the fan's chamber
+    // enumeration (--max-chambers), P1's intersections (--max-subsets) and a KKT enumeration
+    // (--max-faces). So: fan by --max-chambers; P1 by --max-subsets (a fan beyond its limit only
+    // sends P1 to the intersections); kinematic by the fan's limit once every ray's image is
+    // non-negative; energetic by --max-faces; nonexpansive by --max-faces, or by the fan's limit;
+    // nonexpansive-lemma by the fan's limit or, once S is a function, P1's. P2, P3, kinetic,
+    // identities, single-impacts and outcomes have no limit, so a refutation cannot hide there.
+    void could_be_undecided(const std::string& id, const std::string& limit, const std::string& path) {
+        std::vector<std::string> options;
+        if (id == "fan" || id == "kinematic")
+            options = {"--max-chambers"};
+        else if (id == "P1")
+            options = {"--max-subsets"};
+        else if (id == "energetic")
+            options = {"--max-faces"};
+        else if (id == "nonexpansive")
+            options = {"--max-faces", "--max-chambers"};
+        else if (id == "nonexpansive-lemma")
+            options = {"--max-chambers", "--max-subsets"};
+        require(!options.empty(), path, "the prover decides " + id + " without a limit: it cannot be undecided");
+        std::string option, expected;
+        for (const auto& o : options) {
+            const std::string tail = " (raise it with " + o + ")";
+            if (limit.size() > tail.size() && limit.compare(limit.size() - tail.size(), tail.size(), tail) == 0)
+                option = o;
+            expected += (expected.empty() ? "" : " or ") + o;
+        }
+        require(!option.empty(), path, "names no limit that can stop " + id + " (expected \"... (raise it with " + expected + ")\")");
+        if (id == "fan")
+            require(law_.c != 2 && !facet_criterion() && !walls_tile(), path,
+                    "the fan is decided without enumerating chambers");
+        else if (option == "--max-chambers")
+            require(holds("fan") == Truth::undecided, path, "the fan is not undecided");
+        if (id == "kinematic")
+            for (std::size_t p = 0; p < P(); ++p)
+                for (const auto& r : pc(p).rays)
+                    require(nonneg(mul(pc(p).Q_, r)), path,
+                            "a ray's image is negative: the prover refutes kinematic before it needs the fan");
+        if (id == "P1")
+            require(!face_to_face(), path, "the cones meet face to face: P1 is decided on shared rays, without a limit");
+        if (id == "nonexpansive" && option == "--max-faces" && holds("fan") != Truth::undecided)
+            require(!domain_witness(), path, "S is not a function: the prover refutes nonexpansive by the domain witness");
+        if (id == "nonexpansive-lemma" && option == "--max-subsets")
+            require(holds("fan") != Truth::undecided && !domain_witness() && holds("P1") == Truth::undecided, path,
+                    "P1 is decided, or S is not a function: the lemma does not stop at P1's limit");
+    }
+
     // ---- evidence: checks each listed entry; returns true when the list is complete and the
     // obligation holds on it.
     bool evidence(const std::string& id, const Json& data, const std::string& dp) {
@@ -1014,13 +1179,14 @@ class Checker {
             if (walls_tile()) {
                 expect_keys(data, dp, {"hyperplanes", "generic_point"});
                 const std::vector<Vec> planes = facet_hyperplanes();
-                require(listed_rays(data["hyperplanes"], at(dp, "hyperplanes")) == planes, at(dp, "hyperplanes"),
+                require(listed_rays(field(data, dp, "hyperplanes"), at(dp, "hyperplanes")) == planes, at(dp, "hyperplanes"),
                         "are not the facet hyperplanes (canonical normals, sorted)");
-                const Vec x0 = vec(data["generic_point"], at(dp, "generic_point"));
+                const Vec x0 = vec(field(data, dp, "generic_point"), at(dp, "generic_point"));
                 require(x0 == first_generic(planes, law_.c), at(dp, "generic_point"),
                         "is not the first point of the moment curve off every facet hyperplane");
                 require(law_.interiors(x0).size() == 1, at(dp, "generic_point"), "is not covered once");
                 fan_points_ = {x0};
+                fan_cover_ = {1};
                 return true;
             }
             expect_keys(data, dp, {"hyperplanes", "chamber_points"});
@@ -1031,18 +1197,16 @@ class Checker {
             return p1_intersections(data, dp);
         }
         if (id == "P1") {
-            std::vector<std::tuple<std::size_t, std::size_t, Vec>> shared;
-            for (std::size_t i = 0; i < P(); ++i)
-                for (std::size_t j = i + 1; j < P(); ++j)
-                    for (const auto& v : pc(i).rays)
-                        if (law_.is_ray_of(j, v))
-                            shared.emplace_back(i, j, v);
+            expect_keys(data, dp, {}, {"shared"});
             const Json& l = data.contains("shared") ? list(data, dp, "shared") : Json::array();
+            // One more than listed: enough to tell a complete list from an incomplete one.
+            const auto shared = shared_rays(l.size() + 1);
             require(l.size() <= shared.size(), at(dp, "shared"), "lists more rays than are shared");
             bool ok = true;
             for (std::size_t k = 0; k < l.size(); ++k) {
                 const auto& [i, j, v] = shared[k];
                 const std::string ep = at(at(dp, "shared"), k);
+                expect_keys(l[k], ep, {"piece_a", "piece_b", "ray", "image_a", "image_b"});
                 expect_piece(l[k], ep, "piece_a", i);
                 expect_piece(l[k], ep, "piece_b", j);
                 expect_vec(l[k], ep, "ray", v, "the shared ray");
@@ -1056,14 +1220,17 @@ class Checker {
             return ok;
         }
         if (id == "P2") {
+            expect_keys(data, dp, {"QtHQ"});
             const Json& l = list(data, dp, "QtHQ");
             require(l.size() <= P(), at(dp, "QtHQ"), "too many entries");
             bool ok = true;
             for (std::size_t p = 0; p < l.size(); ++p) {
                 const std::string ep = at(at(dp, "QtHQ"), p);
+                expect_keys(l[p], ep, {"piece", "matrix"});
                 expect_piece(l[p], ep, "piece", p);
-                expect_mat(l[p], ep, "matrix", QtHQ(p), "Q^T H Q");
-                const bool this_ok = QtHQ(p) == law_.H;
+                const Mat m = QtHQ(p);
+                expect_mat(l[p], ep, "matrix", m, "Q^T H Q");
+                const bool this_ok = m == law_.H;
                 ends_at_first_failure(this_ok, p, l.size(), at(dp, "QtHQ"));
                 ok = ok && this_ok;
             }
@@ -1072,6 +1239,8 @@ class Checker {
         }
         if (id == "P3" || id == "kinematic" || id == "kinetic") {
             const char* key = id == "kinetic" ? "impulses" : "images";
+            const char* value = id == "kinetic" ? "impulse" : "image";
+            expect_keys(data, dp, {key});
             const Json& l = list(data, dp, key);
             require(l.size() <= P() * c, at(dp, key), "too many entries");
             bool ok = true;
@@ -1079,6 +1248,7 @@ class Checker {
                 const std::size_t p = k / c;
                 const Vec& r = pc(p).rays[k % c];
                 const std::string ep = at(at(dp, key), k);
+                expect_keys(l[k], ep, {"piece", "ray", value});
                 expect_piece(l[k], ep, "piece", p);
                 expect_vec(l[k], ep, "ray", r, "the piece's ray");
                 const Vec img = mul(pc(p).Q_, r);
@@ -1111,15 +1281,18 @@ class Checker {
             return ok;
         }
         if (id == "energetic") {
+            expect_keys(data, dp, {"pieces"});
             const Json& l = list(data, dp, "pieces");
             require(l.size() <= P(), at(dp, "pieces"), "too many entries");
             bool ok = true;
             for (std::size_t p = 0; p < l.size(); ++p) {
                 const std::string ep = at(at(dp, "pieces"), p);
+                expect_keys(l[p], ep, {"piece", "B", "certificate"});
                 expect_piece(l[p], ep, "piece", p);
                 const Mat B = mul(mul(tr(pc(p).R), sub(law_.H, QtHQ(p))), pc(p).R);
                 expect_mat(l[p], ep, "B", B, "R^T (H - Q^T H Q) R");
-                const bool this_ok = check_copositive_evidence(B, field(l[p], ep, "certificate"), at(ep, "certificate"));
+                const bool this_ok =
+                    check_copositive_evidence(B, field(l[p], ep, "certificate"), at(ep, "certificate"), limits_.max_faces);
                 ends_at_first_failure(this_ok, p, l.size(), at(dp, "pieces"));
                 ok = ok && this_ok;
             }
@@ -1127,18 +1300,18 @@ class Checker {
             return ok;
         }
         if (id == "identities") {
-            const Json& decls = law_.json["identities"];
+            const auto& decls = law_.identities;
+            expect_keys(data, dp, {"products"});
             const Json& l = list(data, dp, "products");
             require(l.size() <= decls.size(), at(dp, "products"), "too many entries");
             bool ok = true;
             for (std::size_t i = 0; i < l.size(); ++i) {
                 const std::string ep = at(at(dp, "products"), i);
-                require(field(l[i], ep, "lhs") == decls[i]["lhs"] && field(l[i], ep, "product") == decls[i]["product"], ep,
+                expect_keys(l[i], ep, {"lhs", "product", "lhs_matrix", "product_matrix"});
+                require(field(l[i], ep, "lhs") == decls[i].lhs_json && field(l[i], ep, "product") == decls[i].product_json, ep,
                         "is not the declared identity");
-                Mat prod = eye(c);
-                for (const auto& f : decls[i]["product"])
-                    prod = mul(prod, pc(law_.piece(f, "$.law.identities")).Q_);
-                const Mat& lhs = pc(law_.piece(decls[i]["lhs"], "$.law.identities")).Q_;
+                const Mat& prod = identity_product(i);
+                const Mat& lhs = pc(decls[i].lhs).Q_;
                 expect_mat(l[i], ep, "lhs_matrix", lhs, "Q_lhs");
                 expect_mat(l[i], ep, "product_matrix", prod, "the product");
                 ends_at_first_failure(lhs == prod, i, l.size(), at(dp, "products"));
@@ -1148,20 +1321,21 @@ class Checker {
             return ok;
         }
         if (id == "single-impacts") {
-            const Json& decls = law_.json["single_impacts"];
+            const auto& decls = law_.single_impacts;
+            expect_keys(data, dp, {"impacts"});
             const Json& l = list(data, dp, "impacts");
             require(l.size() <= decls.size(), at(dp, "impacts"), "too many entries");
             bool ok = true;
             for (std::size_t i = 0; i < l.size(); ++i) {
                 const std::string ep = at(at(dp, "impacts"), i);
-                require(field(l[i], ep, "piece") == decls[i]["piece"] && field(l[i], ep, "contact") == decls[i]["contact"] &&
-                            rat(field(l[i], ep, "restitution"), at(ep, "restitution")) == rat(decls[i]["restitution"], "$.law"),
+                expect_keys(l[i], ep, {"piece", "contact", "restitution", "impact"});
+                require(field(l[i], ep, "piece") == decls[i].piece_json &&
+                            natural(field(l[i], ep, "contact"), at(ep, "contact")) == decls[i].contact &&
+                            rat(field(l[i], ep, "restitution"), at(ep, "restitution")) == decls[i].restitution,
                         ep, "is not the declared single impact");
-                const std::size_t k = decls[i]["contact"].get<std::size_t>();
-                require(k >= 1 && k <= c, "$.law.single_impacts", "contact out of range");
-                const Mat impact = law_.impact(k - 1, rat(decls[i]["restitution"], "$.law"));
+                const Mat impact = law_.impact(decls[i].contact - 1, decls[i].restitution);
                 expect_mat(l[i], ep, "impact", impact, "Q^(k)(e)");
-                const bool this_ok = pc(law_.piece(decls[i]["piece"], "$.law.single_impacts")).Q_ == impact;
+                const bool this_ok = pc(decls[i].piece).Q_ == impact;
                 ends_at_first_failure(this_ok, i, l.size(), at(dp, "impacts"));
                 ok = ok && this_ok;
             }
@@ -1174,17 +1348,20 @@ class Checker {
                 require(data.empty(), dp, "lists pairs although S is not a function");
                 return false;
             }
+            expect_keys(data, dp, {"pairs"});
             const Json& l = list(data, dp, "pairs");
             require(l.size() <= P() * P(), at(dp, "pairs"), "too many entries");
             bool ok = true;
             for (std::size_t k = 0; k < l.size(); ++k) {
                 const std::size_t i = k / P(), j = k % P();
                 const std::string ep = at(at(dp, "pairs"), k);
+                expect_keys(l[k], ep, {"piece_a", "piece_b", "A", "certificate"});
                 expect_piece(l[k], ep, "piece_a", i);
                 expect_piece(l[k], ep, "piece_b", j);
                 const Mat A = pair_form(i, j);
                 expect_mat(l[k], ep, "A", A, "the pair's quadratic form");
-                const bool this_ok = check_copositive_evidence(A, field(l[k], ep, "certificate"), at(ep, "certificate"));
+                const bool this_ok =
+                    check_copositive_evidence(A, field(l[k], ep, "certificate"), at(ep, "certificate"), limits_.max_faces);
                 ends_at_first_failure(this_ok, k, l.size(), at(dp, "pairs"));
                 ok = ok && this_ok;
             }
@@ -1192,10 +1369,12 @@ class Checker {
             return ok;
         }
         if (id == "nonexpansive-lemma") {
+            expect_keys(data, dp, {}, {"pieces"});
             const Json& l = data.contains("pieces") ? list(data, dp, "pieces") : Json::array();
             require(l.size() <= P(), at(dp, "pieces"), "too many entries");
             for (std::size_t p = 0; p < l.size(); ++p) {
                 const std::string ep = at(at(dp, "pieces"), p);
+                expect_keys(l[p], ep, {"piece", "matrix", "L", "D"});
                 expect_piece(l[p], ep, "piece", p);
                 const Mat B = sub(law_.H, QtHQ(p));
                 expect_mat(l[p], ep, "matrix", B, "H - Q^T H Q");
@@ -1212,23 +1391,26 @@ class Checker {
             return true;
         }
         if (id == "outcomes") {
-            const Json& decls = law_.json["outcomes"];
+            const auto& decls = law_.outcomes;
+            expect_keys(data, dp, {}, {"outcomes"});
             const Json& l = data.contains("outcomes") ? list(data, dp, "outcomes") : Json::array();
             require(l.size() <= decls.size(), at(dp, "outcomes"), "too many entries");
             bool ok = true;
             for (std::size_t i = 0; i < l.size(); ++i) {
                 const std::string ep = at(at(dp, "outcomes"), i);
-                require(field(l[i], ep, "outcome") == decls[i]["name"], at(ep, "outcome"), "is not the declared outcome");
-                const Vec u = vec(decls[i]["u_minus"], "$.law.outcomes"), declared = vec(decls[i]["u_plus"], "$.law.outcomes");
+                expect_keys(l[i], ep, {"outcome", "gamma_minus", "pieces"});
+                require(str(field(l[i], ep, "outcome"), at(ep, "outcome")) == decls[i].name, at(ep, "outcome"),
+                        "is not the declared outcome");
+                const Vec& u = decls[i].u_minus;
                 const Vec g = mul(tr(law_.W), u);
                 expect_vec(l[i], ep, "gamma_minus", g, "W^T u-");
-                const bool this_ok = check_outcome_pieces(field(l[i], ep, "pieces"), at(ep, "pieces"), u, g, declared);
+                const bool this_ok = check_outcome_pieces(field(l[i], ep, "pieces"), at(ep, "pieces"), u, g, decls[i].u_plus);
                 ends_at_first_failure(this_ok, i, l.size(), at(dp, "outcomes"));
                 ok = ok && this_ok;
             }
             if (l.size() < decls.size() && ok) {
                 // Only an outcome whose gamma- lies in no cone ends the list without an entry.
-                const Vec g = mul(tr(law_.W), vec(decls[l.size()]["u_minus"], "$.law.outcomes"));
+                const Vec g = mul(tr(law_.W), decls[l.size()].u_minus);
                 for (std::size_t q = 0; q < P(); ++q)
                     require(!law_.in_cone(q, g), at(dp, "outcomes"), "is incomplete");
                 return false;
@@ -1248,6 +1430,7 @@ class Checker {
         bool ok = !containing.empty();
         for (std::size_t k = 0; k < containing.size(); ++k) {
             const std::string ep = at(lp, k);
+            expect_keys(l[k], ep, {"piece", "u_plus"});
             expect_piece(l[k], ep, "piece", containing[k]);
             const Vec up = law_.u_plus(u, g, mul(pc(containing[k]).Q_, g));
             expect_vec(l[k], ep, "u_plus", up, "the post-impact velocities");
@@ -1292,28 +1475,113 @@ class Checker {
         return std::nullopt;
     }
 
-    // The minimiser of the last listed KKT certificate: the first candidate attaining the
-    // minimum, padded with zeros.
+    // The minimiser of a KKT certificate that evidence() has checked (so its keys, candidates
+    // and supports are the checker's own): the first candidate attaining the minimum, padded
+    // with zeros.
     static Vec kkt_minimiser(const Json& cert, const std::string& path, std::size_t n) {
+        require(str(field(cert, path, "method"), path) == "kkt-enumeration", path,
+                "the failing entry's certificate is not a KKT enumeration");
         const Json& cands = field(cert, path, "candidates");
         const Q minimum = rat(field(cert, path, "minimum"), at(path, "minimum"));
-        for (std::size_t k = 0; k < cands.size(); ++k)
-            if (rat(cands[k]["value"], at(at(path, "candidates"), k)) == minimum) {
-                Vec z(n, Q(0));
-                const Vec x = vec(cands[k]["x"], at(at(path, "candidates"), k));
-                for (std::size_t a = 0; a < x.size(); ++a)
-                    z[cands[k]["support"][a].get<std::size_t>()] = x[a];
-                return z;
+        for (std::size_t k = 0; k < cands.size(); ++k) {
+            const std::string cp = at(at(path, "candidates"), k);
+            if (rat(field(cands[k], cp, "value"), at(cp, "value")) != minimum)
+                continue;
+            Vec z(n, Q(0));
+            const Vec x = vec(field(cands[k], cp, "x"), at(cp, "x"));
+            const Json& support = field(cands[k], cp, "support");
+            require(support.size() == x.size(), cp, "support and x differ in length");
+            for (std::size_t a = 0; a < x.size(); ++a) {
+                const std::size_t i = natural(support[a], at(at(cp, "support"), a));
+                require(i < n, at(at(cp, "support"), a), "index out of range");
+                z[i] = x[a];
             }
+            return z;
+        }
         reject(path, "no candidate attains the minimum");
     }
 
+    // The last entry of another obligation's evidence list (evidence() has checked its keys).
     const Json& last_entry(const std::string& id, const char* key) const {
         const std::size_t k = static_cast<std::size_t>(std::find(kIds.begin(), kIds.end(), id) - kIds.begin());
-        const Json& l = obl_[k]["data"][key];
-        if (!l.is_array() || l.empty())
-            reject(at(at("$.obligations", k), "data"), "the refutation's evidence is missing");
-        return l.back();
+        const std::string dp = at(at("$.obligations", k), "data");
+        const Json& data = field(obl_[k], at("$.obligations", k), "data");
+        if (!data.is_object() || !data.contains(key) || !data.at(key).is_array() || data.at(key).empty())
+            reject(dp, "the refutation's evidence is missing");
+        return data.at(key).back();
+    }
+
+    // The prover's interior_witness (src/copositivity.cpp): z + eps 1 for the first eps in
+    // 1, 1/2, 1/4, ... with f(z + eps 1) < 0, where f(x) = x^T A x and f(z) < 0. Halving one
+    // step at a time takes log2(1/eps) steps, which a law can make huge (Q = -(1 + 10^-10000)
+    // needs 33,000 halvings of 10,000-digit numbers). But g(eps) = f(z + eps 1) is a quadratic
+    // with g(0) < 0: when g(1) >= 0, g is negative on (0, r) and non-negative on [r, 1] for its
+    // least positive root r (a third sign change would need a third root). So "g(2^-k) < 0" is
+    // false and then true for good as k grows, and its first k is found by doubling and
+    // bisection: O(log k) evaluations, k bounded by the bit length of g's coefficients.
+    static Vec moved_inside(const Mat& A, const Vec& z, const std::string& path) {
+        require(sgn(form(A, z)) < 0, path, "the failing pair's KKT minimiser is not a negative point");
+        auto moved = [&](unsigned long k) {
+            const Q eps(mpz_class(1), mpz_class(1) << static_cast<mp_bitcnt_t>(k));
+            Vec x = z;
+            for (auto& v : x)
+                v += eps;
+            return x;
+        };
+        auto negative = [&](unsigned long k) { return sgn(form(A, moved(k))) < 0; };
+        if (negative(0))
+            return moved(0);
+        unsigned long lo = 0, hi = 1; // negative(lo) is false; find a hi where it is true
+        while (!negative(hi)) {
+            lo = hi;
+            hi *= 2;
+        }
+        while (hi - lo > 1) { // the first k in (lo, hi] with negative(k)
+            const unsigned long mid = lo + (hi - lo) / 2;
+            (negative(mid) ? hi : lo) = mid;
+        }
+        return moved(hi);
+    }
+
+    // Entries of a product of identity factors grow with the number of factors: a bound on
+    // their size (bits of numerator and denominator), from the factors, checked before
+    // multiplying. Q = N / d with d the common denominator: a product of k factors has entries
+    // (N_1 ... N_k)_ij / (d_1 ... d_k) with |(N_1 ... N_k)_ij| <= c^(k-1) prod max |N_f|.
+    std::size_t factor_bits(std::size_t p) const {
+        mpz_class d = 1, top = 0;
+        for (const auto& row : pc(p).Q_)
+            for (const auto& x : row)
+                d = lcm(d, x.get_den());
+        for (const auto& row : pc(p).Q_)
+            for (const auto& x : row)
+                top = std::max(top, mpz_class(abs(x.get_num()) * (d / x.get_den())));
+        return mpz_sizeinbase(top.get_mpz_t(), 2) + mpz_sizeinbase(d.get_mpz_t(), 2) +
+               mpz_sizeinbase(mpz_class(law_.c).get_mpz_t(), 2);
+    }
+
+    // Identity i's product, by balanced splitting: exact products are associative, and halves
+    // of equal length keep the operands balanced, so the cost is quasi-linear in the size of the
+    // result instead of quadratic in the number of factors (left to right, each factor
+    // multiplies an ever larger matrix). A product whose entries may exceed --max-product-bits
+    // (the checker's own limit: the prover multiplies without one) is not computed.
+    const Mat& identity_product(std::size_t i) {
+        if (auto it = products_.find(i); it != products_.end())
+            return it->second;
+        const auto& factors = law_.identities[i].product;
+        std::size_t bound = 0;
+        for (auto f : factors)
+            bound = std::min<std::size_t>(SIZE_MAX / 2, bound + factor_bits(f));
+        if (bound > limits_.max_product_bits)
+            undecided("--max-product-bits", at(at("$.law.identities", i), "product"),
+                      "the product of " + std::to_string(factors.size()) + " factors may have entries of " +
+                          std::to_string(bound) + " bits, more than " + std::to_string(limits_.max_product_bits));
+        std::function<Mat(std::size_t, std::size_t)> product = [&](std::size_t lo, std::size_t hi) {
+            if (hi - lo == 1)
+                return pc(factors[lo]).Q_;
+            const std::size_t mid = lo + (hi - lo) / 2;
+            return mul(product(lo, mid), product(mid, hi));
+        };
+        return products_[i] = product(0, factors.size());
     }
 
     Mat pair_form(std::size_t i, std::size_t j) const {
@@ -1338,34 +1606,62 @@ class Checker {
         return Vec{-lo[1], lo[0]};
     }
 
-    std::vector<Vec> sector_points() const {
-        std::vector<Vec> sorted = law_.distinct_rays, out;
-        // Angular order from the positive x axis, as the prover sorts.
+    // The distinct rays (c = 2) in angular order from the positive gamma1 axis, as the prover
+    // sorts them.
+    std::vector<Vec> rays_by_angle() const {
+        std::vector<Vec> sorted = law_.distinct_rays;
         auto half = [](const Vec& v) { return (sgn(v[1]) > 0 || (sgn(v[1]) == 0 && sgn(v[0]) > 0)) ? 0 : 1; };
         std::sort(sorted.begin(), sorted.end(), [&](const Vec& a, const Vec& b) {
             return half(a) != half(b) ? half(a) < half(b) : sign_det2(a, b) > 0;
         });
-        for (std::size_t k = 0; k < sorted.size(); ++k)
-            out.push_back(sector_point(sorted[k], sorted[(k + 1) % sorted.size()], sorted.size()));
-        return out;
+        return sorted;
+    }
+
+    // For c = 2: how many open cones contain each open sector (sector k runs counter-clockwise
+    // from sorted[k] to sorted[k + 1]). A cone's rays are two of the sorted rays, so the cone
+    // contains exactly the sectors of the arc (less than pi) between them: one pass over the
+    // pieces with a circular difference array, instead of testing every piece at every sector
+    // point (P^2 work for P sectors).
+    std::vector<std::size_t> planar_cover(const std::vector<Vec>& sorted) const {
+        const std::size_t m = sorted.size();
+        std::map<Vec, std::size_t> position;
+        for (std::size_t k = 0; k < m; ++k)
+            position[sorted[k]] = k;
+        std::vector<long> delta(m + 1, 0);
+        for (std::size_t p = 0; p < P(); ++p) {
+            const Vec &r0 = pc(p).rays[0], &r1 = pc(p).rays[1];
+            // Counter-clockwise from `from` to `to` spans less than pi (the rays are independent).
+            const bool ccw = sign_det2(r0, r1) > 0;
+            const std::size_t from = position.at(ccw ? r0 : r1), to = position.at(ccw ? r1 : r0);
+            ++delta[from];
+            --delta[to];
+            if (from > to) { // wraps past sorted[0]
+                ++delta[0];
+                --delta[m];
+            }
+        }
+        std::vector<std::size_t> cover;
+        long running = 0;
+        for (std::size_t k = 0; k < m; ++k)
+            cover.push_back(static_cast<std::size_t>(running += delta[k]));
+        return cover;
     }
 
     bool fan_planar(const Json& data, const std::string& dp) {
         require(law_.c == 2, at(dp, "rays_by_angle"), "the angular method needs c = 2");
-        std::vector<Vec> sorted;
+        std::vector<Vec> listed;
         const Json& rl = list(data, dp, "rays_by_angle");
         for (std::size_t k = 0; k < rl.size(); ++k)
-            sorted.push_back(vec(rl[k], at(at(dp, "rays_by_angle"), k)));
-        std::vector<Vec> a = sorted, b = law_.distinct_rays;
+            listed.push_back(vec(rl[k], at(at(dp, "rays_by_angle"), k)));
+        const std::vector<Vec> sorted = rays_by_angle();
+        std::vector<Vec> a = listed, b = sorted;
         std::sort(a.begin(), a.end());
         std::sort(b.begin(), b.end());
         require(a == b, at(dp, "rays_by_angle"), "is not the set of distinct rays");
+        require(listed == sorted, at(dp, "rays_by_angle"), "not in angular order from the positive gamma1 axis");
         const std::size_t m = sorted.size();
-        for (std::size_t k = 1; k < m; ++k)
-            require(ccw_before(sorted[0], sorted[k - 1], sorted[k]), at(at(dp, "rays_by_angle"), k), "not in angular order");
         const Json& points = list(data, dp, "sector_points");
         require(points.size() == m, at(dp, "sector_points"), "is not one point per sector");
-        bool ok = true;
         fan_points_.clear();
         for (std::size_t k = 0; k < points.size(); ++k) {
             const Vec d = vec(points[k], at(at(dp, "sector_points"), k));
@@ -1374,17 +1670,16 @@ class Checker {
             require(d == sector_point(lo, hi, m), at(at(dp, "sector_points"), k), "is not the sector's test direction");
             const bool on_lo = sign_det2(lo, d) == 0 && sgn(dot(lo, d)) > 0;
             require(!on_lo && ccw_before(lo, d, hi), at(at(dp, "sector_points"), k), "not strictly inside its sector");
-            ok = ok && law_.interiors(d).size() == 1;
             fan_points_.push_back(d);
         }
-        return ok;
+        // Each point is strictly inside its sector, so the cones containing it are those
+        // containing the sector.
+        fan_cover_ = planar_cover(sorted);
+        return std::all_of(fan_cover_.begin(), fan_cover_.end(), [](std::size_t n) { return n == 1; });
     }
 
     // Facets keyed by their ray ids (first appearance in the law), owners in piece order.
-    std::size_t ray_id(const Vec& r) const {
-        return static_cast<std::size_t>(std::find(law_.distinct_rays.begin(), law_.distinct_rays.end(), r) -
-                                        law_.distinct_rays.begin());
-    }
+    std::size_t ray_id(const Vec& r) const { return law_.ray_index.at(r); }
     std::map<std::vector<std::size_t>, std::vector<std::pair<std::size_t, int>>> all_facets() const {
         std::map<std::vector<std::size_t>, std::vector<std::pair<std::size_t, int>>> facets;
         for (std::size_t p = 0; p < P(); ++p)
@@ -1450,6 +1745,7 @@ class Checker {
         std::size_t k = 0;
         for (const auto& [ids, owners] : facets) {
             const std::string ep = at(at(dp, "facets"), k);
+            expect_keys(l[k], ep, {"rays", "pieces"});
             require(listed_rays(field(l[k], ep, "rays"), at(ep, "rays")) == facet_rays(ids), at(ep, "rays"),
                     "is not the next facet");
             std::vector<std::string> names;
@@ -1467,7 +1763,8 @@ class Checker {
         const Vec p = vec(field(data, dp, "generic_point"), at(dp, "generic_point"));
         require(p == generic_point(), at(dp, "generic_point"), "is not the first generic point of the moment curve");
         fan_points_ = {p};
-        return law_.interiors(p).size() == 1;
+        fan_cover_ = {law_.interiors(p).size()};
+        return fan_cover_[0] == 1;
     }
 
     // The fast path: every facet shared by exactly two cones on opposite sides, and the first
@@ -1515,9 +1812,8 @@ class Checker {
     bool face_to_face() {
         if (!face_to_face_) {
             if (law_.c == 2) {
-                const auto points = sector_points();
-                face_to_face_ = std::all_of(points.begin(), points.end(),
-                                            [&](const Vec& d) { return law_.interiors(d).size() == 1; });
+                const auto cover = planar_cover(rays_by_angle());
+                face_to_face_ = std::all_of(cover.begin(), cover.end(), [](std::size_t n) { return n == 1; });
             } else {
                 face_to_face_ = facet_criterion();
             }
@@ -1550,6 +1846,7 @@ class Checker {
         std::set<std::vector<int>> chambers;
         bool ok = true;
         fan_points_.clear();
+        fan_cover_.clear();
         for (std::size_t k = 0; k < pl.size(); ++k) {
             const std::string ep = at(at(dp, "chamber_points"), k);
             const Vec x = vec(pl[k], ep);
@@ -1560,15 +1857,18 @@ class Checker {
                 require(signs.back() != 0, ep, "lies on a facet hyperplane");
             }
             require(chambers.insert(signs).second, ep, "lies in the chamber of an earlier point");
-            ok = ok && law_.interiors(x).size() == 1;
+            fan_cover_.push_back(law_.interiors(x).size());
+            ok = ok && fan_cover_.back() == 1;
             fan_points_.push_back(x);
         }
         const std::size_t count = count_chambers(planes, law_.c, pl.size());
         require(count == pl.size(), at(dp, "chamber_points"),
                 "misses a chamber: the arrangement has more chambers than points are listed");
-        // Bounded by the listed points: each step of the enumeration emits at least one point.
+        // Bounded by the listed points: each step of the enumeration emits at least one point;
+        // and by the prover's --max-chambers, counted as the prover counts its steps.
         std::size_t budget = 4 * (pl.size() + 1) * (planes.size() + 1);
-        require(canonical_chamber_points(planes, law_.c, budget) == fan_points_, at(dp, "chamber_points"),
+        ChamberSteps steps{0, limits_.max_chambers, at(dp, "chamber_points")};
+        require(canonical_chamber_points(planes, law_.c, budget, steps) == fan_points_, at(dp, "chamber_points"),
                 "are not the canonical chamber points (the prover's deletion and restriction)");
         return ok;
     }
@@ -1591,7 +1891,10 @@ class Checker {
         if (holds("fan") != Truth::refuted)
             return *domain_;
         const std::size_t c = law_.c;
-        for (const Vec& x : fan_points_) {
+        for (std::size_t k = 0; k < fan_points_.size(); ++k) {
+            if (fan_cover_[k] == 1)
+                continue;
+            const Vec& x = fan_points_[k];
             const auto cov = law_.interiors(x);
             if (cov.empty()) {
                 domain_ = Json{{"via", "fan"}, {"gamma", jvec(x)}, {"interior_of", Json::array()},
@@ -1680,29 +1983,83 @@ class Checker {
         return out;
     }
 
+    // C(2c, c-1): the constraint subsets intersection_rays tries for one pair, saturating at
+    // the largest size_t (the prover's intersection_subsets, src/fan.cpp, without overflow).
+    std::size_t subsets_per_pair() const {
+        const std::size_t n = 2 * law_.c, k = law_.c - 1;
+        mpz_class out;
+        mpz_bin_uiui(out.get_mpz_t(), n, k);
+        return out.fits_ulong_p() ? static_cast<std::size_t>(out.get_ui()) : SIZE_MAX;
+    }
+
+    // Pieces numbered by their matrix (equal Q, equal class), and for each piece the next one
+    // after it in another class: enough to walk the pairs i < j with Q_i != Q_j in order
+    // without listing them all (P^2 / 2 of them) or comparing matrices pair by pair.
+    void number_matrices() {
+        if (!q_class_.empty())
+            return;
+        std::map<Mat, std::size_t> classes;
+        std::map<std::size_t, std::size_t> sizes;
+        for (std::size_t p = 0; p < P(); ++p) {
+            q_class_.push_back(classes.emplace(pc(p).Q_, classes.size()).first->second);
+            ++sizes[q_class_.back()];
+        }
+        next_other_.assign(P(), P());
+        for (std::size_t p = P() - 1; p-- > 0;)
+            next_other_[p] = q_class_[p + 1] != q_class_[p] ? p + 1 : next_other_[p + 1];
+        distinct_pairs_ = P() * (P() - 1) / 2;
+        for (const auto& [cls, size] : sizes)
+            distinct_pairs_ -= size * (size - 1) / 2;
+    }
+    // The pair after (i, j) (start with (0, 0)) among i < j with Q_i != Q_j; false at the end.
+    bool next_distinct_pair(std::size_t& i, std::size_t& j) const {
+        for (++j;; j = i + 1) {
+            if (j <= i)
+                j = i + 1;
+            while (j < P() && q_class_[j] == q_class_[i])
+                j = next_other_[j]; // the next piece in another class than j's, which is i's
+            if (j < P())
+                return true;
+            if (++i >= P())
+                return false;
+        }
+    }
+
     // P1 when the cones do not meet face to face: every pair with different matrices, the
     // extreme rays of the intersection of their cones, both matrices agreeing on each.
     bool p1_intersections(const Json& data, const std::string& dp) {
         // With a tiling (walls) only pairs across a common facet hyperplane, else every pair.
-        std::vector<std::pair<std::size_t, std::size_t>> pairs;
-        if (law_.c != 2 && walls_tile())
-            pairs = across_walls();
-        else
-            for (std::size_t i = 0; i < P(); ++i)
-                for (std::size_t j = i + 1; j < P(); ++j)
-                    if (pc(i).Q_ != pc(j).Q_)
-                        pairs.emplace_back(i, j);
+        const bool walls = law_.c != 2 && walls_tile();
+        std::vector<std::pair<std::size_t, std::size_t>> wall_pairs;
+        std::size_t count = 0;
+        if (walls) {
+            wall_pairs = across_walls();
+            count = wall_pairs.size();
+        } else {
+            number_matrices();
+            count = distinct_pairs_;
+        }
+        // The prover's --max-subsets (src/obligations.cpp), before any intersection is computed.
+        const std::size_t per_pair = subsets_per_pair();
+        if (count > 0 && per_pair > limits_.max_subsets / count)
+            undecided("--max-subsets", at(dp, "intersections"),
+                      "the intersections of " + std::to_string(count) + " pairs of cones need " + std::to_string(per_pair) +
+                          " constraint subsets each, more than " + std::to_string(limits_.max_subsets) + " in all");
         const Json& l = list(data, dp, "intersections");
-        require(l.size() <= pairs.size(), at(dp, "intersections"), "too many entries");
+        require(l.size() <= count, at(dp, "intersections"), "too many entries");
         bool ok = true;
+        std::size_t i = 0, j = 0;
         for (std::size_t k = 0; k < l.size(); ++k) {
-            const auto [i, j] = pairs[k];
+            if (walls)
+                std::tie(i, j) = wall_pairs[k];
+            else
+                next_distinct_pair(i, j);
             const std::string ep = at(at(dp, "intersections"), k);
             expect_keys(l[k], ep, {"piece_a", "piece_b", "rays"});
             expect_piece(l[k], ep, "piece_a", i);
             expect_piece(l[k], ep, "piece_b", j);
             const std::vector<Vec> rays = intersection_rays(i, j);
-            require(listed_rays(l[k]["rays"], at(ep, "rays")) == rays, at(ep, "rays"),
+            require(listed_rays(field(l[k], ep, "rays"), at(ep, "rays")) == rays, at(ep, "rays"),
                     "are not the extreme rays of the intersection (primitive, sorted)");
             bool this_ok = true;
             for (const auto& r : rays)
@@ -1710,8 +2067,35 @@ class Checker {
             ends_at_first_failure(this_ok, k, l.size(), at(dp, "intersections"));
             ok = ok && this_ok;
         }
-        complete_unless_failed(!ok, l.size(), pairs.size(), at(dp, "intersections"));
+        complete_unless_failed(!ok, l.size(), count, at(dp, "intersections"));
         return ok;
+    }
+
+    // The rays shared by two pieces, in the prover's order (pairs i < j, then the rays of i in
+    // order), at most `limit` of them: generated from the pieces through each ray, so that the
+    // work follows the evidence listed rather than the P^2 / 2 pairs.
+    std::vector<std::tuple<std::size_t, std::size_t, Vec>> shared_rays(std::size_t limit) const {
+        std::vector<std::vector<std::size_t>> through(law_.distinct_rays.size()); // pieces in order
+        for (std::size_t p = 0; p < P(); ++p)
+            for (const auto& r : pc(p).rays)
+                through[ray_id(r)].push_back(p);
+        std::vector<std::tuple<std::size_t, std::size_t, Vec>> out;
+        for (std::size_t i = 0; i < P() && out.size() < limit; ++i) {
+            std::vector<std::pair<std::size_t, std::size_t>> mine; // (j, index of the ray in i)
+            for (std::size_t a = 0; a < law_.c; ++a) {
+                // The first `limit` pieces after i through this ray (sorted) are all that can be
+                // among the first `limit` pairs of piece i.
+                const auto& ps = through[ray_id(pc(i).rays[a])];
+                auto it = std::upper_bound(ps.begin(), ps.end(), i);
+                for (std::size_t taken = 0; it != ps.end() && taken < limit; ++it, ++taken)
+                    mine.emplace_back(*it, a);
+            }
+            std::sort(mine.begin(), mine.end());
+            for (const auto& [j, a] : mine)
+                if (out.size() < limit)
+                    out.emplace_back(i, j, pc(i).rays[a]);
+        }
+        return out;
     }
 
     // ---- counterexamples, re-validated from scratch
@@ -1722,7 +2106,7 @@ class Checker {
     void check_witness(const std::string& id, const Json& w, const std::string& wp, bool local) {
         if (!w.is_object())
             malformed(wp, "expected an object");
-        const std::string via = w.contains("via") ? str(w["via"], at(wp, "via")) : "";
+        const std::string via = w.contains("via") ? str(field(w, wp, "via"), at(wp, "via")) : "";
         if (!via.empty()) {
             const bool allowed = (via == "fan" && (id == "kinematic" || id == "nonexpansive" || id == "nonexpansive-lemma")) ||
                                  (via == "P1" && id == "nonexpansive-lemma");
@@ -1730,10 +2114,11 @@ class Checker {
         }
         if (via == "fan") {
             expect_keys(w, wp, {"via", "gamma", "interior_of", "reason"});
+            str(field(w, wp, "reason"), at(wp, "reason"));
             require(holds("fan") != Truth::undecided, at(wp, "via"), "the fan is undecided");
             const auto canonical = domain_witness();
             require(canonical.has_value(), at(wp, "via"), "S is a function on R^c: nothing to borrow");
-            const Vec g = vec(w["gamma"], at(wp, "gamma"));
+            const Vec g = vec(field(w, wp, "gamma"), at(wp, "gamma"));
             require(g.size() == law_.c, at(wp, "gamma"), "wrong size");
             // By itself: gamma in no closed cone, or interior to two cones whose images differ.
             const auto inside = law_.interiors(g);
@@ -1754,7 +2139,8 @@ class Checker {
         }
         if (id == "fan") {
             expect_keys(w, wp, {"gamma", "interior_of", "reason"});
-            const Vec g = vec(w["gamma"], at(wp, "gamma"));
+            str(field(w, wp, "reason"), at(wp, "reason"));
+            const Vec g = vec(field(w, wp, "gamma"), at(wp, "gamma"));
             require(g.size() == law_.c, at(wp, "gamma"), "wrong size");
             const auto inside = law_.interiors(g);
             bool gap = inside.empty();
@@ -1762,13 +2148,11 @@ class Checker {
                 gap = !law_.in_cone(p, g);
             require(gap || inside.size() >= 2, at(wp, "gamma"), "is neither in a gap nor in two interiors");
             std::size_t first = 0;
-            while (first < fan_points_.size() && law_.interiors(fan_points_[first]).size() == 1)
+            while (first < fan_cover_.size() && fan_cover_[first] == 1)
                 ++first;
             require(first < fan_points_.size() && g == fan_points_[first], at(wp, "gamma"),
                     "is not the first test point of the fan check covered k != 1 times");
-            std::vector<std::string> listed;
-            for (const auto& o : field(w, wp, "interior_of"))
-                listed.push_back(str(o, at(wp, "interior_of")));
+            const auto listed = listed_names(field(w, wp, "interior_of"), at(wp, "interior_of"));
             std::vector<std::string> names;
             for (auto p : inside)
                 names.push_back(name(p));
@@ -1790,14 +2174,15 @@ class Checker {
                 require(holds("P1") == Truth::refuted, at(wp, "via"), "P1 is not refuted");
                 Json own = w;
                 own.erase("via");
-                require(own == obl_[1]["counterexample"], wp, "is not P1's counterexample");
+                require(own == field(obl_[1], "$.obligations[1]", "counterexample"), wp, "is not P1's counterexample");
                 return;
             }
-            // Canonical: the failing entry that ends P1's evidence.
-            const Json& data = obl_[1]["data"];
-            if (data.contains("intersections")) {
+            // Canonical: the failing entry that ends P1's evidence (whose keys evidence() has
+            // checked; which list it is follows from the law, not from the keys present).
+            if (!face_to_face()) {
                 const Json& e = last_entry("P1", "intersections");
-                require(e["piece_a"] == w["piece_a"] && e["piece_b"] == w["piece_b"], wp, "is not the first pair that fails");
+                require(e.at("piece_a") == w.at("piece_a") && e.at("piece_b") == w.at("piece_b"), wp,
+                        "is not the first pair that fails");
                 Vec first;
                 for (const auto& r : intersection_rays(a, b))
                     if (first.empty() && mul(pc(a).Q_, r) != mul(pc(b).Q_, r))
@@ -1805,12 +2190,14 @@ class Checker {
                 require(v == first, at(wp, "gamma"), "is not the first extreme ray where the pieces differ");
             } else {
                 const Json& e = last_entry("P1", "shared");
-                require(e["piece_a"] == w["piece_a"] && e["piece_b"] == w["piece_b"] && e["ray"] == w["gamma"], wp,
-                        "is not the first shared ray where the pieces differ");
+                require(e.at("piece_a") == w.at("piece_a") && e.at("piece_b") == w.at("piece_b") &&
+                            e.at("ray") == w.at("gamma"),
+                        wp, "is not the first shared ray where the pieces differ");
             }
             return;
         }
         if (id == "nonexpansive" || id == "nonexpansive-lemma") {
+            expect_keys(w, wp, {"piece_a", "piece_b", "gamma_a", "gamma_b", "lhs", "rhs"});
             const std::size_t a = law_.piece(field(w, wp, "piece_a"), at(wp, "piece_a"));
             const std::size_t b = law_.piece(field(w, wp, "piece_b"), at(wp, "piece_b"));
             const Vec ga = vec(field(w, wp, "gamma_a"), at(wp, "gamma_a"));
@@ -1823,25 +2210,15 @@ class Checker {
             require(rat(field(w, wp, "lhs"), at(wp, "lhs")) == lhs, at(wp, "lhs"), "is not |S(a) - S(b)|_H^2");
             require(rat(field(w, wp, "rhs"), at(wp, "rhs")) == rhs, at(wp, "rhs"), "is not |a - b|_H^2");
             require(lhs > rhs, wp, "lhs <= rhs: not a violation");
-            expect_keys(w, wp, {"piece_a", "piece_b", "gamma_a", "gamma_b", "lhs", "rhs"});
             Vec ca, cb;
             if (id == "nonexpansive") {
                 if (holds("fan") != Truth::undecided)
                     require(!domain_witness(), wp, "S is not a function: the canonical witness is the fan's");
                 const Json& entry = last_entry("nonexpansive", "pairs");
-                require(entry["piece_a"] == w["piece_a"] && entry["piece_b"] == w["piece_b"], wp,
+                require(entry.at("piece_a") == w.at("piece_a") && entry.at("piece_b") == w.at("piece_b"), wp,
                         "is not the first pair that fails");
                 const Mat A = pair_form(a, b);
-                Vec z = kkt_minimiser(entry["certificate"], wp, 2 * law_.c);
-                for (Q eps = 1;; eps /= 2) {
-                    Vec moved = z;
-                    for (auto& x : moved)
-                        x += eps;
-                    if (sgn(form(A, moved)) < 0) {
-                        z = moved;
-                        break;
-                    }
-                }
+                const Vec z = moved_inside(A, kkt_minimiser(entry.at("certificate"), wp, 2 * law_.c), wp);
                 ca = mul(pc(a).R, Vec(z.begin(), z.begin() + static_cast<std::ptrdiff_t>(law_.c)));
                 cb = mul(pc(b).R, Vec(z.begin() + static_cast<std::ptrdiff_t>(law_.c), z.end()));
             } else {
@@ -1864,12 +2241,14 @@ class Checker {
             return;
         }
         if (id == "P2" || id == "energetic") {
+            expect_keys(w, wp, {"piece", "gamma", "lhs", "rhs"});
             const std::size_t p = law_.piece(field(w, wp, "piece"), at(wp, "piece"));
             const Vec g = vec(field(w, wp, "gamma"), at(wp, "gamma"));
             require(g.size() == law_.c, at(wp, "gamma"), "wrong size");
             Vec canonical;
             if (id == "P2") {
-                require(p + 1 == field(obl_[2]["data"], "$.obligations[2].data", "QtHQ").size(), at(wp, "piece"),
+                const Json& data = field(obl_[2], "$.obligations[2]", "data");
+                require(p + 1 == field(data, "$.obligations[2].data", "QtHQ").size(), at(wp, "piece"),
                         "is not the first piece that fails");
                 const Mat D = sub(QtHQ(p), law_.H);
                 for (std::size_t k = 0; k < law_.c && canonical.empty(); ++k)
@@ -1885,8 +2264,8 @@ class Checker {
                         }
             } else {
                 const Json& entry = last_entry("energetic", "pieces");
-                require(entry["piece"] == w["piece"], at(wp, "piece"), "is not the first piece that fails");
-                canonical = mul(pc(p).R, kkt_minimiser(entry["certificate"], wp, law_.c));
+                require(entry.at("piece") == w.at("piece"), at(wp, "piece"), "is not the first piece that fails");
+                canonical = mul(pc(p).R, kkt_minimiser(entry.at("certificate"), wp, law_.c));
             }
             require(g == canonical, at(wp, "gamma"), "is not the canonical witness");
             const Q lhs = law_.energy(mul(pc(p).Q_, g)), rhs = law_.energy(g);
@@ -1899,6 +2278,12 @@ class Checker {
             return;
         }
         if (id == "P3" || id == "kinematic" || id == "kinetic") {
+            if (id == "P3") {
+                expect_keys(w, wp, {"piece", "ray", "image", "reason"});
+                str(field(w, wp, "reason"), at(wp, "reason"));
+            } else {
+                expect_keys(w, wp, {"piece", "ray", id == "kinetic" ? "impulse" : "image"});
+            }
             const std::size_t p = law_.piece(field(w, wp, "piece"), at(wp, "piece"));
             const Vec r = vec(field(w, wp, "ray"), at(wp, "ray"));
             require(r.size() == law_.c && law_.is_ray_of(p, r), at(wp, "ray"), "is not a ray of the piece");
@@ -1924,61 +2309,65 @@ class Checker {
             return;
         }
         if (id == "identities") {
-            const Json& idx = field(w, wp, "identity");
-            require(idx.is_number_unsigned() && idx.get<std::size_t>() < law_.json["identities"].size(), at(wp, "identity"),
-                    "no such identity");
-            const Json& d = law_.json["identities"][idx.get<std::size_t>()];
-            require(field(w, wp, "lhs") == d["lhs"] && field(w, wp, "product") == d["product"], wp, "is not that identity");
+            expect_keys(w, wp, {"identity", "lhs", "product", "gamma", "lhs_image", "product_image"});
+            const std::size_t i = natural(field(w, wp, "identity"), at(wp, "identity"));
+            require(i < law_.identities.size(), at(wp, "identity"), "no such identity");
+            const Identity& d = law_.identities[i];
+            require(field(w, wp, "lhs") == d.lhs_json && field(w, wp, "product") == d.product_json, wp, "is not that identity");
             const Vec e = vec(field(w, wp, "gamma"), at(wp, "gamma"));
             require(e.size() == law_.c, at(wp, "gamma"), "wrong size");
-            Vec rhs = e;
-            for (auto it = d["product"].rbegin(); it != d["product"].rend(); ++it)
-                rhs = mul(pc(law_.piece(*it, "$.law.identities")).Q_, rhs);
-            const Vec lhs = mul(pc(law_.piece(d["lhs"], "$.law.identities")).Q_, e);
+            const Vec rhs = mul(identity_product(i), e);
+            const Vec lhs = mul(pc(d.lhs).Q_, e);
             expect_vec(w, wp, "lhs_image", lhs, "Q_lhs gamma");
             expect_vec(w, wp, "product_image", rhs, "the product applied to gamma");
             require(lhs != rhs, at(wp, "gamma"), "both sides agree on it");
             return;
         }
         if (id == "single-impacts") {
+            expect_keys(w, wp, {"piece", "contact", "restitution", "gamma", "piece_image", "impact_image"});
             const std::size_t p = law_.piece(field(w, wp, "piece"), at(wp, "piece"));
+            const std::size_t k = natural(field(w, wp, "contact"), at(wp, "contact"));
+            const Q e = rat(field(w, wp, "restitution"), at(wp, "restitution"));
             bool declared = false;
-            for (const auto& d : law_.json["single_impacts"])
-                declared = declared || (d["piece"] == w["piece"] && d["contact"] == field(w, wp, "contact") &&
-                                        rat(d["restitution"], "$.law") == rat(field(w, wp, "restitution"), at(wp, "restitution")));
+            for (const auto& d : law_.single_impacts)
+                declared = declared || (d.piece == p && d.contact == k && d.restitution == e);
             require(declared, wp, "is not a declared single impact");
-            const std::size_t k = w["contact"].get<std::size_t>();
             const Vec g = vec(field(w, wp, "gamma"), at(wp, "gamma"));
             require(g.size() == law_.c, at(wp, "gamma"), "wrong size");
-            const Vec piece_image = mul(pc(p).Q_, g), impact_image = mul(law_.impact(k - 1, rat(w["restitution"], wp)), g);
+            const Vec piece_image = mul(pc(p).Q_, g), impact_image = mul(law_.impact(k - 1, e), g);
             expect_vec(w, wp, "piece_image", piece_image, "Q gamma");
             expect_vec(w, wp, "impact_image", impact_image, "Q^(k)(e) gamma");
             require(piece_image != impact_image, at(wp, "gamma"), "the piece and the impact agree on it");
             return;
         }
         if (id == "outcomes") {
+            if (w.contains("piece"))
+                expect_keys(w, wp, {"outcome", "u_minus", "u_plus_declared", "piece", "u_plus", "pieces_at_gamma"});
+            else
+                expect_keys(w, wp, {"outcome", "u_minus", "gamma_minus", "reason"});
             const std::string oname = str(field(w, wp, "outcome"), at(wp, "outcome"));
-            const Json* decl = nullptr;
-            for (const auto& d : law_.json["outcomes"])
-                if (d["name"] == oname)
+            const OutcomeDecl* decl = nullptr;
+            for (const auto& d : law_.outcomes)
+                if (d.name == oname)
                     decl = &d;
             require(decl != nullptr, at(wp, "outcome"), "no such outcome");
-            const Vec u = vec((*decl)["u_minus"], "$.law.outcomes"), declared = vec((*decl)["u_plus"], "$.law.outcomes");
+            const Vec& u = decl->u_minus;
             const Vec g = mul(tr(law_.W), u);
             expect_vec(w, wp, "u_minus", u, "the outcome's u-");
             if (!w.contains("piece")) {
+                str(field(w, wp, "reason"), at(wp, "reason"));
                 expect_vec(w, wp, "gamma_minus", g, "W^T u-");
                 for (std::size_t p = 0; p < P(); ++p)
                     require(!law_.in_cone(p, g), wp, "gamma- lies in a cone");
                 return;
             }
-            expect_vec(w, wp, "u_plus_declared", declared, "the declared u+");
-            const std::size_t p = law_.piece(w["piece"], at(wp, "piece"));
+            expect_vec(w, wp, "u_plus_declared", decl->u_plus, "the declared u+");
+            const std::size_t p = law_.piece(field(w, wp, "piece"), at(wp, "piece"));
             require(law_.in_cone(p, g), at(wp, "piece"), "gamma- is not in this piece's cone");
             const Vec up = law_.u_plus(u, g, mul(pc(p).Q_, g));
             expect_vec(w, wp, "u_plus", up, "the piece's post-impact velocities");
-            require(up != declared, at(wp, "piece"), "gives the declared u+");
-            require(!check_outcome_pieces(field(w, wp, "pieces_at_gamma"), at(wp, "pieces_at_gamma"), u, g, declared),
+            require(up != decl->u_plus, at(wp, "piece"), "gives the declared u+");
+            require(!check_outcome_pieces(field(w, wp, "pieces_at_gamma"), at(wp, "pieces_at_gamma"), u, g, decl->u_plus),
                     at(wp, "pieces_at_gamma"), "all give the declared u+");
             return;
         }
@@ -1986,10 +2375,11 @@ class Checker {
     }
 };
 
-int check(const Json& cert) {
-    if (!cert.is_object() || !cert.contains("format") || cert["format"] != "impactcert-certificate/1")
+int check(const Json& cert, const Limits& limits) {
+    if (!cert.is_object() || !cert.contains("format") || cert.at("format") != "impactcert-certificate/1")
         malformed("$.format", "not an impactcert-certificate/1 document");
     expect_keys(cert, "$", {"format", "tool", "law_sha256", "law", "verdict", "system", "obligations"});
+    str(field(cert, "$", "tool"), "$.tool");
     const Json& law_json = field(cert, "$", "law");
     const std::string hash = str(field(cert, "$", "law_sha256"), "$.law_sha256");
     require(sha256_hex(law_json.dump()) == hash, "$.law_sha256", "does not match the SHA-256 of the law's canonical text");
@@ -2003,7 +2393,7 @@ int check(const Json& cert) {
     const Json& obligations = field(cert, "$", "obligations");
     if (!obligations.is_array() || obligations.size() != kIds.size())
         malformed("$.obligations", "expected the 12 obligations");
-    Checker checker(law, obligations);
+    Checker checker(law, obligations, limits);
     bool any_claimed_refuted = false, any_claimed_undecided = false;
     for (std::size_t k = 0; k < kIds.size(); ++k) {
         const std::string path = at("$.obligations", k);
@@ -2011,6 +2401,9 @@ int check(const Json& cert) {
         expect_keys(o, path, {"id", "statement", "method", "claimed", "verdict", "checks", "data"},
                     {"counterexample", "limit"});
         require(str(field(o, path, "id"), at(path, "id")) == kIds[k], at(path, "id"), "expected \"" + kIds[k] + "\"");
+        str(field(o, path, "statement"), at(path, "statement")); // informational, but text
+        str(field(o, path, "method"), at(path, "method"));
+        natural(field(o, path, "checks"), at(path, "checks"));
         const bool applies = ::applies(law_json, kIds[k]);
         const bool claimed = law.claims_given ? law.claimed_ids.count(kIds[k]) > 0 : applies;
         const Json& claimed_json = field(o, path, "claimed");
@@ -2020,6 +2413,11 @@ int check(const Json& cert) {
         const std::string verdict = str(field(o, path, "verdict"), at(path, "verdict"));
         if (!applies) {
             require(verdict == "skipped", at(path, "verdict"), "nothing is declared: must be \"skipped\"");
+            // Nothing was decided, so nothing may ride along.
+            const Json& data = field(o, path, "data");
+            require(data.is_object() && data.empty(), at(path, "data"), "a skipped obligation carries no evidence");
+            require(!o.contains("counterexample"), at(path, "counterexample"), "a skipped obligation has no counterexample");
+            require(!o.contains("limit"), at(path, "limit"), "only an undecided obligation names a limit");
             continue;
         }
         require(verdict != "skipped", at(path, "verdict"), "the law declares something to check");
@@ -2035,6 +2433,43 @@ int check(const Json& cert) {
     const char* follows = any_claimed_refuted ? "refuted" : any_claimed_undecided ? "undecided" : "proved";
     require(top == follows, "$.verdict", "does not follow from the claimed obligations");
     return 0;
+}
+
+// One line: control characters (C0, DEL, C1 and the Unicode line and paragraph separators)
+// and the backslash that introduces an escape are escaped, so that a name or key from the
+// input cannot break a message into several lines.
+std::string one_line(const std::string& text) {
+    static const char* hex = "0123456789abcdef";
+    auto escape = [&](std::string& out, unsigned code) {
+        out += "\\u";
+        for (int shift = 12; shift >= 0; shift -= 4)
+            out += hex[(code >> shift) & 15];
+    };
+    std::string out;
+    for (std::size_t i = 0; i < text.size(); ++i) {
+        const unsigned char ch = static_cast<unsigned char>(text[i]);
+        const unsigned char next = i + 1 < text.size() ? static_cast<unsigned char>(text[i + 1]) : 0;
+        const unsigned char third = i + 2 < text.size() ? static_cast<unsigned char>(text[i + 2]) : 0;
+        if (ch == '\\')
+            out += "\\\\";
+        else if (ch == '\n')
+            out += "\\n";
+        else if (ch == '\r')
+            out += "\\r";
+        else if (ch == '\t')
+            out += "\\t";
+        else if (ch < 0x20 || ch == 0x7f)
+            escape(out, ch);
+        else if (ch == 0xc2 && next >= 0x80 && next <= 0x9f) { // U+0080..U+009F
+            escape(out, next);
+            ++i;
+        } else if (ch == 0xe2 && next == 0x80 && (third == 0xa8 || third == 0xa9)) { // U+2028, U+2029
+            escape(out, 0x2000u + third - 0x80u);
+            i += 2;
+        } else
+            out += static_cast<char>(ch);
+    }
+    return out;
 }
 
 } // namespace
@@ -2065,49 +2500,128 @@ std::size_t nesting_depth(const std::string& text) {
     return deepest;
 }
 
-Outcome check_text(const std::string& text) {
+// Status 3, beyond kMalformed: a limit (the prover's, or --max-product-bits) would be exceeded.
+// The certificate may be right; raising the limit decides it.
+inline constexpr int kUndecided = 3;
+
+Outcome check_text(const std::string& text, const Limits& limits) {
     constexpr std::size_t kMaxDepth = 64; // a certificate is at most 6 deep
-    if (nesting_depth(text) > kMaxDepth)
-        return {kMalformed, "malformed: nested more than " + std::to_string(kMaxDepth) + " levels deep"};
-    Json cert;
     try {
-        cert = Json::parse(text);
-    } catch (const Json::exception& e) {
-        return {kMalformed, std::string("malformed JSON: ") + e.what()};
-    }
-    try {
-        check(cert);
-        return {kVerified, "verified (" + cert["law"]["name"].get<std::string>() + ": " +
-                               cert["verdict"].get<std::string>() + ")"};
-    } catch (const Rejected& r) {
-        return {kRejected, "rejected: " + r.path + ": " + r.why};
-    } catch (const Malformed& m) {
-        return {kMalformed, "malformed: " + m.path + ": " + m.why};
-    } catch (const Json::exception& e) {
-        return {kMalformed, std::string("malformed: ") + e.what()};
+        if (nesting_depth(text) > kMaxDepth)
+            return {kMalformed, "malformed: nested more than " + std::to_string(kMaxDepth) + " levels deep"};
+        Json cert;
+        try {
+            cert = Json::parse(text);
+        } catch (const Json::exception& e) {
+            return {kMalformed, one_line(std::string("malformed JSON: ") + e.what())};
+        }
+        try {
+            check(cert, limits);
+            return {kVerified, one_line("verified (" + cert.at("law").at("name").get<std::string>() + ": " +
+                                        cert.at("verdict").get<std::string>() + ")")};
+        } catch (const Rejected& r) {
+            return {kRejected, one_line("rejected: " + r.path + ": " + r.why)};
+        } catch (const Malformed& m) {
+            return {kMalformed, one_line("malformed: " + m.path + ": " + m.why)};
+        } catch (const Undecided& u) {
+            return {kUndecided, one_line("undecided: " + u.option.substr(2) + " exceeded: " + u.path + ": " + u.why +
+                                         " (raise it with " + u.option + ")")};
+        } catch (const Json::exception& e) {
+            return {kMalformed, one_line(std::string("malformed: ") + e.what())};
+        }
+    } catch (const std::bad_alloc&) {
+        return {kMalformed, "error: out of memory while checking (status 2: not checked)"};
+    } catch (const std::exception& e) {
+        return {kMalformed, one_line(std::string("error: internal: ") + e.what() + " (status 2: not checked)")};
     }
 }
+
+Outcome check_text(const std::string& text) { return check_text(text, Limits{}); }
 
 } // namespace impactcert_check
 
 #ifndef IMPACTCERT_CHECK_NO_MAIN
+namespace {
+
+const char* const kUsage =
+    "usage: impactcert-check [--max-faces N] [--max-chambers N] [--max-subsets N] [--max-product-bits N]\n"
+    "                        CERTIFICATE.json\n"
+    "exit 0 verified, 1 rejected, 2 malformed (or not checked: usage, unreadable, out of memory),\n"
+    "3 undecided (a limit would be exceeded; the message names the option that raises it)\n"
+    "limits (defaults as the prover's): --max-faces 16384 (KKT faces of one copositivity check),\n"
+    "--max-chambers 200000 (steps of the chamber enumeration), --max-subsets 5000000 (constraint\n"
+    "subsets for intersections of cones); the checker's own: --max-product-bits 4194304 (bits of\n"
+    "an entry of a declared identity's product)\n";
+
+int usage_error(const std::string& why) {
+    std::cerr << "impactcert-check: " << one_line(why) << " (see --help)\n";
+    return impactcert_check::kMalformed;
+}
+
+} // namespace
+
 int main(int argc, char** argv) {
-    if (argc != 2 || std::string(argv[1]) == "--help") {
-        std::cerr << "usage: impactcert-check CERTIFICATE.json\n"
-                     "exit 0 verified, 1 rejected, 2 malformed\n";
-        return argc == 2 ? 0 : 2;
+    Limits limits;
+    std::string file;
+    bool have_file = false, options_done = false;
+    for (int i = 1; i < argc; ++i) {
+        const std::string arg = argv[i];
+        if (!options_done && (arg == "--help" || arg == "-h")) {
+            // Usage is not a verification: never status 0.
+            std::cout << kUsage;
+            return impactcert_check::kMalformed;
+        }
+        if (!options_done && arg == "--") {
+            options_done = true;
+            continue;
+        }
+        if (!options_done && arg.size() > 1 && arg[0] == '-') {
+            std::string name = arg, value;
+            if (const auto eq = arg.find('='); eq != std::string::npos) {
+                name = arg.substr(0, eq);
+                value = arg.substr(eq + 1);
+            } else if (i + 1 < argc) {
+                value = argv[++i];
+            } else {
+                return usage_error("option " + arg + " needs a value");
+            }
+            std::size_t* target = name == "--max-faces"          ? &limits.max_faces
+                                  : name == "--max-chambers"     ? &limits.max_chambers
+                                  : name == "--max-subsets"      ? &limits.max_subsets
+                                  : name == "--max-product-bits" ? &limits.max_product_bits
+                                                                 : nullptr;
+            if (target == nullptr)
+                return usage_error("unknown option " + name);
+            const bool digits = !value.empty() && value.size() <= 19 &&
+                                std::all_of(value.begin(), value.end(), [](char ch) { return ch >= '0' && ch <= '9'; });
+            if (!digits)
+                return usage_error(name + " needs a non-negative integer, got \"" + value + "\"");
+            *target = static_cast<std::size_t>(std::stoull(value));
+            continue;
+        }
+        if (have_file)
+            return usage_error("more than one certificate given");
+        file = arg;
+        have_file = true;
     }
-    const std::string file = argv[1];
-    std::ifstream in(file, std::ios::binary);
-    if (!in) {
-        std::cerr << "impactcert-check: " << file << ": cannot read file\n";
+    if (!have_file)
+        return usage_error("no certificate given");
+    try {
+        std::ifstream in(file, std::ios::binary);
+        if (!in) {
+            std::cerr << "impactcert-check: " << one_line(file) << ": cannot read file\n";
+            return impactcert_check::kMalformed;
+        }
+        std::ostringstream text;
+        text << in.rdbuf();
+        const auto outcome = impactcert_check::check_text(text.str(), limits);
+        (outcome.status == impactcert_check::kVerified ? std::cout : std::cerr)
+            << "impactcert-check: " << one_line(file) << ": " << outcome.message << "\n";
+        return outcome.status;
+    } catch (const std::exception& e) {
+        std::cerr << "impactcert-check: " << one_line(file) << ": error: "
+                  << one_line(e.what()) << "\n";
         return impactcert_check::kMalformed;
     }
-    std::ostringstream text;
-    text << in.rdbuf();
-    const auto outcome = impactcert_check::check_text(text.str());
-    (outcome.status == impactcert_check::kVerified ? std::cout : std::cerr)
-        << "impactcert-check: " << file << ": " << outcome.message << "\n";
-    return outcome.status;
 }
 #endif
