@@ -216,7 +216,7 @@ TEST_CASE("certificates: every fixture gives its registered exit status and reas
         const auto outcome = impactcert_check::check_text(read_file(source_path("tests/certificates/" + name)));
         const int expected = name.rfind("valid/", 0) == 0   ? impactcert_check::kVerified
                              : name.rfind("fail/", 0) == 0  ? impactcert_check::kRejected
-                             : name.rfind("limit/", 0) == 0 ? 3 // undecided (impactcert-check's exit 3)
+                             : name.rfind("limit/", 0) == 0 ? impactcert_check::kUndecided
                                                             : impactcert_check::kMalformed;
         INFO(outcome.message);
         CHECK(outcome.status == expected);

@@ -2500,9 +2500,8 @@ std::size_t nesting_depth(const std::string& text) {
     return deepest;
 }
 
-// Status 3, beyond kMalformed: a limit (the prover's, or --max-product-bits) would be exceeded.
-// The certificate may be right; raising the limit decides it.
-inline constexpr int kUndecided = 3;
+// Status kUndecided (3, impactcert_check.hpp): a limit (the prover's, or --max-product-bits)
+// would be exceeded. The certificate may be right; raising the limit decides it.
 
 Outcome check_text(const std::string& text, const Limits& limits) {
     constexpr std::size_t kMaxDepth = 64; // a certificate is at most 6 deep
