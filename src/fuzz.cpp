@@ -599,6 +599,15 @@ struct Worker {
         }
     }
 
+    // Copies a few doubles: a plain loop, which GCC would otherwise turn into a call to memmove
+    // (several times slower for 2 to 4 doubles; it showed as 6% of a fuzz run).
+    static void copy_small(const double* from, double* to, std::size_t n) {
+        for (std::size_t j = 0; j < n; ++j) {
+            to[j] = from[j];
+            asm volatile("" ::: "memory"); // not a memmove pattern
+        }
+    }
+
     void run_chunk(std::uint64_t begin, std::uint64_t end) {
         const std::size_t count = static_cast<std::size_t>(end - begin);
         samples.resize(count);
@@ -606,12 +615,10 @@ struct Worker {
         std::size_t points = 0;
         for (std::size_t i = 0; i < count; ++i) {
             gen.make(opt.seed, begin + i, samples[i]);
-            for (std::size_t j = 0; j < m; ++j)
-                in[points * m + j] = samples[i].a[j];
+            copy_small(samples[i].a, &in[points * m], m);
             ++points;
             if (samples[i].pair) {
-                for (std::size_t j = 0; j < m; ++j)
-                    in[points * m + j] = samples[i].b[j];
+                copy_small(samples[i].b, &in[points * m], m);
                 ++points;
             }
         }

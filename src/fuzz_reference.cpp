@@ -103,6 +103,60 @@ LawReference::Row LawReference::compact(const eft::IntRow& r, std::vector<eft::I
     return row;
 }
 
+void LawReference::build_planes(const Model& model) {
+    std::vector<std::uint64_t> not_neg, not_pos;
+    std::vector<eft::IntRow> planes;
+    for (std::size_t p = 0; p < facets_.size(); ++p) {
+        std::uint64_t nn = 0, np = 0;
+        for (std::size_t i = 0; i < facets_[p].rows(); ++i) {
+            eft::IntRow r;
+            if (!to_int_row(facets_[p].row(i), false, r))
+                return;
+            std::size_t lead = 0;
+            while (lead < r.m && r.a[lead] == 0)
+                ++lead;
+            const bool flip = lead < r.m && r.a[lead] < 0;
+            if (flip)
+                for (std::size_t j = 0; j < r.m; ++j)
+                    r.a[j] = -r.a[j];
+            r.prepare();
+            std::size_t d = 0;
+            while (d < planes.size() && !std::equal(r.a, r.a + r.m, planes[d].a))
+                ++d;
+            if (d == planes.size()) {
+                if (planes.size() == 64)
+                    return; // too many: the per-piece scan is used
+                planes.push_back(r);
+            }
+            (flip ? np : nn) |= std::uint64_t{1} << d;
+        }
+        not_neg.push_back(nn);
+        not_pos.push_back(np);
+    }
+    (void)model;
+    planes_ = std::move(planes);
+    not_neg_ = std::move(not_neg);
+    not_pos_ = std::move(not_pos);
+    for (std::size_t d = 0; d < planes_.size(); ++d) {
+        const eft::IntRow& r = planes_[d];
+        Row row{r.terms, static_cast<std::uint32_t>(r.i0), static_cast<std::uint32_t>(r.i1),
+                r.terms >= 1 ? r.a[r.i0] : 0.0, r.terms >= 2 ? r.a[r.i1] : 0.0, static_cast<std::uint32_t>(d)};
+        plane_rows_.push_back(row);
+    }
+    const std::size_t k = planes_.size();
+    if (continuous_ && k <= 7) {
+        first_piece_.assign(std::size_t{1} << (2 * k), -1);
+        for (std::size_t index = 0; index < first_piece_.size(); ++index) {
+            const std::uint64_t neg = index & ((std::uint64_t{1} << k) - 1), pos = index >> k;
+            for (std::size_t p = 0; p < not_neg_.size(); ++p)
+                if (((neg & not_neg_[p]) | (pos & not_pos_[p])) == 0) {
+                    first_piece_[index] = static_cast<std::int32_t>(p);
+                    break;
+                }
+        }
+    }
+}
+
 LawReference::LawReference(const Model& model, bool velocities, bool continuous_tiling)
     : model_(model), velocities_(velocities), continuous_(continuous_tiling) {
     const std::size_t c = model.contacts(), n = model.balls();
@@ -132,23 +186,7 @@ LawReference::LawReference(const Model& model, bool velocities, bool continuous_
         maps_.push_back(std::move(A));
         kernels_.push_back(std::move(k));
     }
-    bool all_simple = true;
-    std::size_t facet_rows = 0;
-    for (const auto& k : kernels_) {
-        for (const auto& r : k.facets)
-            all_simple = all_simple && r.terms >= 0;
-        facet_rows += k.facets.size();
-    }
-    if (all_simple && facet_rows <= 64) {
-        for (const auto& k : kernels_) {
-            std::uint64_t mask = 0;
-            for (const auto& r : k.facets) {
-                mask |= std::uint64_t{1} << flat_facets_.size();
-                flat_facets_.push_back(r);
-            }
-            piece_masks_.push_back(mask);
-        }
-    }
+    build_planes(model);
     // Geometry for the generators.
     geometry_.integer_rays = true;
     for (const auto& r : model.rays()) {
@@ -218,35 +256,58 @@ bool LawReference::fast_eval(const double* x, RefPoint& out, bool want_exact) co
     out.values = 0;
     double y[kMaxDim];
     bool exact[kMaxDim];
-    std::uint64_t negative = 0;
-    for (std::size_t r = 0; r < flat_facets_.size(); ++r) {
-        const Row& row = flat_facets_[r];
-        negative |= static_cast<std::uint64_t>(simple_value(row.terms, row.a0, row.a1, x[row.i0], x[row.i1]) < 0) << r;
+    // The sign of every distinct facet plane, once.
+    std::uint64_t neg = 0, pos = 0;
+    for (std::size_t d = 0; d < plane_rows_.size(); ++d) {
+        const Row& row = plane_rows_[d];
+        double sign;
+        if (row.terms >= 0) {
+            sign = simple_value(row.terms, row.a0, row.a1, x[row.i0], x[row.i1]);
+        } else {
+            const eft::IntRow& g = planes_[d];
+            const int quick = g.unit ? g.unit_sign(x) : 2;
+            if (quick != 2)
+                sign = quick;
+            else if (ensure_scaled())
+                sign = g.sign(xs);
+            else
+                return false;
+        }
+        neg |= static_cast<std::uint64_t>(sign < 0) << d;
+        pos |= static_cast<std::uint64_t>(sign > 0) << d;
     }
-    for (std::size_t p = 0; p < kernels_.size(); ++p) {
+    std::size_t first = 0;
+    if (!first_piece_.empty()) { // a table look-up (continuous tiling, few planes)
+        const std::int32_t p = first_piece_[neg | pos << plane_rows_.size()];
+        if (p < 0)
+            return true; // in no cone
+        first = static_cast<std::size_t>(p);
+    }
+    for (std::size_t p = first; p < kernels_.size(); ++p) {
         const Kernel& kp = kernels_[p];
         bool inside = true;
-        if (!piece_masks_.empty()) {
-            if (negative & piece_masks_[p])
+        if (!not_neg_.empty()) {
+            if ((neg & not_neg_[p]) | (pos & not_pos_[p]))
                 continue;
-        } else
-        for (const Row& row : kp.facets) {
-            double sign;
-            if (row.terms >= 0) {
-                sign = simple_value(row.terms, row.a0, row.a1, x[row.i0], x[row.i1]);
-            } else {
-                const eft::IntRow& g = kp.general[row.general];
-                const int quick = g.unit ? g.unit_sign(x) : 2;
-                if (quick != 2)
-                    sign = quick;
-                else if (ensure_scaled())
-                    sign = g.sign(xs);
-                else
-                    return false;
-            }
-            if (sign < 0) {
-                inside = false;
-                break;
+        } else {
+            for (const Row& row : kp.facets) {
+                double sign;
+                if (row.terms >= 0) {
+                    sign = simple_value(row.terms, row.a0, row.a1, x[row.i0], x[row.i1]);
+                } else {
+                    const eft::IntRow& g = kp.general[row.general];
+                    const int quick = g.unit ? g.unit_sign(x) : 2;
+                    if (quick != 2)
+                        sign = quick;
+                    else if (ensure_scaled())
+                        sign = g.sign(xs);
+                    else
+                        return false;
+                }
+                if (sign < 0) {
+                    inside = false;
+                    break;
+                }
             }
         }
         if (!inside)

@@ -87,15 +87,19 @@ class LawReference {
     std::vector<Matrix> facets_; // per piece: rows are inward facet normals (input space)
     std::vector<Matrix> maps_;   // per piece: the output map (input -> output)
     std::vector<Kernel> kernels_;
-    // When every facet row is simple and there are at most 64: all of them in one flat array,
-    // evaluated branch-free into a bit mask of negative signs; piece p contains x iff
-    // (mask & piece_masks_[p]) == 0.
-    std::vector<Row> flat_facets_;
-    std::vector<std::uint64_t> piece_masks_;
+    // Cones share facet hyperplanes. When there are at most 64 distinct ones (up to sign), each
+    // sign is decided once per point into masks `neg`, `pos`; piece p contains x iff
+    // (neg & not_neg_[p]) | (pos & not_pos_[p]) == 0. With at most 7 of them and a continuous
+    // tiling, first_piece_[neg | pos << k] is the first piece containing x (-1: none).
+    std::vector<eft::IntRow> planes_;     // first non-zero entry positive
+    std::vector<Row> plane_rows_;         // compact forms (general ones index planes_)
+    std::vector<std::uint64_t> not_neg_, not_pos_;
+    std::vector<std::int32_t> first_piece_;
     Geometry geometry_;
 
     bool fast_eval(const double* x, RefPoint& out, bool want_exact) const;
     static Row compact(const eft::IntRow& r, std::vector<eft::IntRow>& general);
+    void build_planes(const Model& model);
 };
 
 } // namespace impactcert::fuzz
