@@ -303,6 +303,7 @@ double parse_double(const std::string& text, const std::string& where) {
 struct FuzzArgs {
     std::string law_path, impl_spec, impl_cmd, junit;
     bool velocities = false, json = false;
+    bool impl_given = false, impl_cmd_given = false; // given, even as an empty string
     std::optional<std::uint64_t> max_ulps;
     std::optional<double> max_rel_error;
     double timeout = 10;
@@ -311,8 +312,14 @@ struct FuzzArgs {
 
 // The implementation under test: --impl, --impl-cmd, or the built-in float law.
 std::unique_ptr<fuzz::Implementation> make_impl(const FuzzArgs& a, const Model& model, std::size_t dim) {
-    if (!a.impl_spec.empty() && !a.impl_cmd.empty())
+    if (a.impl_given && a.impl_cmd_given)
         throw InputError("--impl and --impl-cmd: give one implementation");
+    if (a.impl_given && a.impl_spec.empty())
+        throw InputError("--impl: empty (expected LIB.so:SYMBOL)");
+    if (a.impl_cmd_given && a.impl_cmd.empty())
+        throw InputError("--impl-cmd: empty command");
+    if (!(a.timeout > 0 && std::isfinite(a.timeout)))
+        throw InputError("--impl-timeout: must be a finite number of seconds > 0");
     if (!a.impl_spec.empty())
         return fuzz::load_symbol(a.impl_spec, dim, dim);
     if (!a.impl_cmd.empty())
@@ -352,7 +359,7 @@ std::vector<double> parse_doubles(const std::vector<std::string>& toks) {
 }
 
 int run_eval_float(const FuzzArgs& a, const std::vector<std::vector<std::string>>& points) {
-    if (!a.impl_spec.empty() || !a.impl_cmd.empty()) {
+    if (a.impl_given || a.impl_cmd_given) {
         // An implementation against the exact law, point by point (the fuzzer's replays).
         const Model model = load_model(a.law_path);
         const LawFacts facts = law_facts(model);
@@ -444,6 +451,10 @@ std::string fuzz_junit(const fuzz::Summary& sum, const std::string& target) {
 }
 
 int run_fuzz(FuzzArgs a) {
+    if (!(a.options.seconds >= 0 && std::isfinite(a.options.seconds)))
+        throw InputError("--seconds: must be a finite number >= 0");
+    if (!a.junit.empty() && !std::ofstream(a.junit)) // before the run, not after it
+        throw InputError("--junit " + a.junit + ": cannot write");
     const Model model = load_model(a.law_path);
     if (a.max_ulps && a.max_rel_error)
         throw InputError("--max-ulps and --max-rel-error: give one tolerance");
@@ -591,7 +602,7 @@ int run_fuzz(FuzzArgs a) {
 
 int run_eval(const std::string& law_path, bool velocities, const std::vector<std::string>& args, bool as_float,
              FuzzArgs float_args) {
-    if ((!float_args.impl_spec.empty() || !float_args.impl_cmd.empty()) && !as_float)
+    if ((float_args.impl_given || float_args.impl_cmd_given) && !as_float)
         throw InputError("--impl and --impl-cmd need --float");
     if (as_float) {
         float_args.law_path = law_path;
@@ -751,9 +762,15 @@ int main(int argc, char** argv) {
     fuzz_cmd->add_option("--impl", fuzz_args.impl_spec, "LIB.so:SYMBOL, a C function void f(const double* in, double* out)");
     fuzz_cmd->add_option("--impl-cmd", fuzz_args.impl_cmd, "a command (any language) reading lines of hex doubles on stdin and writing one line of doubles per line");
     fuzz_cmd->add_option("--impl-timeout", fuzz_args.timeout, "seconds without an answer from --impl-cmd before a point counts as hung")->check(CLI::PositiveNumber)->capture_default_str();
-    fuzz_cmd->add_option("--max-ulps", fuzz_args.max_ulps, "allowed error per component in ulps of the correctly rounded value (default: 0, or the built-in float law's stated bound with --law)");
+    fuzz_cmd->add_option_function<std::string>("--max-ulps", [&](const std::string& text) {
+        std::string why;
+        const auto k = fuzz::parse_seed(text, &why); // the same grammar: a decimal integer in [0, 2^64 - 1]
+        if (!k)
+            throw CLI::ValidationError("--max-ulps", text + ": must be a decimal integer in [0, 2^64 - 1]");
+        fuzz_args.max_ulps = *k;
+    }, "allowed error per component in ulps of the correctly rounded value (default: 0, or the built-in float law's stated bound with --law)");
     fuzz_cmd->add_option("--max-rel-error", fuzz_args.max_rel_error, "allowed normwise error |y - S(x)| <= R |x| in the law's metric (H; M for --velocities)");
-    fuzz_cmd->add_option("--keep", fuzz_options.keep, "violations kept as examples")->capture_default_str();
+    fuzz_cmd->add_option("--keep", fuzz_options.keep, "violations kept as examples")->check(CLI::Range(std::size_t{0}, std::size_t{1000000}))->capture_default_str();
     fuzz_cmd->add_flag("--json", fuzz_args.json, "print the summary as impactcert-fuzz/1 JSON");
     fuzz_cmd->add_option("--junit", fuzz_args.junit, "also write a JUnit XML report to this file");
 
@@ -785,8 +802,13 @@ int main(int argc, char** argv) {
             return run_derive_sequential(derive_args);
         if (sweep_cmd->parsed())
             return run_sweep_command(sweep_args, limits);
-        if (fuzz_cmd->parsed())
+        if (fuzz_cmd->parsed()) {
+            fuzz_args.impl_given = fuzz_cmd->count("--impl") > 0;
+            fuzz_args.impl_cmd_given = fuzz_cmd->count("--impl-cmd") > 0;
             return run_fuzz(fuzz_args);
+        }
+        eval_float_args.impl_given = eval_cmd->count("--impl") > 0;
+        eval_float_args.impl_cmd_given = eval_cmd->count("--impl-cmd") > 0;
         return run_eval(law_path, velocities, eval_args, as_float, eval_float_args);
     } catch (const InputError& e) {
         std::cerr << "impactcert: " << e.what() << "\n";

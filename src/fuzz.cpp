@@ -296,12 +296,14 @@ namespace {
 struct Metric {
     std::size_t m = 0;
     std::vector<double> h, habs; // row-major
+    Matrix exact;                // the metric itself (H, or M in ball velocities)
 
-    explicit Metric(const LawReference& ref) : m(ref.in_dim()) {
+    explicit Metric(const LawReference& ref) : m(ref.in_dim()), exact(ref.in_dim(), ref.in_dim()) {
         const Model& model = ref.model();
         for (std::size_t i = 0; i < m; ++i)
             for (std::size_t j = 0; j < m; ++j) {
                 const Rational q = ref.velocities() ? (i == j ? model.law().masses[i] : Rational(0)) : model.H()(i, j);
+                exact(i, j) = q;
                 h.push_back(nearest_double(q));
                 habs.push_back(std::fabs(h.back()));
             }
@@ -312,6 +314,23 @@ struct Metric {
             for (std::size_t j = 0; j < m; ++j)
                 s += h[i * m + j] * v[i] * v[j];
         return std::sqrt(std::fmax(s, 0.0));
+    }
+    // An enclosure of |v|_H for the exact H and v given exactly up to a relative error of
+    // 2^-50 per component: v^T H v computed in double is within
+    // (m^2 + 8) 2^-52 sum |h_ij v_i v_j| of the exact value (m^2 roundings of the sum, the
+    // products, the entries of H rounded to double, and the perturbation of v), with room.
+    // Ill-conditioned metrics make the enclosure wide; the callers then decide exactly.
+    void enclose(const double* v, double& lo, double& hi) const {
+        double s = 0, a = 0;
+        for (std::size_t i = 0; i < m; ++i)
+            for (std::size_t j = 0; j < m; ++j) {
+                const double t = h[i * m + j] * v[i] * v[j];
+                s += t;
+                a += std::fabs(t);
+            }
+        const double delta = static_cast<double>(m * m + 8) * 0x1p-52 * a;
+        lo = std::sqrt(std::fmax(s - delta, 0.0)) * (1 - 0x1p-50);
+        hi = std::sqrt(s + delta) * (1 + 0x1p-50);
     }
     double norm_abs(const double* d) const { // >= the norm of any vector with |v_i| <= d_i
         double s = 0;
@@ -394,20 +413,87 @@ struct Worker {
     }
 
     // The tolerance around the value v at x in the metric, in units of 2^-k.
+    // An upper bound of the tolerance around the value v at x in the metric, in units of 2^-k:
+    // K ulps away from v is at most (2K + 1) upward gaps of v away from the exact value (gaps
+    // at most double within K steps); a stated bound b plus the rounding of v; or, relative,
+    // sqrt(R^2 |x|^2 + A^2) with the underflow allowance A (see accurate()).
     double tolerance(const double* x, const double* v, const double* b, int k) const {
         double d[kMaxDim];
         if (opt.tolerance == Tolerance::relative) {
             for (std::size_t j = 0; j < m; ++j)
                 d[j] = eft::ldexp_fast(x[j], k);
-            return opt.max_rel_error * metric.norm(d) * (1 + kMargin);
+            double lo, hi;
+            metric.enclose(d, lo, hi);
+            const double allowance = underflow_allowance(k);
+            return std::sqrt(opt.max_rel_error * hi * opt.max_rel_error * hi + allowance * allowance) * (1 + kMargin);
         }
         for (std::size_t i = 0; i < mo; ++i) {
             const double allowed = opt.tolerance == Tolerance::ulps
-                                       ? (static_cast<double>(opt.max_ulps) + 1) * ulp_of(v[i])
+                                       ? (2 * static_cast<double>(opt.max_ulps) + 1) * ulp_of(v[i])
                                        : (b ? b[i] : 0) + ulp_of(v[i]);
             d[i] = eft::ldexp_fast(allowed, k);
         }
         return metric.norm_abs(d) * (1 + kMargin);
+    }
+
+    // A = |a|_{|H|} with a_i = m 2^-1074: what a dot product of m terms may lose to underflow in
+    // each component (no double arithmetic does better below the normal range), in units of 2^-k.
+    double underflow_allowance(int k) const {
+        double a[kMaxDim];
+        for (std::size_t i = 0; i < mo; ++i)
+            a[i] = std::ldexp(static_cast<double>(m) * 0x1p-1074, k);
+        return metric.norm_abs(a);
+    }
+
+    // --max-rel-error R: |y - S(x)|_H^2 <= R^2 |x|_H^2 + A^2, decided by an enclosure in double
+    // and, where that cannot tell, exactly (rationals).
+    bool accurate_relative(const double* x, const double* y, const double* v, std::size_t piece, double& rel) const {
+        bool finite = true;
+        for (std::size_t i = 0; i < mo; ++i)
+            finite = finite && std::isfinite(v[i]) && std::isfinite(y[i]);
+        rel = 0;
+        if (finite) {
+            const int k = scale_of({{x, m}, {y, mo}, {v, mo}});
+            double e[kMaxDim], h[kMaxDim], xs[kMaxDim];
+            for (std::size_t i = 0; i < mo; ++i) {
+                e[i] = eft::ldexp_fast(y[i], k) - eft::ldexp_fast(v[i], k); // relative error <= 2^-53
+                h[i] = std::ldexp(ulp_of(v[i]), k - 1);                       // |v - S(x)| <= h
+            }
+            for (std::size_t j = 0; j < m; ++j)
+                xs[j] = eft::ldexp_fast(x[j], k);
+            double elo, ehi, xlo, xhi;
+            metric.enclose(e, elo, ehi);
+            metric.enclose(xs, xlo, xhi);
+            const double hn = metric.norm_abs(h) * (1 + 0x1p-50), allowance = underflow_allowance(k);
+            const double err_lo = std::fmax(elo - hn, 0.0), err_hi = ehi + hn;
+            const double R = opt.max_rel_error;
+            const double rhs_lo = std::sqrt(R * xlo * R * xlo + allowance * allowance) * (1 - 0x1p-48);
+            const double rhs_hi = std::sqrt(R * xhi * R * xhi + allowance * allowance) * (1 + 0x1p-48);
+            rel = xlo > 0 ? (elo + ehi) / (xlo + xhi) : 0;
+            if (std::isfinite(err_hi) && std::isfinite(rhs_lo) && err_hi <= rhs_lo)
+                return true;
+            if (std::isfinite(err_lo) && std::isfinite(rhs_hi) && err_lo > rhs_hi)
+                return false;
+        }
+        // Exactly: e = y - S(x) (a non-finite y is never within a finite tolerance).
+        for (std::size_t i = 0; i < mo; ++i)
+            if (!std::isfinite(y[i]))
+                return false;
+        const Vector value = ref.exact_value(x, piece);
+        Vector e, xr, a;
+        for (std::size_t i = 0; i < mo; ++i) {
+            e.push_back(Rational(y[i]) - value[i]);
+            a.push_back(Rational(static_cast<double>(m) * 0x1p-1074));
+        }
+        for (std::size_t j = 0; j < m; ++j)
+            xr.push_back(Rational(x[j]));
+        Matrix habs_exact = metric.exact;
+        for (std::size_t i = 0; i < mo; ++i)
+            for (std::size_t j = 0; j < mo; ++j)
+                if (sign_of(habs_exact(i, j)) == Sign::negative)
+                    habs_exact(i, j) = -habs_exact(i, j);
+        const Rational R(opt.max_rel_error);
+        return bilinear(e, metric.exact, e) <= R * R * bilinear(xr, metric.exact, xr) + bilinear(a, habs_exact, a);
     }
 
     // The index of the value nearest y (several only where a law is several-valued).
@@ -433,7 +519,7 @@ struct Worker {
         for (std::size_t i = 0; i < mo && ok; ++i) {
             // |y - X| <= |y - v| + |v - X|, and |v - X| is 0 or at most half the larger gap at v.
             const double diff = std::fabs(y[i] - v[i]);
-            if (std::isfinite(diff) && diff * (1 + 0x1p-50) + (exact[i] ? 0 : ulp_of(v[i]) / 2) <= b[i])
+            if (std::isfinite(diff) && diff * (1 + 0x1p-50) + (exact[i] ? 0 : ulp_of(v[i])) <= b[i])
                 continue;
             if (!std::isfinite(y[i]) || !std::isfinite(b[i])) {
                 ok = !std::isfinite(b[i]) || y[i] == v[i];
@@ -471,10 +557,11 @@ struct Worker {
         std::uint64_t worst = 0;
         const std::size_t vi = nearest_value(r, y, worst);
         const double* v = r.value[vi];
-        if (st == ImplStatus::refused) {
+        if (st == ImplStatus::refused) { // legitimate where some value lies beyond the double range
             bool finite = true;
-            for (std::size_t i = 0; i < mo; ++i)
-                finite = finite && std::isfinite(v[i]);
+            for (std::size_t w = 0; w < r.values; ++w)
+                for (std::size_t i = 0; i < mo; ++i)
+                    finite = finite && std::isfinite(r.value[w][i]);
             if (finite) {
                 ++sum.refused;
                 record(index, "the built-in implementation refused an input whose exact output is finite", s, x,
@@ -483,7 +570,10 @@ struct Worker {
             return true;
         }
         for (std::size_t i = 0; i < mo; ++i) {
-            if (std::isfinite(v[i]) && !std::isfinite(y[i])) {
+            // Infinity is one ulp beyond the largest double: within --max-ulps K >= 1 of it.
+            const bool allowed_inf = std::isinf(y[i]) && opt.tolerance == Tolerance::ulps &&
+                                     ulp_distance(y[i], v[i]) <= opt.max_ulps;
+            if (std::isfinite(v[i]) && !std::isfinite(y[i]) && !allowed_inf) {
                 ++sum.non_finite;
                 ++sum.inaccurate;
                 record(index, "non-finite output where the correctly rounded value is finite", s, x, nullptr, y, v);
@@ -495,29 +585,31 @@ struct Worker {
             return true;
         // Not correctly rounded: measure the normwise error and apply the tolerance.
         const int k = scale_of({{x, m}, {y, mo}, {v, mo}});
-        double e[kMaxDim], xs[kMaxDim], ulps[kMaxDim];
-        for (std::size_t i = 0; i < mo; ++i) {
-            e[i] = eft::ldexp_fast(y[i], k) - eft::ldexp_fast(v[i], k);
-            ulps[i] = eft::ldexp_fast(ulp_of(v[i]) / 2, k);
-        }
+        double xs[kMaxDim];
         for (std::size_t j = 0; j < m; ++j)
             xs[j] = eft::ldexp_fast(x[j], k);
         const double xnorm = metric.norm(xs);
-        const double err = metric.norm(e);
-        if (xnorm > 0)
-            sum.max_rel_error = std::max(sum.max_rel_error, err / xnorm);
         bool ok = true;
+        double rel = 0;
         switch (opt.tolerance) {
         case Tolerance::ulps:
             ok = worst <= opt.max_ulps;
+            {
+                double e[kMaxDim];
+                for (std::size_t i = 0; i < mo; ++i)
+                    e[i] = eft::ldexp_fast(y[i], k) - eft::ldexp_fast(v[i], k);
+                rel = xnorm > 0 ? metric.norm(e) / xnorm : 0;
+            }
             break;
-        case Tolerance::relative: // a lower bound of the true error against an upper bound of R |x|
-            ok = err * (1 - kMargin) - metric.norm_abs(ulps) <= opt.max_rel_error * xnorm * (1 + kMargin);
+        case Tolerance::relative:
+            ok = accurate_relative(x, y, v, r.piece[vi], rel);
             break;
         case Tolerance::stated_bound:
             ok = b && within_bound(x, y, b, r.piece[vi], v, r.exact[vi]);
             break;
         }
+        if (std::isfinite(rel))
+            sum.max_rel_error = std::max(sum.max_rel_error, rel);
         if (ok)
             return true;
         ++sum.inaccurate;
@@ -564,10 +656,12 @@ struct Worker {
             }
         }
         if (props.energy) {
-            double ys[kMaxDim];
+            double ys[kMaxDim], ylo, yhi, xlo, xhi;
             for (std::size_t i = 0; i < mo; ++i)
                 ys[i] = eft::ldexp_fast(y[i], k);
-            if (metric.norm(ys) * (1 - kMargin) > xnorm * (1 + kMargin) + tolerance(x, v, b, k)) {
+            metric.enclose(ys, ylo, yhi);
+            metric.enclose(xs, xlo, xhi);
+            if (ylo * (1 - kMargin) > xhi * (1 + kMargin) + tolerance(x, v, b, k)) {
                 ++sum.energy;
                 record(index, "energy increase beyond the tolerance", s, x, nullptr, y, v);
             }
@@ -591,8 +685,11 @@ struct Worker {
             dy[i] = eft::ldexp_fast(ya[i], k) - eft::ldexp_fast(yb[i], k);
         for (std::size_t j = 0; j < m; ++j)
             dx[j] = eft::ldexp_fast(s.a[j], k) - eft::ldexp_fast(s.b[j], k);
-        const double lhs = metric.norm(dy) * (1 - kMargin);
-        const double rhs = metric.norm(dx) * (1 + kMargin) + tolerance(s.a, va, ba, k) + tolerance(s.b, vb, bb, k);
+        double ylo, yhi, xlo, xhi;
+        metric.enclose(dy, ylo, yhi);
+        metric.enclose(dx, xlo, xhi);
+        const double lhs = ylo * (1 - kMargin);
+        const double rhs = xhi * (1 + kMargin) + tolerance(s.a, va, ba, k) + tolerance(s.b, vb, bb, k);
         if (lhs > rhs) {
             ++sum.nonexpansive;
             record(index, "non-expansivity broken beyond the tolerance: |S(a) - S(b)| > |a - b|", s, s.a, s.b, ya, yb);
@@ -634,6 +731,8 @@ struct Worker {
         for (std::size_t i = 0; i < count; ++i) {
             const Sample& s = samples[i];
             const std::uint64_t index = begin + i;
+            if (status[q] == ImplStatus::skipped || (s.pair && status[q + 1] == ImplStatus::skipped))
+                break; // the run's time ran out inside this batch
             ++sum.samples;
             const double* ya = &out[q * mo];
             const double* ba = bounded ? &bound[q * mo] : nullptr;
@@ -660,13 +759,14 @@ Summary run(const Options& options, const LawReference& reference, const Impleme
     const unsigned jobs = std::max(1u, options.jobs);
     const Metric metric(reference);
     const Generator gen(reference);
+    std::atomic<bool> stop{false};
     std::vector<std::unique_ptr<Worker>> workers;
     for (unsigned j = 0; j < jobs; ++j) {
         workers.push_back(std::make_unique<Worker>(options, reference, properties, metric, gen, impl.clone()));
+        workers.back()->impl->set_stop_flag(&stop);
     }
     const std::uint64_t kChunk = impl.batch_samples();
     std::atomic<std::uint64_t> next{0}, done{0};
-    std::atomic<bool> stop{false};
     const auto start = std::chrono::steady_clock::now();
     const std::uint64_t n = options.samples;
     std::vector<std::thread> threads;

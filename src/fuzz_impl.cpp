@@ -13,9 +13,11 @@
 #include <dlfcn.h>
 #include <fcntl.h>
 #include <poll.h>
+#include <sys/prctl.h>
 #include <sys/types.h>
 #include <sys/wait.h>
 #include <unistd.h>
+#include <atomic>
 #include <vector>
 
 namespace impactcert::fuzz {
@@ -161,6 +163,44 @@ class SymbolImpl final : public Implementation {
 // ---------------------------------------------------------------------------------------------
 // A separate process
 
+// The process groups of running commands, so that SIGINT, SIGTERM or SIGHUP to the fuzzer also
+// end them (a command may fork: PR_SET_PDEATHSIG reaches only the direct child). The handler
+// only calls kill(), which is async-signal-safe, then dies of the signal as it would have.
+constexpr std::size_t kMaxGroups = 1024;
+std::atomic<pid_t> g_groups[kMaxGroups];
+
+extern "C" void kill_groups_and_die(int sig) {
+    for (auto& g : g_groups) {
+        const pid_t pgid = g.load();
+        if (pgid > 0)
+            kill(-pgid, SIGKILL);
+    }
+    std::signal(sig, SIG_DFL);
+    raise(sig);
+}
+
+void register_group(pid_t pgid) {
+    static const bool installed = [] {
+        for (int sig : {SIGINT, SIGTERM, SIGHUP})
+            std::signal(sig, kill_groups_and_die);
+        return true;
+    }();
+    (void)installed;
+    for (auto& g : g_groups) {
+        pid_t empty = 0;
+        if (g.compare_exchange_strong(empty, pgid))
+            return;
+    }
+}
+
+void unregister_group(pid_t pgid) {
+    for (auto& g : g_groups) {
+        pid_t expected = pgid;
+        if (g.compare_exchange_strong(expected, 0))
+            return;
+    }
+}
+
 class CommandImpl final : public Implementation {
   public:
     static constexpr double kStartupGrace = 2.0; // seconds
@@ -173,10 +213,25 @@ class CommandImpl final : public Implementation {
     void eval(const double* in, double* out, double*, std::size_t count, ImplStatus* status) override {
         std::size_t done = 0;
         while (done < count) {
+            if (stop_flag_ && stop_flag_->load(std::memory_order_relaxed)) { // --seconds ran out
+                for (; done < count; ++done)
+                    status[done] = ImplStatus::skipped;
+                return;
+            }
             if (pid_ < 0)
                 start();
             const std::size_t answered = batch(in + done * in_dim_, out + done * out_dim_, count - done, status + done);
+            if (failure_ == ImplStatus::malformed && answered == count - done) {
+                // More lines than inputs: every answer of this batch may belong to another input.
+                for (std::size_t i = done; i < count; ++i)
+                    status[i] = ImplStatus::malformed;
+                surplus_ = true;
+                stop();
+                return;
+            }
             done += answered;
+            if (done < count && failure_ == ImplStatus::skipped)
+                continue; // the loop head marks the rest
             if (done < count) { // the point at `done` crashed or hung the process
                 status[done] = failure_;
                 for (std::size_t j = 0; j < out_dim_; ++j)
@@ -186,6 +241,8 @@ class CommandImpl final : public Implementation {
             }
         }
     }
+    void set_stop_flag(const std::atomic<bool>* stop) override { stop_flag_ = stop; }
+    bool wrote_surplus() const { return surplus_; }
     std::unique_ptr<Implementation> clone() const override {
         return std::make_unique<CommandImpl>(cmd_, in_dim_, out_dim_, timeout_);
     }
@@ -208,17 +265,28 @@ class CommandImpl final : public Implementation {
     ImplStatus failure_ = ImplStatus::crashed;
     std::string last_exit_;
     bool fresh_ = false; // started and not answered yet: its start-up time is not a hang
+    bool surplus_ = false;
+    bool pid_reaped_ = false;
+    const std::atomic<bool>* stop_flag_ = nullptr;
+    static constexpr std::size_t kMaxLine = 1 << 16; // bytes without a newline: a malformed answer
 
     void start() {
         std::signal(SIGPIPE, SIG_IGN); // a dead child must not kill the fuzzer through a write
+        // Close-on-exec from the start: a sibling's process must not inherit these pipes (it
+        // would keep them open and turn this one's crash into a hang).
         int in_pipe[2], out_pipe[2];
-        if (pipe(in_pipe) != 0 || pipe(out_pipe) != 0)
+        if (pipe2(in_pipe, O_CLOEXEC) != 0 || pipe2(out_pipe, O_CLOEXEC) != 0)
             throw std::runtime_error(std::string("pipe: ") + std::strerror(errno));
+        const pid_t parent = getpid();
         const pid_t pid = fork();
         if (pid < 0)
             throw std::runtime_error(std::string("fork: ") + std::strerror(errno));
         if (pid == 0) {
-            setpgid(0, 0);
+            setpgid(0, 0);                     // its own group, killed as one by stop()
+            prctl(PR_SET_PDEATHSIG, SIGKILL);  // and killed if the fuzzer dies first
+            if (getppid() != parent)
+                _exit(127);
+            std::signal(SIGPIPE, SIG_DFL);     // the fuzzer ignores it; the command should not
             dup2(in_pipe[0], STDIN_FILENO);
             dup2(out_pipe[1], STDOUT_FILENO);
             close(in_pipe[0]);
@@ -235,13 +303,13 @@ class CommandImpl final : public Implementation {
         }
         close(in_pipe[0]);
         close(out_pipe[1]);
+        setpgid(pid, pid); // also here: no race with a signal before the child's own call
+        register_group(pid);
         pid_ = pid;
         to_child_ = in_pipe[1];
         from_child_ = out_pipe[0];
         fcntl(to_child_, F_SETFL, fcntl(to_child_, F_GETFL) | O_NONBLOCK);
         fcntl(from_child_, F_SETFL, fcntl(from_child_, F_GETFL) | O_NONBLOCK);
-        fcntl(to_child_, F_SETFD, FD_CLOEXEC);
-        fcntl(from_child_, F_SETFD, FD_CLOEXEC);
         rbuf_.clear();
         fresh_ = true;
     }
@@ -251,16 +319,15 @@ class CommandImpl final : public Implementation {
             return;
         close(to_child_);
         close(from_child_);
-        kill(-pid_, SIGKILL);
-        kill(pid_, SIGKILL);
-        int st = 0;
-        waitpid(pid_, &st, 0);
-        if (WIFEXITED(st))
-            last_exit_ = WEXITSTATUS(st) == 127   ? "command not found (exit status 127)"
-                         : WEXITSTATUS(st) == 126 ? "not executable (exit status 126)"
-                                                  : "exit status " + std::to_string(WEXITSTATUS(st));
-        else if (WIFSIGNALED(st))
-            last_exit_ = "signal " + std::to_string(WTERMSIG(st));
+        kill(-pid_, SIGKILL); // the whole group: a shell and what it started
+        unregister_group(pid_);
+        if (!pid_reaped_) {
+            kill(pid_, SIGKILL);
+            int st = 0;
+            waitpid(pid_, &st, 0);
+            record_exit(st);
+        }
+        pid_reaped_ = false;
         pid_ = -1;
         to_child_ = from_child_ = -1;
     }
@@ -282,27 +349,48 @@ class CommandImpl final : public Implementation {
     }
 
     // Sends `count` points and reads answers until all are in or the process fails; returns the
-    // number answered (failure_ says why when fewer).
+    // number answered (failure_ says why when fewer: crashed, hung, or skipped when the stop flag
+    // was raised; malformed with all answered when the process wrote more lines than inputs).
     std::size_t batch(const double* in, double* out, std::size_t count, ImplStatus* status) {
         wbuf_.clear();
         char tmp[64];
-        for (std::size_t i = 0; i < count; ++i) {
+        // The batch's first input is sent once more at its end: its two answers must agree, or
+        // the answers are out of step with the inputs (a line too many or too few).
+        for (std::size_t i = 0; i <= count; ++i) {
+            const std::size_t which = i < count ? i : 0;
             for (std::size_t j = 0; j < in_dim_; ++j) {
-                char* e = hex_to(in[i * in_dim_ + j], tmp);
+                char* e = hex_to(in[which * in_dim_ + j], tmp);
                 *e++ = j + 1 == in_dim_ ? '\n' : ' ';
                 wbuf_.append(tmp, e);
             }
         }
-        std::size_t wpos = 0, answered = 0;
-        auto last_progress = std::chrono::steady_clock::now();
+        bool sentinel_read = false;
+        double sentinel[64];
+        failure_ = ImplStatus::ok;
+        std::size_t wpos = 0, answered = 0, scanned = 0;
+        auto last_progress = std::chrono::steady_clock::now(); // the last complete line
         char chunk[1 << 16];
-        while (answered < count) {
-            // Answers already buffered.
+        for (;;) {
+            // Complete lines already buffered.
             std::size_t start = 0;
             for (;;) {
-                const auto nl = rbuf_.find('\n', start);
-                if (nl == std::string::npos || answered == count)
+                const auto nl = rbuf_.find('\n', std::max(start, scanned));
+                if (nl == std::string::npos) {
+                    scanned = rbuf_.size();
                     break;
+                }
+                if (answered == count) { // the repeated first input, then nothing more
+                    if (sentinel_read || !parse_line(rbuf_.data() + start, rbuf_.data() + nl, sentinel) ||
+                        (status[0] == ImplStatus::ok &&
+                         std::memcmp(sentinel, out, out_dim_ * sizeof(double)) != 0)) {
+                        failure_ = ImplStatus::malformed;
+                        rbuf_.clear();
+                        return answered;
+                    }
+                    sentinel_read = true;
+                    start = nl + 1;
+                    continue;
+                }
                 const bool ok = parse_line(rbuf_.data() + start, rbuf_.data() + nl, out + answered * out_dim_);
                 status[answered] = ok ? ImplStatus::ok : ImplStatus::malformed;
                 if (!ok)
@@ -310,10 +398,33 @@ class CommandImpl final : public Implementation {
                         out[answered * out_dim_ + j] = NAN;
                 ++answered;
                 start = nl + 1;
+                last_progress = std::chrono::steady_clock::now();
+                fresh_ = false;
             }
             rbuf_.erase(0, start);
-            if (answered == count)
-                break;
+            scanned -= std::min(scanned, start);
+            if (answered == count && sentinel_read && wpos == wbuf_.size()) {
+                // Anything more already written is a surplus line (checked without waiting).
+                const ssize_t n = read(from_child_, chunk, sizeof chunk);
+                if (n > 0)
+                    rbuf_.append(chunk, static_cast<std::size_t>(n));
+                if (!rbuf_.empty()) {
+                    failure_ = ImplStatus::malformed;
+                    rbuf_.clear();
+                }
+                return answered;
+            }
+            if (rbuf_.size() > kMaxLine) { // no newline in 64 KiB: not an answer line
+                status[answered] = ImplStatus::malformed;
+                for (std::size_t j = 0; j < out_dim_; ++j)
+                    out[answered * out_dim_ + j] = NAN;
+                failure_ = ImplStatus::malformed;
+                return answered; // the caller marks this point and restarts the process
+            }
+            if (stop_flag_ && stop_flag_->load(std::memory_order_relaxed)) {
+                failure_ = ImplStatus::skipped;
+                return answered;
+            }
             pollfd fds[2];
             nfds_t nfds = 0;
             fds[nfds++] = {from_child_, POLLIN, 0};
@@ -328,15 +439,25 @@ class CommandImpl final : public Implementation {
                 failure_ = ImplStatus::hung;
                 return answered;
             }
-            const int wait_ms = static_cast<int>(std::ceil((limit - waited) * 1000));
-            const int r = poll(fds, nfds, wait_ms);
+            // Wake at least every 200 ms: the stop flag, and a process that died while something
+            // else keeps its output open (a background child) is found by waitpid.
+            const int wait_ms = static_cast<int>(std::min(200.0, std::ceil((limit - waited) * 1000)));
+            const int r = poll(fds, nfds, std::max(wait_ms, 1));
             if (r < 0) {
                 if (errno == EINTR)
                     continue;
                 throw std::runtime_error(std::string("poll: ") + std::strerror(errno));
             }
-            if (r == 0)
-                continue; // the timeout check above decides
+            if (r == 0) {
+                int st = 0;
+                if (waitpid(pid_, &st, WNOHANG) == pid_) { // it ended; its output stays open elsewhere
+                    record_exit(st);
+                    pid_reaped_ = true;
+                    failure_ = ImplStatus::crashed;
+                    return answered;
+                }
+                continue;
+            }
             if (nfds == 2 && (fds[1].revents & (POLLOUT | POLLERR | POLLHUP))) {
                 const ssize_t w = write(to_child_, wbuf_.data() + wpos, wbuf_.size() - wpos);
                 if (w > 0) {
@@ -349,8 +470,6 @@ class CommandImpl final : public Implementation {
                 const ssize_t n = read(from_child_, chunk, sizeof chunk);
                 if (n > 0) {
                     rbuf_.append(chunk, static_cast<std::size_t>(n));
-                    last_progress = std::chrono::steady_clock::now();
-                    fresh_ = false;
                 } else if (n == 0 || (errno != EAGAIN && errno != EINTR)) {
                     // End of output. A final line without a newline still counts.
                     if (!rbuf_.empty() && answered < count) {
@@ -359,12 +478,22 @@ class CommandImpl final : public Implementation {
                         ++answered;
                         rbuf_.clear();
                     }
-                    failure_ = ImplStatus::crashed;
+                    failure_ = answered == count ? ImplStatus::ok : ImplStatus::crashed;
+                    if (answered == count)
+                        stop(); // it ended after answering (the repeated line unanswered): start afresh
                     return answered;
                 }
             }
         }
-        return answered;
+    }
+
+    void record_exit(int st) {
+        if (WIFEXITED(st))
+            last_exit_ = WEXITSTATUS(st) == 127   ? "command not found (exit status 127)"
+                         : WEXITSTATUS(st) == 126 ? "not executable (exit status 126)"
+                                                  : "exit status " + std::to_string(WEXITSTATUS(st));
+        else if (WIFSIGNALED(st))
+            last_exit_ = "signal " + std::to_string(WTERMSIG(st));
     }
 };
 

@@ -13,13 +13,18 @@
 //     line, in order. The fuzzer writes and reads at once (poll), so a batch never deadlocks on a
 //     full pipe; a point with no answer within `timeout` seconds (plus 2 s for a process that
 //     has not answered anything yet: its start-up) is `hung`; an early end of
-//     output is `crashed`; a line that is not out_dim numbers is `malformed`. A command that
+//     output (or the process's end, seen by waitpid) is `crashed`; a line that is not out_dim
+//     numbers, or longer than 64 KiB, is `malformed`; more lines than inputs make the whole batch
+//     `malformed` (the answers can no longer be matched to inputs) and restart the process.
+//     Progress is a complete line, so a trickle of bytes is a hang. The command runs in its own
+//     process group (killed as one), with SIGPIPE at its default, and dies with the fuzzer. A command that
 //     answers nothing at all (not found, not executable, exits at once) is bad input (InputError).
 //   - replay_flags(): the command-line options that select this implementation again.
 #pragma once
 
 #include "law.hpp"
 
+#include <atomic>
 #include <cstddef>
 #include <cstdint>
 #include <memory>
@@ -27,7 +32,8 @@
 
 namespace impactcert::fuzz {
 
-enum class ImplStatus : std::uint8_t { ok, crashed, hung, malformed, refused }; // refused: a built-in declined
+// refused: a built-in declined the input; skipped: not evaluated (the run's time ran out).
+enum class ImplStatus : std::uint8_t { ok, crashed, hung, malformed, refused, skipped };
 
 class Implementation {
   public:
@@ -38,6 +44,9 @@ class Implementation {
     // Samples per batch: small for in-process implementations (the batch stays in cache),
     // large for a separate process (fewer round trips through the pipes).
     virtual std::size_t batch_samples() const { return 64; }
+    // A flag the run raises when --seconds runs out: a slow implementation may then leave the
+    // rest of a batch `skipped` instead of finishing it.
+    virtual void set_stop_flag(const std::atomic<bool>*) {}
     virtual std::unique_ptr<Implementation> clone() const = 0;
     virtual std::string describe() const = 0;
     virtual std::string replay_flags() const = 0;

@@ -407,7 +407,7 @@ TEST_CASE("fuzz --impl-cmd: any language through a pipe, failures reported and s
     CHECK(run.out.find("--impl-cmd") != std::string::npos);
     // A crash, a hang and a short answer: each point is reported, the run goes on to the end.
     const std::string bad = "python3 " + source_path("tests/impls/misbehaving_impl.py");
-    for (const char* mode : {"crash", "short", "hang"}) {
+    for (const char* mode : {"crash", "short", "hang", "extra"}) {
         INFO(mode);
         const int samples = std::string(mode) == "hang" ? 6 : 300; // each hang costs 2.3 s
         run = test::run_cli("fuzz --law '" + law + "' --impl-cmd '" + bad + " " + mode +
@@ -417,11 +417,20 @@ TEST_CASE("fuzz --impl-cmd: any language through a pipe, failures reported and s
         CHECK(run.status == 1);
         const auto j = nlohmann::json::parse(run.out);
         CHECK(j["samples"] == samples);
-        const std::string key = std::string(mode) == "short" ? "malformed" : mode == std::string("crash") ? "crashed" : "hung";
+        // "extra": a line too many puts every later answer out of step; the batch is malformed,
+        // never blamed on the wrong inputs.
+        const std::string key = std::string(mode) == "short" || std::string(mode) == "extra" ? "malformed"
+                                : mode == std::string("crash")                             ? "crashed"
+                                                                                           : "hung";
         CHECK(j["violations"][key].get<long>() > 0);
     }
-    // Bad input: one line, exit 2.
-    for (const std::string& args : std::vector<std::string>{"--impl-cmd /nonexistent/program", "--impl-cmd " + source_path("README.md"),
+    // Bad input: one line, exit 2 (a command that writes bytes but never a line included).
+    for (const std::string& args : std::vector<std::string>{"--impl-cmd '" + bad + " trickle' --impl-timeout 0.5",
+                                                            "--max-ulps -1", "--max-ulps 18446744073709551616",
+                                                            "--impl-cmd ''", "--impl ''", "--seconds nan",
+                                                            "--impl-cmd cat --impl-timeout nan", "--keep -1",
+                                                            "--junit /nonexistent/dir/junit.xml",
+                                                            "--impl-cmd /nonexistent/program", "--impl-cmd " + source_path("README.md"),
                                    "--impl '" + std::string(IMPACTCERT_NEWTON4_IMPLS) + ":no_such_symbol'",
                                    "--impl /nonexistent.so:f", "--velocities"}) {
         INFO(args);
@@ -476,4 +485,61 @@ TEST_CASE("fuzz: results do not depend on --jobs; JUnit and JSON reports", "[fuz
     CHECK(xml.find("<failure message=") != std::string::npos);
     CHECK(test::run_cli("fuzz --max-ulps 1 --max-rel-error 1e-9 --samples 10").status == 2);
     CHECK(test::run_cli("fuzz --max-rel-error -1 --samples 10").status == 2);
+}
+
+namespace {
+
+// A correct implementation except that it returns the largest double where the correctly
+// rounded value overflows but the exact value is within 2^-20 of the largest double: well
+// within a relative tolerance of 10^-6 of the exact (finite) value.
+class ClampingImpl final : public fuzz::Implementation {
+  public:
+    explicit ClampingImpl(const fuzz::LawReference& ref) : ref_(ref) {}
+    void eval(const double* in, double* out, double*, std::size_t count, fuzz::ImplStatus* status) override {
+        const std::size_t m = ref_.in_dim();
+        for (std::size_t i = 0; i < count; ++i) {
+            fuzz::RefPoint r;
+            ref_.eval(in + i * m, r);
+            for (std::size_t j = 0; j < m; ++j) {
+                const double v = r.values ? r.value[0][j] : 0.0;
+                out[i * m + j] = v;
+                if (std::isinf(v)) {
+                    const Rational exact = ref_.exact_value(in + i * m, r.piece[0])[j];
+                    const Rational near = Rational(std::numeric_limits<double>::max()) * (1 + Rational(1) / (1 << 20));
+                    if ((sign_of(exact) == Sign::negative ? -exact : exact) < near)
+                        out[i * m + j] = std::copysign(std::numeric_limits<double>::max(), v);
+                }
+            }
+            status[i] = fuzz::ImplStatus::ok;
+        }
+    }
+    std::unique_ptr<fuzz::Implementation> clone() const override { return std::make_unique<ClampingImpl>(ref_); }
+    std::string describe() const override { return "clamping"; }
+    std::string replay_flags() const override { return ""; }
+
+  private:
+    const fuzz::LawReference& ref_;
+};
+
+} // namespace
+
+TEST_CASE("fuzz --max-rel-error: exact values beyond the double range, decided exactly", "[fuzz]") {
+    // expansive-scaled doubles the input: near the top of the range the exact output overflows.
+    const Model law = law_file("proofs/controls/expansive-scaled.json");
+    const fuzz::LawReference ref(law, false, true);
+    const ClampingImpl impl(ref);
+    fuzz::Options o;
+    o.seed = 11;
+    o.samples = 200000;
+    o.jobs = 2;
+    o.tolerance = fuzz::Tolerance::relative;
+    o.max_rel_error = 1e-6;
+    const auto sum = fuzz::run(o, ref, impl, fuzz::Properties{}, nullptr); // the law is expansive
+    INFO("inaccurate " << sum.inaccurate << ", non-finite " << sum.non_finite << ", negative " << sum.negative
+                       << ", energy " << sum.energy << ", nonexpansive " << sum.nonexpansive << ": "
+                       << (sum.examples.empty() ? "" : sum.examples[0].what + " " + sum.examples[0].replay));
+    CHECK(sum.violations() == 0);
+    o.tolerance = fuzz::Tolerance::ulps;
+    const auto strict = fuzz::run(o, ref, impl, fuzz::Properties{}, nullptr);
+    CHECK(strict.inaccurate > 0); // DBL_MAX is not the correctly rounded infinity
 }
