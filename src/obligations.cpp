@@ -2,6 +2,7 @@
 
 #include "copositivity.hpp"
 #include "fan.hpp"
+#include "json.hpp"
 
 #include <algorithm>
 #include <functional>
@@ -48,22 +49,6 @@ const ObligationResult& VerifyReport::at(const std::string& id) const {
         if (o.id == id)
             return o;
     throw std::out_of_range("no obligation " + id);
-}
-
-Json to_json(const Rational& x) { return to_string(x); }
-
-Json to_json(const Vector& v) {
-    Json a = Json::array();
-    for (const auto& x : v)
-        a.push_back(to_string(x));
-    return a;
-}
-
-Json to_json(const Matrix& m) {
-    Json a = Json::array();
-    for (std::size_t i = 0; i < m.rows(); ++i)
-        a.push_back(to_json(m.row(i)));
-    return a;
 }
 
 namespace {
