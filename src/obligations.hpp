@@ -7,7 +7,8 @@
 // strings (the shapes are listed in proofs/README.md). A refutation is always re-validated
 // internally before it is returned: a witness that does not witness is a std::logic_error.
 // The reductions from universal statements to these finite checks are argued in
-// proofs/README.md.
+// proofs/README.md; each obligation is decided in its own file under src/obligations/, which
+// opens with the lemma it relies on.
 #pragma once
 
 #include "json.hpp"
