@@ -1,5 +1,6 @@
 #include "certificate.hpp"
 
+#include "json.hpp"
 #include "law_json.hpp"
 
 #include <openssl/evp.h>

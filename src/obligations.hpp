@@ -7,13 +7,13 @@
 // strings (the shapes are listed in proofs/README.md). A refutation is always re-validated
 // internally before it is returned: a witness that does not witness is a std::logic_error.
 // The reductions from universal statements to these finite checks are argued in
-// proofs/README.md.
+// proofs/README.md; each obligation is decided in its own file under src/obligations/, which
+// opens with the lemma it relies on.
 #pragma once
 
+#include "json.hpp"
 #include "law.hpp"
 #include "limits.hpp"
-
-#include <nlohmann/json.hpp>
 
 #include <chrono>
 #include <functional>
@@ -21,8 +21,6 @@
 #include <vector>
 
 namespace impactcert {
-
-using Json = nlohmann::ordered_json;
 
 enum class Verdict { proved, refuted, skipped, undecided };
 const char* to_string(Verdict v);
@@ -56,10 +54,5 @@ using Progress = std::function<void(const std::string& id, const std::string& st
 // only: when given, the obligations outside it are `skipped` ("not requested") without cost.
 VerifyReport verify(const Model& model, const Limits& limits = {}, const Progress& progress = {},
                     const std::vector<std::string>* only = nullptr);
-
-// Helpers shared with the CLI, the certificate writer and tests.
-Json to_json(const Rational& x);
-Json to_json(const Vector& v);
-Json to_json(const Matrix& m);
 
 } // namespace impactcert

@@ -1,6 +1,7 @@
 #include "sweep.hpp"
 
 #include "errors.hpp"
+#include "json.hpp"
 #include "obligations.hpp"
 #include "verdict_output.hpp"
 

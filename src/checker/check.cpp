@@ -1,0 +1,182 @@
+// The whole certificate (proofs/README.md, "What the checker establishes", 0-4): its shape, the
+// law's hash, G and H, every obligation's claim and verdict through the Checker, the top
+// verdict; and check_text, which turns every outcome, error and exception into one line.
+#include "checker.hpp"
+#include "sha256.hpp"
+
+#include <algorithm>
+#include <exception>
+#include <new>
+
+namespace impactcert_check {
+namespace detail {
+
+int check(const Json& cert, const Limits& limits) {
+    if (!cert.is_object() || !cert.contains("format") || cert.at("format") != "impactcert-certificate/1")
+        malformed("$.format", "not an impactcert-certificate/1 document");
+    expect_keys(cert, "$", {"format", "tool", "law_sha256", "law", "verdict", "system", "obligations"});
+    str(field(cert, "$", "tool"), "$.tool");
+    const Json& law_json = field(cert, "$", "law");
+    const std::string hash = str(field(cert, "$", "law_sha256"), "$.law_sha256");
+    require(sha256_hex(law_json.dump()) == hash, "$.law_sha256", "does not match the SHA-256 of the law's canonical text");
+    const Law law = read_law(law_json, "$.law");
+
+    const Json& system = field(cert, "$", "system");
+    expect_keys(system, "$.system", {"G", "H"});
+    require(mat(field(system, "$.system", "G"), "$.system.G") == law.G, "$.system.G", "is not W^T M^-1 W");
+    require(mat(field(system, "$.system", "H"), "$.system.H") == law.H, "$.system.H", "is not G^-1");
+
+    const Json& obligations = field(cert, "$", "obligations");
+    if (!obligations.is_array() || obligations.size() != kIds.size())
+        malformed("$.obligations", "expected the 12 obligations");
+    Checker checker(law, obligations, limits);
+    bool any_claimed_refuted = false, any_claimed_undecided = false;
+    for (std::size_t k = 0; k < kIds.size(); ++k) {
+        const std::string path = at("$.obligations", k);
+        const Json& o = obligations[k];
+        expect_keys(o, path, {"id", "statement", "method", "claimed", "verdict", "checks", "data"},
+                    {"counterexample", "limit"});
+        require(str(field(o, path, "id"), at(path, "id")) == kIds[k], at(path, "id"), "expected \"" + kIds[k] + "\"");
+        str(field(o, path, "statement"), at(path, "statement")); // informational, but text
+        str(field(o, path, "method"), at(path, "method"));
+        natural(field(o, path, "checks"), at(path, "checks"));
+        const bool applies = detail::applies(law_json, kIds[k]);
+        const bool claimed = law.claims_given ? law.claimed_ids.count(kIds[k]) > 0 : applies;
+        const Json& claimed_json = field(o, path, "claimed");
+        if (!claimed_json.is_boolean())
+            malformed(at(path, "claimed"), "expected true or false");
+        require(claimed_json.get<bool>() == claimed, at(path, "claimed"), "does not match the law's claims");
+        const std::string verdict = str(field(o, path, "verdict"), at(path, "verdict"));
+        if (!applies) {
+            require(verdict == "skipped", at(path, "verdict"), "nothing is declared: must be \"skipped\"");
+            // Nothing was decided, so nothing may ride along.
+            const Json& data = field(o, path, "data");
+            require(data.is_object() && data.empty(), at(path, "data"), "a skipped obligation carries no evidence");
+            require(!o.contains("counterexample"), at(path, "counterexample"), "a skipped obligation has no counterexample");
+            require(!o.contains("limit"), at(path, "limit"), "only an undecided obligation names a limit");
+            continue;
+        }
+        require(verdict != "skipped", at(path, "verdict"), "the law declares something to check");
+        require((verdict == "refuted") == o.contains("counterexample"), path,
+                "a counterexample goes with a refutation, and only with one");
+        const auto truth = checker.holds(k);
+        if (claimed && truth == Checker::Truth::refuted)
+            any_claimed_refuted = true;
+        if (claimed && truth == Checker::Truth::undecided)
+            any_claimed_undecided = true;
+    }
+    const std::string top = str(field(cert, "$", "verdict"), "$.verdict");
+    const char* follows = any_claimed_refuted ? "refuted" : any_claimed_undecided ? "undecided" : "proved";
+    require(top == follows, "$.verdict", "does not follow from the claimed obligations");
+    return 0;
+}
+
+// One line: control characters (C0, DEL, C1 and the Unicode line and paragraph separators)
+// and the backslash that introduces an escape are escaped, so that a name or key from the
+// input cannot break a message into several lines.
+std::string one_line(const std::string& text) {
+    static const char* hex = "0123456789abcdef";
+    auto escape = [&](std::string& out, unsigned code) {
+        out += "\\u";
+        for (int shift = 12; shift >= 0; shift -= 4)
+            out += hex[(code >> shift) & 15];
+    };
+    std::string out;
+    for (std::size_t i = 0; i < text.size(); ++i) {
+        const unsigned char ch = static_cast<unsigned char>(text[i]);
+        const unsigned char next = i + 1 < text.size() ? static_cast<unsigned char>(text[i + 1]) : 0;
+        const unsigned char third = i + 2 < text.size() ? static_cast<unsigned char>(text[i + 2]) : 0;
+        if (ch == '\\')
+            out += "\\\\";
+        else if (ch == '\n')
+            out += "\\n";
+        else if (ch == '\r')
+            out += "\\r";
+        else if (ch == '\t')
+            out += "\\t";
+        else if (ch < 0x20 || ch == 0x7f)
+            escape(out, ch);
+        else if (ch == 0xc2 && next >= 0x80 && next <= 0x9f) { // U+0080..U+009F
+            escape(out, next);
+            ++i;
+        } else if (ch == 0xe2 && next == 0x80 && (third == 0xa8 || third == 0xa9)) { // U+2028, U+2029
+            escape(out, 0x2000u + third - 0x80u);
+            i += 2;
+        } else
+            out += static_cast<char>(ch);
+    }
+    return out;
+}
+
+} // namespace detail
+
+using detail::Json;
+using detail::Limits;
+using detail::Malformed;
+using detail::Rejected;
+using detail::Undecided;
+using detail::check;
+using detail::one_line;
+
+// The deepest nesting of arrays and objects in a JSON text, counted without recursion (a
+// certificate nested 100,000 deep must not overflow the stack of a recursive parser or dump).
+std::size_t nesting_depth(const std::string& text) {
+    std::size_t depth = 0, deepest = 0;
+    bool in_string = false, escaped = false;
+    for (char ch : text) {
+        if (in_string) {
+            if (escaped)
+                escaped = false;
+            else if (ch == '\\')
+                escaped = true;
+            else if (ch == '"')
+                in_string = false;
+        } else if (ch == '"') {
+            in_string = true;
+        } else if (ch == '[' || ch == '{') {
+            deepest = std::max(deepest, ++depth);
+        } else if ((ch == ']' || ch == '}') && depth > 0) {
+            --depth;
+        }
+    }
+    return deepest;
+}
+
+// Status kUndecided (3, impactcert_check.hpp): a limit (the prover's, or --max-product-bits)
+// would be exceeded. The certificate may be right; raising the limit decides it.
+
+Outcome check_text(const std::string& text, const Limits& limits) {
+    constexpr std::size_t kMaxDepth = 64; // a certificate is at most 6 deep
+    try {
+        if (nesting_depth(text) > kMaxDepth)
+            return {kMalformed, "malformed: nested more than " + std::to_string(kMaxDepth) + " levels deep"};
+        Json cert;
+        try {
+            cert = Json::parse(text);
+        } catch (const Json::exception& e) {
+            return {kMalformed, one_line(std::string("malformed JSON: ") + e.what())};
+        }
+        try {
+            check(cert, limits);
+            return {kVerified, one_line("verified (" + cert.at("law").at("name").get<std::string>() + ": " +
+                                        cert.at("verdict").get<std::string>() + ")")};
+        } catch (const Rejected& r) {
+            return {kRejected, one_line("rejected: " + r.path + ": " + r.why)};
+        } catch (const Malformed& m) {
+            return {kMalformed, one_line("malformed: " + m.path + ": " + m.why)};
+        } catch (const Undecided& u) {
+            return {kUndecided, one_line("undecided: " + u.option.substr(2) + " exceeded: " + u.path + ": " + u.why +
+                                         " (raise it with " + u.option + ")")};
+        } catch (const Json::exception& e) {
+            return {kMalformed, one_line(std::string("malformed: ") + e.what())};
+        }
+    } catch (const std::bad_alloc&) {
+        return {kMalformed, "error: out of memory while checking (status 2: not checked)"};
+    } catch (const std::exception& e) {
+        return {kMalformed, one_line(std::string("error: internal: ") + e.what() + " (status 2: not checked)")};
+    }
+}
+
+Outcome check_text(const std::string& text) { return check_text(text, Limits{}); }
+
+} // namespace impactcert_check

@@ -1,0 +1,164 @@
+// The law of a certificate, read and re-derived (checked_law.hpp).
+#include "checked_law.hpp"
+
+#include <utility>
+
+namespace impactcert_check::detail {
+
+namespace {
+
+// The declarations that make identities, single-impacts and outcomes apply (non-empty lists;
+// read_law has checked that each is an array when present).
+bool declares(const Json& law, const char* key) { return law.contains(key) && !law.at(key).empty(); }
+
+} // namespace
+
+bool applies(const Json& law, const std::string& id) {
+    if (id == "identities")
+        return declares(law, "identities");
+    if (id == "single-impacts")
+        return declares(law, "single_impacts");
+    if (id == "outcomes")
+        return declares(law, "outcomes");
+    return true;
+}
+
+Law read_law(const Json& j, const std::string& path) {
+    Law law;
+    law.json = j;
+    // The prover's input rules (SPEC section 4): a law it rejects is never verified.
+    expect_keys(j, path, {"format", "name", "masses", "contacts", "pieces"},
+                {"identities", "single_impacts", "outcomes", "claims"});
+    require(field(j, path, "format") == "impactcert-law/1", at(path, "format"), "is not \"impactcert-law/1\"");
+    require(!str(field(j, path, "name"), at(path, "name")).empty(), at(path, "name"), "empty law name");
+    law.masses = vec(field(j, path, "masses"), at(path, "masses"));
+    law.n = law.masses.size();
+    require(law.n >= 1, at(path, "masses"), "no balls");
+    for (std::size_t i = 0; i < law.n; ++i)
+        require(sgn(law.masses[i]) > 0, at(at(path, "masses"), i), "mass must be positive");
+    const Json& contacts = field(j, path, "contacts");
+    if (contacts.is_string() && contacts == "chain") {
+        require(law.n >= 2, at(path, "masses"), "a chain needs two balls");
+        law.W = zeros(law.n, law.n - 1);
+        for (std::size_t k = 0; k + 1 < law.n; ++k) {
+            law.W[k][k] = -1;
+            law.W[k + 1][k] = 1;
+        }
+    } else {
+        expect_keys(contacts, at(path, "contacts"), {"W"});
+        law.W = mat(field(contacts, at(path, "contacts"), "W"), at(at(path, "contacts"), "W"));
+        require(law.W.size() == law.n, at(at(path, "contacts"), "W"), "needs one row per ball");
+    }
+    law.c = law.W[0].size();
+    law.M_inv = zeros(law.n, law.n);
+    for (std::size_t i = 0; i < law.n; ++i)
+        law.M_inv[i][i] = 1 / law.masses[i];
+    law.G = mul(mul(tr(law.W), law.M_inv), law.W);
+    require(invert(law.G, law.H), at(path, "contacts"), "G is singular");
+    const Json& pieces = field(j, path, "pieces");
+    if (!pieces.is_array())
+        malformed(at(path, "pieces"), "expected an array");
+    require(!pieces.empty(), at(path, "pieces"), "no pieces");
+    for (std::size_t p = 0; p < pieces.size(); ++p) {
+        const std::string pp = at(at(path, "pieces"), p);
+        expect_keys(pieces[p], pp, {"name", "Q"}, {"rays"});
+        Piece piece;
+        piece.name = str(field(pieces[p], pp, "name"), at(pp, "name"));
+        require(!piece.name.empty(), at(pp, "name"), "empty piece name");
+        require(law.piece_index.emplace(piece.name, p).second, at(pp, "name"), "duplicate piece name");
+        piece.Q_ = mat(field(pieces[p], pp, "Q"), at(pp, "Q"));
+        require(piece.Q_.size() == law.c && piece.Q_[0].size() == law.c, at(pp, "Q"), "not c x c");
+        std::vector<Vec> rays;
+        if (pieces[p].contains("rays")) {
+            const Json& listed = field(pieces[p], pp, "rays");
+            if (!listed.is_array())
+                malformed(at(pp, "rays"), "expected an array of rays");
+            require(listed.size() == law.c, at(pp, "rays"), "needs c rays");
+            for (std::size_t k = 0; k < listed.size(); ++k)
+                rays.push_back(vec(listed[k], at(at(pp, "rays"), k)));
+        } else {
+            Mat q_inv;
+            require(invert(piece.Q_, q_inv), at(pp, "Q"), "singular Q and no rays");
+            for (std::size_t k = 0; k < law.c; ++k)
+                rays.push_back(col(q_inv, k));
+        }
+        for (std::size_t k = 0; k < rays.size(); ++k) {
+            require(rays[k].size() == law.c && !std::all_of(rays[k].begin(), rays[k].end(), [](const Q& x) { return sgn(x) == 0; }),
+                    at(at(pp, "rays"), k), "zero or mis-sized ray");
+            piece.rays.push_back(primitive(rays[k]));
+        }
+        piece.R = from_cols(piece.rays);
+        require(invert(piece.R, piece.R_inv), at(pp, "rays"), "dependent rays");
+        for (const auto& r : piece.rays)
+            if (law.ray_index.emplace(r, law.distinct_rays.size()).second)
+                law.distinct_rays.push_back(r);
+        law.pieces.push_back(std::move(piece));
+    }
+    // Declarations: their shape is checked here once and kept parsed, so that no later step
+    // reads a missing key or a vector of the wrong length (a hash can be recomputed for any law).
+    auto entries = [&](const char* key) {
+        const Json& l = j.contains(key) ? field(j, path, key) : Json::array();
+        if (!l.is_array())
+            malformed(at(path, key), "expected an array");
+        return l;
+    };
+    const Json identities = entries("identities");
+    for (std::size_t i = 0; i < identities.size(); ++i) {
+        const std::string ip = at(at(path, "identities"), i);
+        expect_keys(identities[i], ip, {"lhs", "product"});
+        Identity d;
+        d.lhs_json = field(identities[i], ip, "lhs");
+        d.lhs = law.piece(d.lhs_json, at(ip, "lhs"));
+        d.product_json = field(identities[i], ip, "product");
+        if (!d.product_json.is_array() || d.product_json.empty())
+            malformed(at(ip, "product"), "expected a non-empty array of piece names");
+        for (std::size_t k = 0; k < d.product_json.size(); ++k)
+            d.product.push_back(law.piece(d.product_json[k], at(at(ip, "product"), k)));
+        law.identities.push_back(std::move(d));
+    }
+    const Json impacts = entries("single_impacts");
+    for (std::size_t i = 0; i < impacts.size(); ++i) {
+        const std::string ip = at(at(path, "single_impacts"), i);
+        expect_keys(impacts[i], ip, {"piece", "contact", "restitution"});
+        SingleImpact d;
+        d.piece_json = field(impacts[i], ip, "piece");
+        d.piece = law.piece(d.piece_json, at(ip, "piece"));
+        d.contact = natural(field(impacts[i], ip, "contact"), at(ip, "contact"));
+        if (d.contact < 1 || d.contact > law.c)
+            malformed(at(ip, "contact"), "expected a contact number in 1..c");
+        d.restitution = rat(field(impacts[i], ip, "restitution"), at(ip, "restitution"));
+        require(sgn(d.restitution) >= 0 && d.restitution <= 1, at(ip, "restitution"), "restitution outside [0, 1]");
+        law.single_impacts.push_back(std::move(d));
+    }
+    const Json outcomes = entries("outcomes");
+    std::set<std::string> outcome_names;
+    for (std::size_t i = 0; i < outcomes.size(); ++i) {
+        const std::string op = at(at(path, "outcomes"), i);
+        expect_keys(outcomes[i], op, {"name", "u_minus", "u_plus"});
+        OutcomeDecl d;
+        d.name = str(field(outcomes[i], op, "name"), at(op, "name"));
+        require(outcome_names.insert(d.name).second, at(op, "name"), "duplicate outcome name");
+        d.u_minus = vec(field(outcomes[i], op, "u_minus"), at(op, "u_minus"));
+        d.u_plus = vec(field(outcomes[i], op, "u_plus"), at(op, "u_plus"));
+        for (const Vec* v : {&d.u_minus, &d.u_plus})
+            if (v->size() != law.n)
+                malformed(at(op, v == &d.u_minus ? "u_minus" : "u_plus"), "expected one velocity per ball");
+        law.outcomes.push_back(std::move(d));
+    }
+    if (j.contains("claims")) {
+        law.claims_given = true;
+        const Json& claims = field(j, path, "claims");
+        if (!claims.is_array())
+            malformed(at(path, "claims"), "expected an array");
+        require(!claims.empty(), at(path, "claims"), "no obligation claimed");
+        for (std::size_t i = 0; i < claims.size(); ++i) {
+            const std::string id = str(claims[i], at(at(path, "claims"), i));
+            require(std::find(kIds.begin(), kIds.end(), id) != kIds.end(), at(at(path, "claims"), i), "unknown obligation");
+            require(law.claimed_ids.insert(id).second, at(at(path, "claims"), i), "claimed twice");
+            require(applies(j, id), at(at(path, "claims"), i), "claimed but the law declares nothing for it");
+        }
+    }
+    return law;
+}
+
+} // namespace impactcert_check::detail

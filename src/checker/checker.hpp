@@ -1,0 +1,161 @@
+// checker.hpp -- internal to src/checker/: impactcert-check, the independent checker of
+// impactcert-certificate/1 documents.
+//
+// Contract: reads one certificate, re-derives everything it states from the law it contains,
+// and exits 0 (verified), 1 (rejected: one line naming the JSON path and the reason) or
+// 2 (malformed: not a certificate it can read). It shares no code with the prover: it links GMP
+// (gmpxx) and nlohmann-json only, and has its own rationals, matrices, SHA-256 and law reader.
+// Verified means: the law hash matches; G and H follow from the masses and W; every
+// obligation's verdict follows, a "proved" one from its evidence (re-computed products, LDL^T
+// factors multiplied back, KKT faces re-enumerated), a "refuted" one from its counterexample
+// (re-computed from scratch); and the top verdict is "proved" iff every claimed obligation is.
+// The schema is in proofs/README.md.
+//
+// Files: reading (strict JSON, rationals, errors), linalg (exact linear algebra), sha256,
+// checked_law (the law and its validation), tiling (chambers, walls), copositivity_evidence;
+// the Checker's members by concept: obligations.cpp (verdicts, limits, evidence of each
+// obligation), fan.cpp (the fan, S as a function), p1.cpp (P1's pairs, intersections and shared
+// rays), witnesses.cpp (counterexamples); check.cpp (the document, check_text); main.cpp.
+#pragma once
+
+#include "checked_law.hpp"
+#include "impactcert_check.hpp"
+#include "linalg.hpp"
+#include "reading.hpp"
+
+#include <algorithm>
+#include <cstddef>
+#include <map>
+#include <optional>
+#include <string>
+#include <tuple>
+#include <utility>
+#include <vector>
+
+namespace impactcert_check {
+namespace detail {
+
+// The prover's limits (src/limits.hpp), with the same defaults and options, counted the same
+// way and checked before the work is done.
+struct Limits {
+    std::size_t max_faces = 16384;     // --max-faces: simplex faces of one KKT enumeration
+    std::size_t max_chambers = 200000; // --max-chambers: steps of the chamber enumeration
+    std::size_t max_subsets = 5000000; // --max-subsets: constraint subsets for cone intersections
+    // The checker's own: the bits of an entry of a declared identity's product (about 1.26
+    // million decimal digits), bounded from the factors before multiplying; a product of many
+    // large factors grows without a bound the prover checks.
+    std::size_t max_product_bits = 4194304; // --max-product-bits
+};
+
+class Checker {
+  public:
+    Checker(const Law& law, const Json& obligations, const Limits& limits) : law_(law), obl_(obligations), limits_(limits) {}
+
+    enum class Truth { proved, refuted, undecided };
+
+    // Decides obligation k's truth; rejects evidence or witnesses that are wrong, and a verdict
+    // that does not follow. Dependencies run one way only (fan and P1 depend on nothing else),
+    // so this never recurses without bound.
+    Truth holds(std::size_t k);
+
+  private:
+    const Law& law_;
+    const Json& obl_;
+    const Limits& limits_;
+    std::map<std::string, Truth> decided_;
+    std::vector<Vec> fan_points_;              // the fan's validated test points (when decided)
+    std::vector<std::size_t> fan_cover_;       // how many open cones contain each of them
+    std::optional<bool> face_to_face_;        // the fast path of the fan holds
+    std::optional<bool> walls_tile_;          // the cones tile R^c (decided by walls)
+    std::optional<std::optional<Json>> domain_; // the canonical domain witness, if any
+    std::vector<std::size_t> q_class_, next_other_; // see number_matrices
+    std::size_t distinct_pairs_ = 0;
+    std::map<std::size_t, Mat> products_;       // identity index -> its product
+
+    Truth holds(const std::string& id) {
+        return holds(static_cast<std::size_t>(std::find(kIds.begin(), kIds.end(), id) - kIds.begin()));
+    }
+    const Piece& pc(std::size_t p) const { return law_.pieces[p]; }
+    const std::string& name(std::size_t p) const { return law_.pieces[p].name; }
+    std::size_t P() const { return law_.pieces.size(); }
+
+    static const Json& list(const Json& data, const std::string& dp, const char* key) {
+        const Json& l = field(data, dp, key);
+        if (!l.is_array())
+            malformed(at(dp, key), "expected an array");
+        return l;
+    }
+    static void expect_vec(const Json& j, const std::string& path, const char* key, const Vec& v, const char* what) {
+        require(vec(field(j, path, key), at(path, key)) == v, at(path, key), std::string("is not ") + what);
+    }
+    static void expect_mat(const Json& j, const std::string& path, const char* key, const Mat& m, const char* what) {
+        require(mat(field(j, path, key), at(path, key)) == m, at(path, key), std::string("is not ") + what);
+    }
+    void expect_piece(const Json& j, const std::string& path, const char* key, std::size_t p) const {
+        require(str(field(j, path, key), at(path, key)) == name(p), at(path, key), "expected piece \"" + name(p) + "\"");
+    }
+    Mat QtHQ(std::size_t p) const { return mul(mul(tr(pc(p).Q_), law_.H), pc(p).Q_); }
+
+    // Evidence lists are canonical: in order, up to and including the first failing entry, or
+    // complete when nothing fails. A failing entry anywhere but last is rejected here; a list
+    // that stops early without a failure is rejected by the callers' completeness checks.
+    static void ends_at_first_failure(bool entry_ok, std::size_t index, std::size_t listed, const std::string& path) {
+        require(entry_ok || index + 1 == listed, at(path, index), "evidence must end at the first failing entry");
+    }
+    static void complete_unless_failed(bool any_failed, std::size_t listed, std::size_t total, const std::string& path) {
+        require(any_failed || listed == total, path, "is incomplete");
+    }
+
+    // ---- obligations.cpp: verdicts, limits and the evidence of each obligation
+    void could_be_undecided(const std::string& id, const std::string& limit, const std::string& path);
+    bool evidence(const std::string& id, const Json& data, const std::string& dp);
+    bool check_outcome_pieces(const Json& l, const std::string& lp, const Vec& u, const Vec& g, const Vec& declared);
+    const Json& last_entry(const std::string& id, const char* key) const;
+    std::size_t factor_bits(std::size_t p) const;
+    const Mat& identity_product(std::size_t i);
+    Mat pair_form(std::size_t i, std::size_t j) const;
+
+    // ---- fan.cpp: the fan re-decided, and whether S is a function
+    std::vector<Vec> rays_by_angle() const;
+    std::vector<std::size_t> planar_cover(const std::vector<Vec>& sorted) const;
+    bool fan_planar(const Json& data, const std::string& dp);
+    std::size_t ray_id(const Vec& r) const { return law_.ray_index.at(r); }
+    std::map<std::vector<std::size_t>, std::vector<std::pair<std::size_t, int>>> all_facets() const;
+    std::vector<Vec> facet_rays(const std::vector<std::size_t>& ids) const;
+    std::vector<Vec> listed_rays(const Json& l, const std::string& path) const;
+    std::vector<std::string> listed_names(const Json& l, const std::string& path) const;
+    Vec generic_point() const;
+    bool fan_facets(const Json& data, const std::string& dp);
+    bool facet_criterion() const;
+    bool walls_tile();
+    bool face_to_face();
+    std::vector<Vec> facet_hyperplanes() const;
+    bool fan_chambers(const Json& data, const std::string& dp);
+    bool s_is_a_function(const std::string& path);
+    std::optional<Json> domain_witness();
+
+    // ---- p1.cpp: P1 re-decided
+    std::vector<std::pair<std::size_t, std::size_t>> across_walls() const;
+    std::vector<Vec> intersection_rays(std::size_t i, std::size_t j) const;
+    std::size_t subsets_per_pair() const;
+    void number_matrices();
+    bool next_distinct_pair(std::size_t& i, std::size_t& j) const;
+    bool p1_intersections(const Json& data, const std::string& dp);
+    std::vector<std::tuple<std::size_t, std::size_t, Vec>> shared_rays(std::size_t limit) const;
+
+    // ---- witnesses.cpp: counterexamples, re-validated from scratch
+    void check_witness(const std::string& id, const Json& w, const std::string& wp, bool local);
+};
+
+// The whole document (check.cpp): 0, or throws Malformed, Rejected, Undecided or a JSON error.
+int check(const Json& cert, const Limits& limits);
+
+// One line: control characters and backslashes escaped (check.cpp).
+std::string one_line(const std::string& text);
+
+} // namespace detail
+
+// check_text (impactcert_check.hpp) with the limits of impactcert-check's options.
+Outcome check_text(const std::string& text, const detail::Limits& limits);
+
+} // namespace impactcert_check

@@ -1,0 +1,97 @@
+// impactcert-check's command line: the limits as options, one certificate file, one line out
+// (stdout when verified, stderr otherwise), the status of check_text as the exit status.
+#include "checker.hpp"
+
+#include <algorithm>
+#include <exception>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+#include <string>
+
+namespace {
+
+using impactcert_check::detail::Limits;
+using impactcert_check::detail::one_line;
+
+const char* const kUsage =
+    "usage: impactcert-check [--max-faces N] [--max-chambers N] [--max-subsets N] [--max-product-bits N]\n"
+    "                        CERTIFICATE.json\n"
+    "exit 0 verified, 1 rejected, 2 malformed (or not checked: usage, unreadable, out of memory),\n"
+    "3 undecided (a limit would be exceeded; the message names the option that raises it)\n"
+    "limits (defaults as the prover's): --max-faces 16384 (KKT faces of one copositivity check),\n"
+    "--max-chambers 200000 (steps of the chamber enumeration), --max-subsets 5000000 (constraint\n"
+    "subsets for intersections of cones); the checker's own: --max-product-bits 4194304 (bits of\n"
+    "an entry of a declared identity's product)\n";
+
+int usage_error(const std::string& why) {
+    std::cerr << "impactcert-check: " << one_line(why) << " (see --help)\n";
+    return impactcert_check::kMalformed;
+}
+
+} // namespace
+
+int main(int argc, char** argv) {
+    Limits limits;
+    std::string file;
+    bool have_file = false, options_done = false;
+    for (int i = 1; i < argc; ++i) {
+        const std::string arg = argv[i];
+        if (!options_done && (arg == "--help" || arg == "-h")) {
+            // Usage is not a verification: never status 0.
+            std::cout << kUsage;
+            return impactcert_check::kMalformed;
+        }
+        if (!options_done && arg == "--") {
+            options_done = true;
+            continue;
+        }
+        if (!options_done && arg.size() > 1 && arg[0] == '-') {
+            std::string name = arg, value;
+            if (const auto eq = arg.find('='); eq != std::string::npos) {
+                name = arg.substr(0, eq);
+                value = arg.substr(eq + 1);
+            } else if (i + 1 < argc) {
+                value = argv[++i];
+            } else {
+                return usage_error("option " + arg + " needs a value");
+            }
+            std::size_t* target = name == "--max-faces"          ? &limits.max_faces
+                                  : name == "--max-chambers"     ? &limits.max_chambers
+                                  : name == "--max-subsets"      ? &limits.max_subsets
+                                  : name == "--max-product-bits" ? &limits.max_product_bits
+                                                                 : nullptr;
+            if (target == nullptr)
+                return usage_error("unknown option " + name);
+            const bool digits = !value.empty() && value.size() <= 19 &&
+                                std::all_of(value.begin(), value.end(), [](char ch) { return ch >= '0' && ch <= '9'; });
+            if (!digits)
+                return usage_error(name + " needs a non-negative integer, got \"" + value + "\"");
+            *target = static_cast<std::size_t>(std::stoull(value));
+            continue;
+        }
+        if (have_file)
+            return usage_error("more than one certificate given");
+        file = arg;
+        have_file = true;
+    }
+    if (!have_file)
+        return usage_error("no certificate given");
+    try {
+        std::ifstream in(file, std::ios::binary);
+        if (!in) {
+            std::cerr << "impactcert-check: " << one_line(file) << ": cannot read file\n";
+            return impactcert_check::kMalformed;
+        }
+        std::ostringstream text;
+        text << in.rdbuf();
+        const auto outcome = impactcert_check::check_text(text.str(), limits);
+        (outcome.status == impactcert_check::kVerified ? std::cout : std::cerr)
+            << "impactcert-check: " << one_line(file) << ": " << outcome.message << "\n";
+        return outcome.status;
+    } catch (const std::exception& e) {
+        std::cerr << "impactcert-check: " << one_line(file) << ": error: "
+                  << one_line(e.what()) << "\n";
+        return impactcert_check::kMalformed;
+    }
+}

@@ -1,0 +1,30 @@
+// kinematic -- proofs/README.md, "kinematic", with Lemma R (rays suffice for linear
+// statements) and the fan.
+// Claim: gamma+ >= 0 for every gamma- in R^c.
+// Check: Q_i r >= 0 for every ray r of every cone (Lemma R: then Q_i x >= 0 on C_i), together
+// with the fan: every gamma- lies in some cone. The witness is a ray with a negative image,
+// else the domain witness: a point where S is undefined or two-valued (proofs/README.md,
+// "S as a function").
+#include "prover.hpp"
+
+namespace impactcert::detail {
+
+Outcome Prover::kinematic() {
+    Outcome o;
+    o.method = "images of rays >= 0, with fan";
+    for (std::size_t p = 0; p < pieces_.size(); ++p)
+        for (std::size_t a = 0; a < c_; ++a) {
+            const Vector r = pieces_[p].R.column(a);
+            const Vector img = pieces_[p].Q * r;
+            ++o.checks;
+            o.data["images"].push_back(Json{{"piece", name(p)}, {"ray", to_json(r)}, {"image", to_json(img)}});
+            if (!nonnegative(img))
+                return refute(o, Json{{"piece", name(p)}, {"ray", to_json(r)},
+                                      {"image", to_json(img)}});
+        }
+    if (auto w = domain_witness())
+        return refute(o, std::move(*w));
+    return o;
+}
+
+} // namespace impactcert::detail

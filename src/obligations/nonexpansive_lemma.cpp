@@ -1,0 +1,48 @@
+// nonexpansive-lemma -- proofs/README.md, "nonexpansive-lemma", with Lemma P (PSD certificate).
+// Claim: the statement of nonexpansive, by a second, independent route.
+// Check: S a function (the fan's decision), P1, and H - Q_i^T H Q_i PSD for every piece by exact
+// LDL^T. Then S is continuous and linear on each cone, and the triangle inequality along the
+// segment from a to b gives |S(b) - S(a)|_H <= |b - a|_H. Each failure is a true witness: the
+// domain witness, P1's discontinuity ("via": "P1"), or for a piece that is not PSD along x the
+// interior pair R 1 + eps x, R 1 with eps = 1 / (2 max(1, max_k |(R^-1 x)_k| + 1)).
+#include "prover.hpp"
+
+#include <algorithm>
+
+namespace impactcert::detail {
+
+Outcome Prover::nonexpansive_lemma() {
+    Outcome o;
+    o.method = "fan + P1 + H - Q^T H Q PSD per piece";
+    if (auto w = domain_witness())
+        return refute(o, std::move(*w));
+    const Outcome continuity = p1();
+    o.checks += continuity.checks;
+    if (!continuity.proved) {
+        Json w = continuity.counterexample;
+        w["via"] = "P1";
+        return refute(o, std::move(w));
+    }
+    for (std::size_t p = 0; p < pieces_.size(); ++p) {
+        const Piece& pc = pieces_[p];
+        const Matrix B = m_.H() - transpose(pc.Q) * m_.H() * pc.Q;
+        const auto ldl = ldl_psd(B);
+        ++o.checks;
+        if (ldl.psd) {
+            o.data["pieces"].push_back(Json{{"piece", name(p)}, {"matrix", to_json(B)},
+                                            {"L", to_json(ldl.L)}, {"D", to_json(ldl.D)}});
+            continue;
+        }
+        // Two interior points of the same cone, a - b along the expanding direction x.
+        const Vector& x = ldl.witness;
+        const Vector centre = pc.R * Vector(c_, Rational(1));
+        Rational spread = 1;
+        for (const auto& coeff : pc.R_inv * x)
+            spread = std::max(spread, abs_of(coeff) + 1);
+        const Rational eps = Rational(1) / (2 * spread);
+        return refute(o, pair_witness(p, p, centre + eps * x, centre));
+    }
+    return o;
+}
+
+} // namespace impactcert::detail

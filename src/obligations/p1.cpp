@@ -1,0 +1,109 @@
+// P1 -- proofs/README.md, "P1 (continuity)", with Lemma R (rays suffice for linear statements).
+// Claim: Q_i x = Q_j x for every x in C_i ∩ C_j (with S a function: S is continuous).
+// Check, face to face (the fan's fast path): Q_i v = Q_j v on every ray v shared by two pieces,
+// since then C_i ∩ C_j = cone(shared rays). Check, any cones: for every pair with Q_i != Q_j,
+// the extreme rays of C_i ∩ C_j (every c-1 of its 2c constraints whose solutions form a line),
+// Q_i r = Q_j r on each (Minkowski-Weyl and Lemma R); with the fan proved by walls, only the
+// pairs across a common facet hyperplane. A ray where they differ is the witness.
+#include "prover.hpp"
+
+#include <algorithm>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace impactcert::detail {
+
+Json Prover::p1_witness(std::size_t i, std::size_t j, const Vector& x) {
+    const Vector qi = pieces_[i].Q * x, qj = pieces_[j].Q * x;
+    ensure(qi != qj, "P1 values differ");
+    const auto in = m_.pieces_containing(x);
+    ensure(std::find(in.begin(), in.end(), i) != in.end() && std::find(in.begin(), in.end(), j) != in.end(),
+           "P1 point in both cones");
+    return Json{{"piece_a", name(i)}, {"piece_b", name(j)}, {"gamma", to_json(x)},
+                {"image_a", to_json(qi)}, {"image_b", to_json(qj)}};
+}
+
+Outcome Prover::p1() {
+    if (p1_limit_)
+        throw *p1_limit_;
+    if (p1_)
+        return *p1_;
+    // The fast path of the fan is decided before its chamber enumeration, so a fan beyond
+    // its limit means the cones do not meet face to face: P1 then needs intersections.
+    bool face_to_face = false, walls = false;
+    try {
+        face_to_face = fan_result().fast_path;
+        walls = fan_result().method == "walls";
+    } catch (const LimitExceeded&) {
+    }
+    try {
+        p1_ = face_to_face ? p1_shared_rays() : p1_intersections(walls);
+    } catch (const LimitExceeded& e) {
+        p1_limit_ = e;
+        throw;
+    }
+    return *p1_;
+}
+
+// The cones form a fan meeting face to face: agreement on shared rays.
+Outcome Prover::p1_shared_rays() {
+    Outcome o;
+    o.method = "products on shared rays";
+    for (std::size_t i = 0; i < pieces_.size() && o.proved; ++i)
+        for (std::size_t j = i + 1; j < pieces_.size() && o.proved; ++j)
+            for (std::size_t a = 0; a < c_ && o.proved; ++a) {
+                const auto id = pieces_[i].ray_ids[a];
+                const auto& rj = pieces_[j].ray_ids;
+                if (std::find(rj.begin(), rj.end(), id) == rj.end())
+                    continue;
+                const Vector& v = m_.rays()[id];
+                const Vector qi = pieces_[i].Q * v, qj = pieces_[j].Q * v;
+                ++o.checks;
+                o.data["shared"].push_back(Json{{"piece_a", name(i)}, {"piece_b", name(j)},
+                                                {"ray", to_json(v)}, {"image_a", to_json(qi)},
+                                                {"image_b", to_json(qj)}});
+                if (qi != qj)
+                    o = refute(o, p1_witness(i, j, v));
+            }
+    return o;
+}
+
+// Any cones: for every pair with different matrices, the extreme rays of C_i ∩ C_j.
+// With a tiling proved by walls, only pairs across a common facet hyperplane.
+Outcome Prover::p1_intersections(bool across_walls) {
+    Outcome o;
+    o.method = across_walls ? "extreme rays of intersections across walls" : "extreme rays of pairwise intersections";
+    std::vector<std::pair<std::size_t, std::size_t>> pairs;
+    if (across_walls)
+        pairs = wall_pairs(m_);
+    else
+        for (std::size_t i = 0; i < pieces_.size(); ++i)
+            for (std::size_t j = i + 1; j < pieces_.size(); ++j)
+                if (pieces_[i].Q != pieces_[j].Q)
+                    pairs.emplace_back(i, j);
+    const std::size_t per_pair = intersection_subsets(c_);
+    if (!pairs.empty() && per_pair > limits_.max_subsets / pairs.size())
+        throw LimitExceeded("the intersections of " + std::to_string(pairs.size()) +
+                                " pairs of cones need " + std::to_string(per_pair) +
+                                " constraint subsets each, more than " +
+                                std::to_string(limits_.max_subsets) + " in all",
+                            "--max-subsets");
+    o.data["intersections"] = Json::array();
+    for (std::size_t k = 0; k < pairs.size(); ++k) {
+        const auto [i, j] = pairs[k];
+        const auto rays = intersection_rays(m_, i, j, o.checks);
+        if (k % 256 == 0)
+            report_progress("P1", k, pairs.size());
+        Json listed = Json::array();
+        for (const auto& r : rays)
+            listed.push_back(to_json(r));
+        o.data["intersections"].push_back(Json{{"piece_a", name(i)}, {"piece_b", name(j)}, {"rays", listed}});
+        for (const auto& r : rays)
+            if (pieces_[i].Q * r != pieces_[j].Q * r)
+                return refute(o, p1_witness(i, j, r));
+    }
+    return o;
+}
+
+} // namespace impactcert::detail

@@ -1,0 +1,107 @@
+// prover.hpp -- internal to src/obligations/: the Prover behind verify() (obligations.hpp).
+//
+// Contract: one Prover decides the obligations of one Model, each in its own file
+// (src/obligations/<obligation>.cpp, which opens with the lemma of proofs/README.md it relies
+// on); verify.cpp runs them in kObligationIds order and does the bookkeeping. What several
+// obligations share lives here: the fan's decision and S's domain (computed once; a limit
+// exceeded is remembered and rethrown to every obligation that needs them), P1's outcome
+// (reused by nonexpansive-lemma), the limits and the progress callback. A refutation is
+// re-validated with `ensure` before it is returned.
+#pragma once
+
+#include "copositivity.hpp"
+#include "fan.hpp"
+#include "json.hpp"
+#include "obligations.hpp"
+
+#include <cstddef>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace impactcert::detail {
+
+// Internal consistency: a refutation whose witness does not witness is a bug in impactcert.
+void ensure(bool ok, const char* what);
+
+bool nonnegative(const Vector& v);
+
+// The outcome of one obligation before bookkeeping.
+struct Outcome {
+    bool proved = true;
+    std::size_t checks = 0;
+    std::string method;
+    Json counterexample;
+    Json data = Json::object();
+};
+
+Outcome refute(Outcome o, Json witness);
+
+// A copositivity decision as the certificate's evidence (schema: proofs/README.md).
+Json certificate_json(const CopositivityResult& r);
+
+class Prover {
+  public:
+    Prover(const Model& m, const Limits& limits, const Progress& progress, const std::vector<std::string>* only)
+        : m_(m), c_(m.contacts()), pieces_(m.pieces()), limits_(limits), progress_(progress), only_(only) {}
+
+    VerifyReport run();
+
+  private:
+    const Model& m_;
+    std::size_t c_;
+    const std::vector<Piece>& pieces_;
+    const Limits& limits_;
+    const Progress& progress_;
+    const std::vector<std::string>* only_;
+    std::optional<FanResult> fan_;
+    std::optional<LimitExceeded> fan_limit_; // the fan's decision exceeded a limit
+    std::optional<Outcome> p1_;
+    std::optional<LimitExceeded> p1_limit_;
+    std::optional<DomainResult> domain_;
+
+    void report_progress(const std::string& id, std::size_t done, std::size_t total) const {
+        if (progress_)
+            progress_(id, std::to_string(done) + "/" + std::to_string(total));
+    }
+
+    const std::string& name(std::size_t p) const { return pieces_[p].name; }
+
+    Json names_of(const std::vector<std::size_t>& ps) const {
+        Json out = Json::array();
+        for (auto p : ps)
+            out.push_back(name(p));
+        return out;
+    }
+
+    Outcome dispatch(const std::string& id); // verify.cpp
+
+    // fan.cpp: the fan, and S's domain for the obligations about the function S.
+    const FanResult& fan_result();
+    const DomainResult& domain();
+    Outcome fan();
+    std::optional<Json> domain_witness();
+
+    // p1.cpp
+    Json p1_witness(std::size_t i, std::size_t j, const Vector& x);
+    Outcome p1();
+    Outcome p1_shared_rays();
+    Outcome p1_intersections(bool across_walls);
+
+    Outcome p2();             // p2.cpp
+    Outcome p3();             // p3.cpp
+    Outcome kinematic();      // kinematic.cpp
+    Outcome kinetic();        // kinetic.cpp
+    Outcome energetic();      // energetic.cpp
+    Outcome identities();     // identities.cpp
+    Outcome single_impacts(); // single_impacts.cpp
+
+    // nonexpansive.cpp (pair_witness is also the lemma's witness)
+    Json pair_witness(std::size_t i, std::size_t j, const Vector& gamma_a, const Vector& gamma_b);
+    Outcome nonexpansive();
+
+    Outcome nonexpansive_lemma(); // nonexpansive_lemma.cpp
+    Outcome outcomes();           // outcomes.cpp
+};
+
+} // namespace impactcert::detail
