@@ -635,8 +635,11 @@ struct Worker {
                    : opt.tolerance == Tolerance::relative ? "normwise error above --max-rel-error"
                                                           : "error above the implementation's stated bound";
         record(index, what, s, x, nullptr, y, v);
-        // Properties the output breaks beyond the tolerance.
-        if (props.nonnegative) {
+        // Properties the output breaks (beyond the tolerance, for the metric ones).
+        bool finite_output = true;
+        for (std::size_t i = 0; i < mo; ++i)
+            finite_output = finite_output && std::isfinite(y[i]);
+        if (props.nonnegative && finite_output) {
             bool negative = false;
             if (ref.velocities()) {
                 const Matrix& W = ref.model().W(); // gamma+ = W^T y, exactly
@@ -655,7 +658,7 @@ struct Worker {
                 record(index, "negative contact velocity after impact (gamma+ >= 0 broken)", s, x, nullptr, y, v);
             }
         }
-        if (props.energy) {
+        if (props.energy && finite_output) {
             double ys[kMaxDim], ylo, yhi, xlo, xhi;
             for (std::size_t i = 0; i < mo; ++i)
                 ys[i] = eft::ldexp_fast(y[i], k);
