@@ -307,6 +307,10 @@ struct Metric {
                 h.push_back(nearest_double(q));
                 habs.push_back(std::fabs(h.back()));
             }
+        double total = 0;
+        for (double a : habs)
+            total += a;
+        allowance_unit = static_cast<double>(m) * std::sqrt(total) * (1 + 0x1p-40);
     }
     double norm(const double* v) const {
         double s = 0;
@@ -332,6 +336,7 @@ struct Metric {
         lo = std::sqrt(std::fmax(s - delta, 0.0)) * (1 - 0x1p-50);
         hi = std::sqrt(s + delta) * (1 + 0x1p-50);
     }
+    double allowance_unit = 0; // m sqrt(sum_ij |h_ij|) (1 + 2^-40): see Worker::underflow_allowance
     double norm_abs(const double* d) const { // >= the norm of any vector with |v_i| <= d_i
         double s = 0;
         for (std::size_t i = 0; i < m; ++i)
@@ -341,9 +346,15 @@ struct Metric {
     }
 };
 
+// The gap from |v| up to the next double (2^1024 - DBL_MAX = 2^971 above the largest; infinite
+// for an infinite v), by its exponent bits.
 double ulp_of(double v) {
-    const double a = std::fabs(v);
-    return std::isfinite(a) ? std::nextafter(a, INFINITY) - a : INFINITY;
+    std::uint64_t b;
+    std::memcpy(&b, &v, sizeof b);
+    const int e = static_cast<int>((b >> 52) & 0x7ff);
+    if (e == 0x7ff)
+        return INFINITY;
+    return e == 0 ? 0x1p-1074 : eft::ldexp_fast(1.0, e - 1075); // exact: a power of two, >= 2^-1074
 }
 
 constexpr double kMargin = 1e-9; // relative margin of the floating-point property checks
@@ -424,8 +435,7 @@ struct Worker {
                 d[j] = eft::ldexp_fast(x[j], k);
             double lo, hi;
             metric.enclose(d, lo, hi);
-            const double allowance = underflow_allowance(k);
-            return std::sqrt(opt.max_rel_error * hi * opt.max_rel_error * hi + allowance * allowance) * (1 + kMargin);
+            return std::hypot(opt.max_rel_error * hi, underflow_allowance(k)) * (1 + kMargin);
         }
         for (std::size_t i = 0; i < mo; ++i) {
             const double allowed = opt.tolerance == Tolerance::ulps
@@ -437,12 +447,11 @@ struct Worker {
     }
 
     // A = |a|_{|H|} with a_i = m 2^-1074: what a dot product of m terms may lose to underflow in
-    // each component (no double arithmetic does better below the normal range), in units of 2^-k.
+    // each component (no double arithmetic does better below the normal range), in units of 2^-k:
+    // m sqrt(sum |h_ij|) 2^(k-1074), rounded up generously.
     double underflow_allowance(int k) const {
-        double a[kMaxDim];
-        for (std::size_t i = 0; i < mo; ++i)
-            a[i] = std::ldexp(static_cast<double>(m) * 0x1p-1074, k);
-        return metric.norm_abs(a);
+        return k - 1074 >= -1022 ? eft::ldexp_fast(metric.allowance_unit, k - 1074)
+                                 : std::ldexp(metric.allowance_unit, k - 1074);
     }
 
     // --max-rel-error R: |y - S(x)|_H^2 <= R^2 |x|_H^2 + A^2, decided by an enclosure in double
@@ -457,7 +466,7 @@ struct Worker {
             double e[kMaxDim], h[kMaxDim], xs[kMaxDim];
             for (std::size_t i = 0; i < mo; ++i) {
                 e[i] = eft::ldexp_fast(y[i], k) - eft::ldexp_fast(v[i], k); // relative error <= 2^-53
-                h[i] = std::ldexp(ulp_of(v[i]), k - 1);                       // |v - S(x)| <= h
+                h[i] = eft::ldexp_fast(ulp_of(v[i]), k - 1);                  // |v - S(x)| <= h (a power of two)
             }
             for (std::size_t j = 0; j < m; ++j)
                 xs[j] = eft::ldexp_fast(x[j], k);
@@ -467,10 +476,11 @@ struct Worker {
             const double hn = metric.norm_abs(h) * (1 + 0x1p-50), allowance = underflow_allowance(k);
             const double err_lo = std::fmax(elo - hn, 0.0), err_hi = ehi + hn;
             const double R = opt.max_rel_error;
-            const double rhs_lo = std::sqrt(R * xlo * R * xlo + allowance * allowance) * (1 - 0x1p-48);
-            const double rhs_hi = std::sqrt(R * xhi * R * xhi + allowance * allowance) * (1 + 0x1p-48);
+            // hypot: no overflow in the squares (R may be huge); an infinite bound accepts.
+            const double rhs_lo = std::hypot(R * xlo, allowance) * (1 - 0x1p-48);
+            const double rhs_hi = std::hypot(R * xhi, allowance) * (1 + 0x1p-48);
             rel = xlo > 0 ? (elo + ehi) / (xlo + xhi) : 0;
-            if (std::isfinite(err_hi) && std::isfinite(rhs_lo) && err_hi <= rhs_lo)
+            if (std::isfinite(err_hi) && err_hi <= rhs_lo)
                 return true;
             if (std::isfinite(err_lo) && std::isfinite(rhs_hi) && err_lo > rhs_hi)
                 return false;
@@ -588,7 +598,6 @@ struct Worker {
         double xs[kMaxDim];
         for (std::size_t j = 0; j < m; ++j)
             xs[j] = eft::ldexp_fast(x[j], k);
-        const double xnorm = metric.norm(xs);
         bool ok = true;
         double rel = 0;
         switch (opt.tolerance) {
@@ -598,6 +607,7 @@ struct Worker {
                 double e[kMaxDim];
                 for (std::size_t i = 0; i < mo; ++i)
                     e[i] = eft::ldexp_fast(y[i], k) - eft::ldexp_fast(v[i], k);
+                const double xnorm = metric.norm(xs);
                 rel = xnorm > 0 ? metric.norm(e) / xnorm : 0;
             }
             break;
