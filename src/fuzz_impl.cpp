@@ -294,7 +294,7 @@ class CommandImpl final : public Implementation {
             close(out_pipe[0]);
             close(out_pipe[1]);
             if (quiet_) {
-                const int null = open("/dev/null", O_WRONLY);
+                const int null = open("/dev/null", O_WRONLY | O_CLOEXEC);
                 if (null >= 0)
                     dup2(null, STDERR_FILENO);
             }
