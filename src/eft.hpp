@@ -216,32 +216,18 @@ struct IntRow {
             above.add_product(-d, hu);
             below.add_product(d, hd);
             const int sa = above.sign(), sb = below.sign();
-            if (sa > 0 || (sa == 0 && (bits_of(v) & 1) == 1)) { // beyond the midpoint above, or an odd tie
-                if (std::isinf(up)) {
-                    out = up;
+            // Beyond a midpoint: move to that neighbour (and stop there on a tie, which goes to
+            // the even neighbour, or at infinity); exactly on it with v odd: the neighbour.
+            const bool odd = (bits_of(v) & 1) == 1;
+            const int side = sa > 0 || (sa == 0 && odd) ? 1 : sb < 0 || (sb == 0 && odd) ? -1 : 0;
+            if (side != 0) {
+                const double next = side > 0 ? up : down;
+                if (std::isinf(next) || (side > 0 ? sa : sb) == 0) {
+                    out = next;
                     exact = false;
                     return true;
                 }
-                if (sa == 0) {
-                    out = up;
-                    exact = false;
-                    return true;
-                }
-                v = up;
-                continue;
-            }
-            if (sb < 0 || (sb == 0 && (bits_of(v) & 1) == 1)) {
-                if (std::isinf(down)) {
-                    out = down;
-                    exact = false;
-                    return true;
-                }
-                if (sb == 0) {
-                    out = down;
-                    exact = false;
-                    return true;
-                }
-                v = down;
+                v = next;
                 continue;
             }
             out = v;

@@ -855,7 +855,7 @@ Summary run(const Options& options, const LawReference& reference, const Impleme
 }
 
 std::string explain(const LawReference& reference, Implementation* impl, const double* x) {
-    const std::size_t m = reference.in_dim(), mo = reference.out_dim();
+    const std::size_t mo = reference.out_dim();
     std::fesetround(FE_TONEAREST);
     RefPoint r;
     reference.eval(x, r);
@@ -895,7 +895,6 @@ std::string explain(const LawReference& reference, Implementation* impl, const d
         }
         text += "\n";
     }
-    (void)m;
     return text;
 }
 

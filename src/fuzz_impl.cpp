@@ -225,7 +225,6 @@ class CommandImpl final : public Implementation {
                 // More lines than inputs: every answer of this batch may belong to another input.
                 for (std::size_t i = done; i < count; ++i)
                     status[i] = ImplStatus::malformed;
-                surplus_ = true;
                 stop();
                 return;
             }
@@ -242,7 +241,6 @@ class CommandImpl final : public Implementation {
         }
     }
     void set_stop_flag(const std::atomic<bool>* stop) override { stop_flag_ = stop; }
-    bool wrote_surplus() const { return surplus_; }
     std::unique_ptr<Implementation> clone() const override {
         return std::make_unique<CommandImpl>(cmd_, in_dim_, out_dim_, timeout_);
     }
@@ -252,7 +250,6 @@ class CommandImpl final : public Implementation {
 
     // Why the last process ended (for the probe's error message).
     std::string last_exit() const { return last_exit_; }
-    ImplStatus failure() const { return failure_; }
 
   private:
     std::string cmd_;
@@ -265,7 +262,6 @@ class CommandImpl final : public Implementation {
     ImplStatus failure_ = ImplStatus::crashed;
     std::string last_exit_;
     bool fresh_ = false; // started and not answered yet: its start-up time is not a hang
-    bool surplus_ = false;
     bool pid_reaped_ = false;
     const std::atomic<bool>* stop_flag_ = nullptr;
     static constexpr std::size_t kMaxLine = 1 << 16; // bytes without a newline: a malformed answer

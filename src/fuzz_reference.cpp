@@ -103,7 +103,7 @@ LawReference::Row LawReference::compact(const eft::IntRow& r, std::vector<eft::I
     return row;
 }
 
-void LawReference::build_planes(const Model& model) {
+void LawReference::build_planes() {
     std::vector<std::uint64_t> not_neg, not_pos;
     std::vector<eft::IntRow> planes;
     for (std::size_t p = 0; p < facets_.size(); ++p) {
@@ -133,7 +133,6 @@ void LawReference::build_planes(const Model& model) {
         not_neg.push_back(nn);
         not_pos.push_back(np);
     }
-    (void)model;
     planes_ = std::move(planes);
     not_neg_ = std::move(not_neg);
     not_pos_ = std::move(not_pos);
@@ -186,7 +185,7 @@ LawReference::LawReference(const Model& model, bool velocities, bool continuous_
         maps_.push_back(std::move(A));
         kernels_.push_back(std::move(k));
     }
-    build_planes(model);
+    build_planes();
     // Geometry for the generators.
     geometry_.integer_rays = true;
     for (const auto& r : model.rays()) {
@@ -248,6 +247,20 @@ bool LawReference::fast_eval(const double* x, RefPoint& out, bool want_exact) co
             scaled = eft::scale_into_safe_range(x, in_dim_, xs, k) ? 1 : -1;
         return scaled > 0;
     };
+    // The exact sign of a facet row at x: simple rows by one IEEE operation, rows of 0/+-1 by a
+    // filter on x itself, others on the scaled copy; kUndecided when x cannot be scaled (GMP).
+    constexpr int kUndecided = 2;
+    auto facet_sign = [&](const Row& row, const std::vector<eft::IntRow>& general) {
+        if (row.terms >= 0) {
+            const double v = simple_value(row.terms, row.a0, row.a1, x[row.i0], x[row.i1]);
+            return v > 0 ? 1 : v < 0 ? -1 : 0;
+        }
+        const eft::IntRow& g = general[row.general];
+        const int quick = g.unit ? g.unit_sign(x) : kUndecided;
+        if (quick != kUndecided)
+            return quick;
+        return ensure_scaled() ? g.sign(xs) : kUndecided;
+    };
     for (std::size_t j = 0; j < in_dim_; ++j)
         if (!std::isfinite(x[j]))
             return false;
@@ -259,19 +272,16 @@ bool LawReference::fast_eval(const double* x, RefPoint& out, bool want_exact) co
     // The sign of every distinct facet plane, once.
     std::uint64_t neg = 0, pos = 0;
     for (std::size_t d = 0; d < plane_rows_.size(); ++d) {
+        // Simple rows straight from the double: no branch on the sign (this is the hot loop).
         const Row& row = plane_rows_[d];
         double sign;
         if (row.terms >= 0) {
             sign = simple_value(row.terms, row.a0, row.a1, x[row.i0], x[row.i1]);
         } else {
-            const eft::IntRow& g = planes_[d];
-            const int quick = g.unit ? g.unit_sign(x) : 2;
-            if (quick != 2)
-                sign = quick;
-            else if (ensure_scaled())
-                sign = g.sign(xs);
-            else
+            const int exact_sign = facet_sign(row, planes_);
+            if (exact_sign == kUndecided)
                 return false;
+            sign = exact_sign;
         }
         neg |= static_cast<std::uint64_t>(sign < 0) << d;
         pos |= static_cast<std::uint64_t>(sign > 0) << d;
@@ -291,19 +301,9 @@ bool LawReference::fast_eval(const double* x, RefPoint& out, bool want_exact) co
                 continue;
         } else {
             for (const Row& row : kp.facets) {
-                double sign;
-                if (row.terms >= 0) {
-                    sign = simple_value(row.terms, row.a0, row.a1, x[row.i0], x[row.i1]);
-                } else {
-                    const eft::IntRow& g = kp.general[row.general];
-                    const int quick = g.unit ? g.unit_sign(x) : 2;
-                    if (quick != 2)
-                        sign = quick;
-                    else if (ensure_scaled())
-                        sign = g.sign(xs);
-                    else
-                        return false;
-                }
+                const int sign = facet_sign(row, kp.general);
+                if (sign == kUndecided)
+                    return false;
                 if (sign < 0) {
                     inside = false;
                     break;

@@ -99,7 +99,7 @@ class LawReference {
 
     bool fast_eval(const double* x, RefPoint& out, bool want_exact) const;
     static Row compact(const eft::IntRow& r, std::vector<eft::IntRow>& general);
-    void build_planes(const Model& model);
+    void build_planes();
 };
 
 } // namespace impactcert::fuzz
