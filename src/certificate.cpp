@@ -23,6 +23,8 @@ const char* statement_of(const std::string& id) {
     if (id == "nonexpansive") return "|S(a) - S(b)|_H <= |a - b|_H for all a, b (pairwise copositivity)";
     if (id == "nonexpansive-lemma") return "|S(a) - S(b)|_H <= |a - b|_H for all a, b (fan + P1 + per-piece PSD)";
     if (id == "outcomes") return "each declared experiment u- maps to the declared u+";
+    if (id == "symmetries")
+        return "each declared (P, P'): H-isometries, P C_i = C_sigma(i) and Q_sigma(i) P = P' Q_i, so S(P x) = P' S(x)";
     throw std::logic_error("no statement for " + id);
 }
 

@@ -36,7 +36,26 @@ void check_square(const Matrix& m, std::size_t c, const std::string& path) {
 
 } // namespace
 
-Model::Model(Law law) : law_(std::move(law)) {
+void Model::add_piece(const std::string& name, const Matrix& Q, const std::vector<Vector>& primitive_rays,
+                      const std::string& path) {
+    Piece piece;
+    piece.name = name;
+    piece.Q = Q;
+    piece.R = Matrix::from_columns(primitive_rays);
+    auto r_inv = inverse(piece.R);
+    if (!r_inv)
+        input_error(path + ".rays", "linearly dependent rays (the cone is not full-dimensional)");
+    piece.R_inv = *r_inv;
+    for (const auto& r : primitive_rays) {
+        auto [it, added] = ray_index_.emplace(r, rays_.size());
+        piece.ray_ids.push_back(it->second);
+        if (added)
+            rays_.push_back(r);
+    }
+    pieces_.push_back(std::move(piece));
+}
+
+Model::Model(Law law, std::size_t max_pieces) : law_(std::move(law)) {
     if (law_.name.empty())
         input_error("$.name", "empty law name");
 
@@ -110,24 +129,61 @@ Model::Model(Law law) : law_(std::move(law)) {
                 rays.push_back(q_inv->column(k));
         }
 
-        Piece piece;
-        piece.name = decl.name;
-        piece.Q = decl.Q;
         std::vector<Vector> primitive;
         for (const auto& r : rays)
             primitive.push_back(primitive_ray(r));
-        piece.R = Matrix::from_columns(primitive);
-        auto r_inv = inverse(piece.R);
-        if (!r_inv)
-            input_error(path + ".rays", "linearly dependent rays (the cone is not full-dimensional)");
-        piece.R_inv = *r_inv;
-        for (const auto& r : primitive) {
-            auto it = std::find(rays_.begin(), rays_.end(), r);
-            piece.ray_ids.push_back(static_cast<std::size_t>(it - rays_.begin()));
-            if (it == rays_.end())
-                rays_.push_back(r);
-        }
-        pieces_.push_back(std::move(piece));
+        add_piece(decl.name, decl.Q, primitive, path);
+    }
+
+    // Symmetries: invertible, named once; with representatives only, the closure.
+    std::set<std::string> symmetry_names;
+    for (std::size_t g = 0; g < law_.symmetries.size(); ++g) {
+        const SymmetryDecl& sym = law_.symmetries[g];
+        const std::string path = idx("$.symmetries", g);
+        if (sym.name.empty())
+            input_error(path + ".name", "empty symmetry name");
+        if (!symmetry_names.insert(sym.name).second)
+            input_error(path + ".name", "duplicate symmetry name " + in_quotes(sym.name));
+        check_square(sym.P, c, path + ".P");
+        check_square(sym.P_prime, c, path + ".P_prime");
+        auto P_inv = inverse(sym.P);
+        if (!P_inv)
+            input_error(path + ".P", "singular matrix (a symmetry maps the cones one to one)");
+        P_inv_.push_back(*P_inv);
+    }
+    if (law_.representatives_only) {
+        if (law_.symmetries.empty())
+            input_error("$.pieces_listed", "orbit representatives need \"symmetries\"");
+        std::map<std::vector<std::size_t>, std::size_t> by_rays;
+        auto key_of = [](std::vector<std::size_t> ids) {
+            std::sort(ids.begin(), ids.end());
+            return ids;
+        };
+        for (std::size_t p = 0; p < pieces_.size(); ++p)
+            by_rays.emplace(key_of(pieces_[p].ray_ids), p);
+        for (std::size_t p = 0; p < pieces_.size(); ++p)
+            for (std::size_t g = 0; g < law_.symmetries.size(); ++g) {
+                const SymmetryDecl& sym = law_.symmetries[g];
+                std::vector<Vector> image;
+                std::vector<std::size_t> ids;
+                for (std::size_t k = 0; k < c; ++k) {
+                    image.push_back(primitive_ray(sym.P * pieces_[p].R.column(k)));
+                    auto it = ray_index_.find(image.back());
+                    ids.push_back(it == ray_index_.end() ? rays_.size() + k : it->second);
+                }
+                if (by_rays.count(key_of(ids)))
+                    continue;
+                if (pieces_.size() >= max_pieces)
+                    input_error("$.symmetries", "the symmetries generate more than " + std::to_string(max_pieces) +
+                                                    " pieces (raise it with --max-pieces)");
+                const std::string name = pieces_[p].name + "." + sym.name;
+                if (!names.insert(name).second)
+                    input_error(idx("$.symmetries", g) + ".name",
+                                "generated piece name " + in_quotes(name) + " is taken");
+                const Matrix Q = sym.P_prime * pieces_[p].Q * P_inv_[g];
+                add_piece(name, Q, image, "$.symmetries");
+                by_rays.emplace(key_of(pieces_.back().ray_ids), pieces_.size() - 1);
+            }
     }
 
     // Declarations that reference pieces.
@@ -224,6 +280,8 @@ bool Model::applies(const std::string& id) const {
         return !law_.single_impacts.empty();
     if (id == "outcomes")
         return !law_.outcomes.empty();
+    if (id == "symmetries")
+        return !law_.symmetries.empty();
     return is_obligation_id(id);
 }
 

@@ -10,9 +10,11 @@
 #pragma once
 
 #include "errors.hpp"
+#include "limits.hpp"
 #include "matrix.hpp"
 
 #include <array>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -45,6 +47,14 @@ struct OutcomeDecl {
     Vector u_plus;  // n ball velocities, as declared
 };
 
+// A declared symmetry (proofs/README.md, "Symmetries"): P and P' rational c x c matrices with
+// P^T H P = H, P'^T H P' = H, P mapping every cone onto a cone C_sigma(i) and
+// Q_sigma(i) P = P' Q_i, so that S(P x) = P' S(x). Verified by the obligation `symmetries`.
+struct SymmetryDecl {
+    std::string name;
+    Matrix P, P_prime;
+};
+
 struct Law {
     std::string name;
     std::string description;               // free text (note/description), informational
@@ -55,15 +65,20 @@ struct Law {
     std::vector<SingleImpactDecl> single_impacts;
     std::vector<OutcomeDecl> outcomes;
     std::optional<std::vector<std::string>> claims; // absent: every obligation that applies
+    std::vector<SymmetryDecl> symmetries;
+    // "pieces_listed": false ("all"): `pieces` is the whole law. true ("orbit-representatives"):
+    // the law is `pieces` closed under the symmetries (Model::Model says how).
+    bool representatives_only = false;
 };
 
 // ---------------------------------------------------------------------------------------------
 // Obligation ids, in report order (SPEC section 3).
 
-inline constexpr std::array<const char*, 12> kObligationIds = {
+// `symmetries` comes last: it is evaluated first whenever another obligation uses it.
+inline constexpr std::array<const char*, 13> kObligationIds = {
     "fan",        "P1",         "P2",           "P3",
     "kinematic",  "kinetic",    "energetic",    "identities",
-    "single-impacts", "nonexpansive", "nonexpansive-lemma", "outcomes"};
+    "single-impacts", "nonexpansive", "nonexpansive-lemma", "outcomes", "symmetries"};
 
 bool is_obligation_id(const std::string& id);
 
@@ -80,7 +95,12 @@ struct Piece {
 
 class Model {
   public:
-    explicit Model(Law law); // validates; throws InputError
+    // Validates; throws InputError. With law.representatives_only the pieces are closed under
+    // the symmetries, breadth first: for each piece in order (the listed ones, then those
+    // generated) and each symmetry in order, the cone P C is added, with Q' = P' Q P^-1 and
+    // the name "<piece>.<symmetry>", unless a piece already has exactly those rays; more than
+    // `max_pieces` pieces is an input error.
+    explicit Model(Law law, std::size_t max_pieces = Limits{}.max_pieces);
 
     const Law& law() const { return law_; }
     std::size_t balls() const { return masses_.size(); } // n
@@ -91,6 +111,8 @@ class Model {
     const Matrix& G() const { return G_; }
     const Matrix& H() const { return H_; }
     const std::vector<Piece>& pieces() const { return pieces_; }
+    // The declared symmetries with P^-1 (P is invertible: checked on construction).
+    const std::vector<Matrix>& symmetry_P_inv() const { return P_inv_; }
     const std::vector<Vector>& rays() const { return rays_; } // distinct, primitive
     std::size_t piece_index(const std::string& name) const;   // throws std::out_of_range
 
@@ -123,6 +145,11 @@ class Model {
     Matrix M_inv_, W_, G_, H_;
     std::vector<Piece> pieces_;
     std::vector<Vector> rays_;
+    std::vector<Matrix> P_inv_;
+    std::map<Vector, std::size_t> ray_index_; // rays_ by value
+
+    void add_piece(const std::string& name, const Matrix& Q, const std::vector<Vector>& primitive_rays,
+                   const std::string& path);
 };
 
 } // namespace impactcert

@@ -206,7 +206,7 @@ template <class F> void for_each_element(const Json& j, const std::string& path,
 Law parse_document(const Json& doc) {
     expect_object(doc, "$",
                   {"format", "name", "masses", "contacts", "pieces", "identities", "single_impacts",
-                   "outcomes", "claims"},
+                   "outcomes", "claims", "symmetries", "pieces_listed"},
                   {"format", "name", "masses", "pieces"});
     const std::string format = get_string(doc["format"], "$.format");
     if (format != kLawFormat)
@@ -278,6 +278,23 @@ Law parse_document(const Json& doc) {
             law.outcomes.push_back(std::move(decl));
         });
 
+    if (doc.contains("symmetries"))
+        for_each_element(doc["symmetries"], "$.symmetries", [&](const Json& d, const std::string& path) {
+            expect_object(d, path, {"name", "P", "P_prime"}, {"name", "P", "P_prime"});
+            SymmetryDecl decl;
+            decl.name = get_string(d["name"], path + ".name");
+            decl.P = get_matrix(d["P"], path + ".P");
+            decl.P_prime = get_matrix(d["P_prime"], path + ".P_prime");
+            law.symmetries.push_back(std::move(decl));
+        });
+    if (doc.contains("pieces_listed")) {
+        const std::string listed = get_string(doc["pieces_listed"], "$.pieces_listed");
+        if (listed == "orbit-representatives")
+            law.representatives_only = true;
+        else if (listed != "all")
+            input_error("$.pieces_listed", "expected \"all\" or \"orbit-representatives\", got " + in_quotes(listed));
+    }
+
     if (doc.contains("claims")) {
         std::vector<std::string> claims;
         for_each_element(doc["claims"], "$.claims", [&](const Json& d, const std::string& path) {
@@ -290,17 +307,17 @@ Law parse_document(const Json& doc) {
 
 } // namespace
 
-Law parse_law_text(const std::string& text, const std::string& origin) {
+Law parse_law_text(const std::string& text, const std::string& origin, std::size_t max_pieces) {
     try {
         Law law = parse_document(parse_syntax(text));
-        Model check(law); // semantic validation, with JSON paths
+        Model check(law, max_pieces); // semantic validation, with JSON paths
         return law;
     } catch (const InputError& e) {
         throw InputError(origin + ": " + e.what());
     }
 }
 
-Law load_law_file(const std::string& path) {
+Law load_law_file(const std::string& path, std::size_t max_pieces) {
     // A directory opens like a file and reads as empty ("unexpected end of input"): say so.
     std::error_code ec;
     if (std::filesystem::is_directory(path, ec))
@@ -313,7 +330,7 @@ Law load_law_file(const std::string& path) {
     text << in.rdbuf();
     if (in.bad())
         throw InputError(path + ": cannot read file: read error");
-    return parse_law_text(text.str(), path);
+    return parse_law_text(text.str(), path, max_pieces);
 }
 
 nlohmann::ordered_json law_to_json(const Law& law) {
@@ -371,6 +388,14 @@ nlohmann::ordered_json law_to_json(const Law& law) {
             os.push_back(OJson{{"name", d.name}, {"u_minus", vec(d.u_minus)}, {"u_plus", vec(d.u_plus)}});
         out["outcomes"] = os;
     }
+    if (!law.symmetries.empty()) {
+        OJson syms = OJson::array();
+        for (const auto& d : law.symmetries)
+            syms.push_back(OJson{{"name", d.name}, {"P", mat(d.P)}, {"P_prime", mat(d.P_prime)}});
+        out["symmetries"] = syms;
+    }
+    if (law.representatives_only)
+        out["pieces_listed"] = "orbit-representatives";
     if (law.claims)
         out["claims"] = *law.claims;
     return out;

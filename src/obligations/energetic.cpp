@@ -11,13 +11,15 @@ namespace impactcert::detail {
 
 Outcome Prover::energetic() {
     Outcome o;
-    o.method = "copositivity of R^T (H - Q^T H Q) R";
-    for (std::size_t p = 0; p < pieces_.size(); ++p) {
+    o.method = "copositivity of R^T (H - Q^T H Q) R" + by_symmetries();
+    // With verified symmetries one piece per orbit (proofs/README.md, "Symmetries").
+    for (const std::size_t p : orbit_representatives()) {
         const Piece& pc = pieces_[p];
         const Matrix B = transpose(pc.R) * (m_.H() - transpose(pc.Q) * m_.H() * pc.Q) * pc.R;
         const auto cop = decide_copositivity(B, limits_.max_faces);
         o.checks += cop.method == CopositivityMethod::kkt_enumeration ? cop.faces : 1;
-        o.data["pieces"].push_back(Json{{"piece", name(p)}, {"B", to_json(B)}, {"certificate", certificate_json(cop)}});
+        if (limits_.evidence)
+            o.data["pieces"].push_back(Json{{"piece", name(p)}, {"B", to_json(B)}, {"certificate", certificate_json(cop)}});
         if (!cop.copositive) {
             const Vector gamma = pc.R * cop.witness;
             const Rational lhs = m_.energy(pc.Q * gamma), rhs = m_.energy(gamma);

@@ -17,7 +17,8 @@ Outcome Prover::kinematic() {
             const Vector r = pieces_[p].R.column(a);
             const Vector img = pieces_[p].Q * r;
             ++o.checks;
-            o.data["images"].push_back(Json{{"piece", name(p)}, {"ray", to_json(r)}, {"image", to_json(img)}});
+            if (limits_.evidence)
+                o.data["images"].push_back(Json{{"piece", name(p)}, {"ray", to_json(r)}, {"image", to_json(img)}});
             if (!nonnegative(img))
                 return refute(o, Json{{"piece", name(p)}, {"ray", to_json(r)},
                                       {"image", to_json(img)}});

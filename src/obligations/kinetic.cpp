@@ -17,7 +17,8 @@ Outcome Prover::kinetic() {
             const Vector r = pieces_[p].R.column(a);
             const Vector impulse = K * r;
             ++o.checks;
-            o.data["impulses"].push_back(Json{{"piece", name(p)}, {"ray", to_json(r)}, {"impulse", to_json(impulse)}});
+            if (limits_.evidence)
+                o.data["impulses"].push_back(Json{{"piece", name(p)}, {"ray", to_json(r)}, {"impulse", to_json(impulse)}});
             if (!nonnegative(impulse))
                 return refute(o, Json{{"piece", name(p)}, {"ray", to_json(r)},
                                       {"impulse", to_json(impulse)}});

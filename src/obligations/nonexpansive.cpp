@@ -1,16 +1,26 @@
-// nonexpansive -- proofs/README.md, "nonexpansive (pairwise)", with "Exact copositivity" and
-// "S as a function".
+// nonexpansive -- proofs/README.md, "nonexpansive (pairwise)", with "Exact copositivity",
+// "S as a function", "Integer kernels" and "Symmetries".
 // Claim: |S(a) - S(b)|_H <= |a - b|_H for all a, b in R^c.
 // Check: S is a function (else the domain witness refutes it first), then for every ordered
 // pair (i, j), i = j included, with a = R_i s, b = R_j t, z = (s, t) >= 0:
 // A = B1^T H B1 - B2^T H B2 (B1 = [R_i, -R_j], B2 = [Q_i R_i, -Q_j R_j]) is copositive.
+// With verified symmetries, i runs over one representative of each orbit of pieces (every
+// ordered pair is the image of a checked one under the group). Each form is first decided by
+// the integer kernel (pair_kernel.hpp); GMP decides whatever the kernel cannot, and always when
+// evidence is built, so verdicts, methods, counts and witnesses never depend on the kernel.
+// Pairs are decided in blocks, by `jobs` threads, and read in order: the first pair that is
+// not copositive (or exceeds a limit) ends the obligation, whatever the number of threads.
 // Witness: a negative z moved into the open orthant (interior_witness), so that gamma_a and
 // gamma_b are interior to their cones.
+#include "pair_kernel.hpp"
 #include "prover.hpp"
 
+#include <algorithm>
 #include <cstddef>
+#include <exception>
 #include <optional>
 #include <string>
+#include <thread>
 
 namespace impactcert::detail {
 
@@ -23,6 +33,35 @@ Json Prover::pair_witness(std::size_t i, std::size_t j, const Vector& gamma_a, c
                 {"gamma_a", to_json(gamma_a)}, {"gamma_b", to_json(gamma_b)},
                 {"lhs", to_json(lhs)},         {"rhs", to_json(rhs)}};
 }
+
+Matrix Prover::pair_form(std::size_t i, std::size_t j) const {
+    // z = (s, t): a = R_i s, b = R_j t;  a - b = B1 z,  S(a) - S(b) = B2 z.
+    Matrix B1(c_, 2 * c_), B2(c_, 2 * c_);
+    const Matrix QRi = pieces_[i].Q * pieces_[i].R, QRj = pieces_[j].Q * pieces_[j].R;
+    for (std::size_t r = 0; r < c_; ++r)
+        for (std::size_t k = 0; k < c_; ++k) {
+            B1(r, k) = pieces_[i].R(r, k);
+            B1(r, c_ + k) = -pieces_[j].R(r, k);
+            B2(r, k) = QRi(r, k);
+            B2(r, c_ + k) = -QRj(r, k);
+        }
+    return transpose(B1) * m_.H() * B1 - transpose(B2) * m_.H() * B2;
+}
+
+namespace {
+
+// What one pair's decision left for the in-order reading.
+struct PairOutcome {
+    CopositivityMethod method = CopositivityMethod::nonnegative_entries;
+    std::size_t checks = 0;
+    bool copositive = true;
+    std::optional<LimitExceeded> limit;
+    Json evidence; // with evidence: the certificate's entry
+    Vector witness; // not copositive: z >= 0 with z^T A z < 0
+    Matrix A;       // not copositive: the form
+};
+
+} // namespace
 
 Outcome Prover::nonexpansive() {
     Outcome o;
@@ -38,43 +77,104 @@ Outcome Prover::nonexpansive() {
         fan_limit = e;
     }
     std::size_t by_method[4] = {0, 0, 0, 0};
-    auto method_summary = [&] {
-        return "copositive pair forms: " + std::to_string(by_method[0]) + " A>=0, " +
-               std::to_string(by_method[1]) + " PSD, " + std::to_string(by_method[2]) + " PSD+N, " +
-               std::to_string(by_method[3]) + " KKT";
+    const std::vector<std::size_t> firsts = orbit_representatives();
+    const std::size_t P = pieces_.size(), total = firsts.size() * P;
+    if (symmetry())
+        o.data["first_pieces"] = names_of(firsts);
+    if (limits_.evidence)
+        o.data["pairs"] = Json::array();
+    const PairKernel kernel(m_, limits_.integer_kernels);
+
+    auto decide_pair = [&](std::size_t k, PairKernel::Scratch& scratch, PairOutcome& out) {
+        const std::size_t i = firsts[k / P], j = k % P;
+        if (!limits_.evidence) {
+            if (auto method = kernel.decide(i, j, scratch)) {
+                out.method = *method;
+                out.checks = 1;
+                return;
+            }
+        }
+        try {
+            Matrix A = pair_form(i, j);
+            auto cop = decide_copositivity(A, limits_.max_faces);
+            out.method = cop.method;
+            out.checks = cop.method == CopositivityMethod::kkt_enumeration ? cop.faces : 1;
+            out.copositive = cop.copositive;
+            if (limits_.evidence) {
+                // The kernel must agree with GMP wherever it decides.
+                if (auto method = kernel.decide(i, j, scratch))
+                    ensure(cop.copositive && *method == cop.method, "integer kernel agrees with GMP");
+                out.evidence = Json{{"piece_a", name(i)}, {"piece_b", name(j)}, {"A", to_json(A)},
+                                    {"certificate", certificate_json(cop)}};
+            }
+            if (!cop.copositive) {
+                out.witness = std::move(cop.witness);
+                out.A = std::move(A);
+            }
+        } catch (const LimitExceeded& e) {
+            out.limit = e;
+        }
     };
-    const Matrix& H = m_.H();
-    for (std::size_t i = 0; i < pieces_.size(); ++i)
-        for (std::size_t j = 0; j < pieces_.size(); ++j) {
-            if (j == 0 && i % 16 == 0)
-                report_progress("nonexpansive", i * pieces_.size(), pieces_.size() * pieces_.size());
-            // z = (s, t): a = R_i s, b = R_j t;  a - b = B1 z,  S(a) - S(b) = B2 z.
-            Matrix B1(c_, 2 * c_), B2(c_, 2 * c_);
-            const Matrix QRi = pieces_[i].Q * pieces_[i].R, QRj = pieces_[j].Q * pieces_[j].R;
-            for (std::size_t r = 0; r < c_; ++r)
-                for (std::size_t k = 0; k < c_; ++k) {
-                    B1(r, k) = pieces_[i].R(r, k);
-                    B1(r, c_ + k) = -pieces_[j].R(r, k);
-                    B2(r, k) = QRi(r, k);
-                    B2(r, c_ + k) = -QRj(r, k);
-                }
-            const Matrix A = transpose(B1) * H * B1 - transpose(B2) * H * B2;
-            const auto cop = decide_copositivity(A, limits_.max_faces);
-            o.checks += cop.method == CopositivityMethod::kkt_enumeration ? cop.faces : 1;
-            ++by_method[static_cast<int>(cop.method)];
-            o.method = method_summary();
-            o.data["pairs"].push_back(Json{{"piece_a", name(i)}, {"piece_b", name(j)}, {"A", to_json(A)},
-                                           {"certificate", certificate_json(cop)}});
-            if (cop.copositive)
+
+    const std::size_t jobs = std::max<std::size_t>(1, limits_.jobs);
+    const std::size_t block = jobs == 1 ? 1024 : 4096 * jobs;
+    std::vector<PairOutcome> outcomes;
+    std::vector<PairKernel::Scratch> scratch(jobs);
+    for (std::size_t start = 0; start < total; start += block) {
+        report_progress("nonexpansive", start, total);
+        const std::size_t count = std::min(block, total - start);
+        outcomes.assign(count, PairOutcome{});
+        if (jobs == 1) {
+            for (std::size_t k = 0; k < count; ++k)
+                decide_pair(start + k, scratch[0], outcomes[k]);
+        } else {
+            // Thread t takes the pairs t, t + jobs, ... of the block; results land in place.
+            std::vector<std::thread> threads;
+            std::vector<std::exception_ptr> errors(jobs);
+            for (std::size_t t = 0; t < jobs; ++t)
+                threads.emplace_back([&, t] {
+                    try {
+                        for (std::size_t k = t; k < count; k += jobs)
+                            decide_pair(start + k, scratch[t], outcomes[k]);
+                    } catch (...) {
+                        errors[t] = std::current_exception();
+                    }
+                });
+            for (auto& th : threads)
+                th.join();
+            for (auto& e : errors)
+                if (e)
+                    std::rethrow_exception(e);
+        }
+        for (std::size_t k = 0; k < count; ++k) {
+            PairOutcome& r = outcomes[k];
+            if (r.limit)
+                throw *r.limit;
+            o.checks += r.checks;
+            ++by_method[static_cast<int>(r.method)];
+            if (limits_.evidence)
+                o.data["pairs"].push_back(std::move(r.evidence));
+            if (r.copositive)
                 continue;
-            const Vector z = interior_witness(A, cop.witness);
+            o.method = method_summary(by_method);
+            const std::size_t i = firsts[(start + k) / P], j = (start + k) % P;
+            const Vector z = interior_witness(r.A, r.witness);
             const Vector s(z.begin(), z.begin() + static_cast<std::ptrdiff_t>(c_));
             const Vector t(z.begin() + static_cast<std::ptrdiff_t>(c_), z.end());
             return refute(o, pair_witness(i, j, pieces_[i].R * s, pieces_[j].R * t));
         }
+    }
+    o.method = method_summary(by_method);
     if (fan_limit)
         throw *fan_limit;
     return o;
+}
+
+std::string Prover::method_summary(const std::size_t (&by_method)[4]) {
+    std::string s = "copositive pair forms: " + std::to_string(by_method[0]) + " A>=0, " +
+                    std::to_string(by_method[1]) + " PSD, " + std::to_string(by_method[2]) + " PSD+N, " +
+                    std::to_string(by_method[3]) + " KKT";
+    return s + by_symmetries();
 }
 
 } // namespace impactcert::detail

@@ -23,14 +23,17 @@ Outcome Prover::nonexpansive_lemma() {
         w["via"] = "P1";
         return refute(o, std::move(w));
     }
-    for (std::size_t p = 0; p < pieces_.size(); ++p) {
+    // With verified symmetries one piece per orbit (proofs/README.md, "Symmetries").
+    o.method += by_symmetries();
+    for (const std::size_t p : orbit_representatives()) {
         const Piece& pc = pieces_[p];
         const Matrix B = m_.H() - transpose(pc.Q) * m_.H() * pc.Q;
         const auto ldl = ldl_psd(B);
         ++o.checks;
         if (ldl.psd) {
-            o.data["pieces"].push_back(Json{{"piece", name(p)}, {"matrix", to_json(B)},
-                                            {"L", to_json(ldl.L)}, {"D", to_json(ldl.D)}});
+            if (limits_.evidence)
+                o.data["pieces"].push_back(Json{{"piece", name(p)}, {"matrix", to_json(B)},
+                                                {"L", to_json(ldl.L)}, {"D", to_json(ldl.D)}});
             continue;
         }
         // Two interior points of the same cone, a - b along the expanding direction x.

@@ -31,8 +31,9 @@ Outcome Prover::outcomes() {
             if (u_plus != decl.u_plus && !wrong)
                 wrong = by_piece.size() - 1;
         }
-        o.data["outcomes"].push_back(Json{{"outcome", decl.name}, {"gamma_minus", to_json(gamma)},
-                                          {"pieces", by_piece}});
+        if (limits_.evidence)
+            o.data["outcomes"].push_back(Json{{"outcome", decl.name}, {"gamma_minus", to_json(gamma)},
+                                              {"pieces", by_piece}});
         if (wrong)
             return refute(o, Json{{"outcome", decl.name}, {"u_minus", to_json(decl.u_minus)},
                                   {"u_plus_declared", to_json(decl.u_plus)},

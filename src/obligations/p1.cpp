@@ -46,12 +46,22 @@ Outcome Prover::p1() {
     return *p1_;
 }
 
-// The cones form a fan meeting face to face: agreement on shared rays.
+// The cones form a fan meeting face to face: agreement on shared rays, for the pairs i < j;
+// with verified symmetries, for the pairs (i, j), j != i, with i an orbit representative
+// ("Symmetries": (sigma i, sigma j) agrees on P (C_i ∩ C_j) when (i, j) agrees on C_i ∩ C_j).
 Outcome Prover::p1_shared_rays() {
     Outcome o;
     o.method = "products on shared rays";
-    for (std::size_t i = 0; i < pieces_.size() && o.proved; ++i)
-        for (std::size_t j = i + 1; j < pieces_.size() && o.proved; ++j)
+    const bool reduced = symmetry() != nullptr;
+    const std::vector<std::size_t> firsts = orbit_representatives();
+    o.method += by_symmetries();
+    for (std::size_t f = 0; f < firsts.size() && o.proved; ++f) {
+        const std::size_t i = firsts[f];
+        if (i % 64 == 0)
+            report_progress("P1", f, firsts.size());
+        for (std::size_t j = reduced ? 0 : i + 1; j < pieces_.size() && o.proved; ++j) {
+            if (j == i)
+                continue;
             for (std::size_t a = 0; a < c_ && o.proved; ++a) {
                 const auto id = pieces_[i].ray_ids[a];
                 const auto& rj = pieces_[j].ray_ids;
@@ -60,12 +70,15 @@ Outcome Prover::p1_shared_rays() {
                 const Vector& v = m_.rays()[id];
                 const Vector qi = pieces_[i].Q * v, qj = pieces_[j].Q * v;
                 ++o.checks;
-                o.data["shared"].push_back(Json{{"piece_a", name(i)}, {"piece_b", name(j)},
-                                                {"ray", to_json(v)}, {"image_a", to_json(qi)},
-                                                {"image_b", to_json(qj)}});
+                if (limits_.evidence)
+                    o.data["shared"].push_back(Json{{"piece_a", name(i)}, {"piece_b", name(j)},
+                                                    {"ray", to_json(v)}, {"image_a", to_json(qi)},
+                                                    {"image_b", to_json(qj)}});
                 if (qi != qj)
                     o = refute(o, p1_witness(i, j, v));
             }
+        }
+    }
     return o;
 }
 

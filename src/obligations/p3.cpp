@@ -20,7 +20,8 @@ Outcome Prover::p3() {
             const Vector r = pieces_[p].R.column(a);
             const Vector img = pieces_[p].Q * r;
             ++o.checks;
-            o.data["images"].push_back(Json{{"piece", name(p)}, {"ray", to_json(r)}, {"image", to_json(img)}});
+            if (limits_.evidence)
+                o.data["images"].push_back(Json{{"piece", name(p)}, {"ray", to_json(r)}, {"image", to_json(img)}});
             std::size_t nonzero = 0, axis = 0;
             for (std::size_t k = 0; k < c_; ++k)
                 if (sign_of(img[k]) != Sign::zero) {

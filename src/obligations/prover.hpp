@@ -40,6 +40,13 @@ Outcome refute(Outcome o, Json witness);
 // A copositivity decision as the certificate's evidence (schema: proofs/README.md).
 Json certificate_json(const CopositivityResult& r);
 
+// The verified symmetries: for each declared symmetry the permutation sigma of the pieces
+// (P C_i = C_sigma(i)), and the least piece of each orbit of the group they generate, ascending.
+struct SymmetryData {
+    std::vector<std::vector<std::size_t>> sigma;
+    std::vector<std::size_t> representatives;
+};
+
 class Prover {
   public:
     Prover(const Model& m, const Limits& limits, const Progress& progress, const std::vector<std::string>* only)
@@ -59,6 +66,8 @@ class Prover {
     std::optional<Outcome> p1_;
     std::optional<LimitExceeded> p1_limit_;
     std::optional<DomainResult> domain_;
+    std::optional<Outcome> symmetries_;
+    std::optional<SymmetryData> symmetry_data_;
 
     void report_progress(const std::string& id, std::size_t done, std::size_t total) const {
         if (progress_)
@@ -96,8 +105,19 @@ class Prover {
     Outcome identities();     // identities.cpp
     Outcome single_impacts(); // single_impacts.cpp
 
+    // symmetries.cpp: the obligation, and what the others take from it. symmetry() is null
+    // unless the law declares symmetries and they are proved; orbit_representatives() is then
+    // one piece per orbit, else every piece.
+    Outcome decide_symmetries();
+    const Outcome& symmetries_outcome();
+    const SymmetryData* symmetry();
+    std::vector<std::size_t> orbit_representatives();
+    std::string by_symmetries(); // the note on a method reduced by the symmetries, or ""
+
     // nonexpansive.cpp (pair_witness is also the lemma's witness)
     Json pair_witness(std::size_t i, std::size_t j, const Vector& gamma_a, const Vector& gamma_b);
+    Matrix pair_form(std::size_t i, std::size_t j) const;
+    std::string method_summary(const std::size_t (&by_method)[4]);
     Outcome nonexpansive();
 
     Outcome nonexpansive_lemma(); // nonexpansive_lemma.cpp

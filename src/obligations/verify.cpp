@@ -152,6 +152,7 @@ Outcome Prover::dispatch(const std::string& id) {
     if (id == "nonexpansive") return nonexpansive();
     if (id == "nonexpansive-lemma") return nonexpansive_lemma();
     if (id == "outcomes") return outcomes();
+    if (id == "symmetries") return symmetries_outcome();
     throw std::logic_error("unknown obligation " + id);
 }
 

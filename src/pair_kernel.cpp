@@ -1,0 +1,246 @@
+// pair_kernel.cpp -- see pair_kernel.hpp. No floating point: GMP to prepare, int64 and
+// __int128 with overflow checks to decide.
+#include "pair_kernel.hpp"
+
+#include <gmp.h>
+
+#include <limits>
+#include <stdexcept>
+
+namespace impactcert {
+
+namespace {
+
+using i64 = std::int64_t;
+__extension__ typedef __int128 i128; // GCC and Clang: exact products of two int64
+
+bool fits(i128 x) { return x >= std::numeric_limits<i64>::min() && x <= std::numeric_limits<i64>::max(); }
+
+// A GMP integer as int64, when it fits.
+std::optional<i64> to_i64(mpz_srcptr z) {
+    if (!mpz_fits_slong_p(z))
+        return std::nullopt;
+    static_assert(sizeof(long) == sizeof(i64), "long is 64 bits on the supported platforms");
+    return static_cast<i64>(mpz_get_si(z));
+}
+
+// Positive integer multiples of the columns of two matrices with the same number of columns:
+// column k of both is multiplied by the least positive rational making both integral and
+// coprime (lcm of denominators, divided by the gcd of the numerators). Nothing when an entry
+// then does not fit int64.
+bool scale_columns(const Matrix& a, const Matrix& b, std::vector<i64>& out_a, std::vector<i64>& out_b) {
+    const std::size_t rows_a = a.rows(), rows_b = b.rows(), cols = a.cols();
+    out_a.assign(rows_a * cols, 0);
+    out_b.assign(rows_b * cols, 0);
+    mpz_t l, g, t;
+    mpz_inits(l, g, t, nullptr);
+    bool ok = true;
+    for (std::size_t k = 0; k < cols && ok; ++k) {
+        mpz_set_ui(l, 1);
+        mpz_set_ui(g, 0);
+        auto visit = [&](const Rational& x) {
+            mpz_lcm(l, l, mpq_denref(x.mpq()));
+        };
+        for (std::size_t r = 0; r < rows_a; ++r)
+            visit(a(r, k));
+        for (std::size_t r = 0; r < rows_b; ++r)
+            visit(b(r, k));
+        // numerators after multiplying by l: x * l = num * (l / den)
+        auto scaled = [&](const Rational& x, mpz_t into) {
+            mpz_divexact(into, l, mpq_denref(x.mpq()));
+            mpz_mul(into, into, mpq_numref(x.mpq()));
+        };
+        for (std::size_t r = 0; r < rows_a; ++r) {
+            scaled(a(r, k), t);
+            mpz_gcd(g, g, t);
+        }
+        for (std::size_t r = 0; r < rows_b; ++r) {
+            scaled(b(r, k), t);
+            mpz_gcd(g, g, t);
+        }
+        if (mpz_sgn(g) == 0)
+            mpz_set_ui(g, 1);
+        auto put = [&](const Rational& x, i64& into) {
+            scaled(x, t);
+            mpz_divexact(t, t, g);
+            const auto v = to_i64(t);
+            if (!v)
+                ok = false;
+            else
+                into = *v;
+        };
+        for (std::size_t r = 0; r < rows_a && ok; ++r)
+            put(a(r, k), out_a[r * cols + k]);
+        for (std::size_t r = 0; r < rows_b && ok; ++r)
+            put(b(r, k), out_b[r * cols + k]);
+    }
+    mpz_clears(l, g, t, nullptr);
+    return ok;
+}
+
+// out = x^T y (x: n x p, y: n x q, row-major), checked. False on overflow.
+bool transpose_product(const std::vector<i64>& x, const std::vector<i64>& y, std::size_t n, std::size_t p,
+                       std::size_t q, std::vector<i64>& out) {
+    out.assign(p * q, 0);
+    for (std::size_t a = 0; a < p; ++a)
+        for (std::size_t b = 0; b < q; ++b) {
+            i128 s = 0;
+            for (std::size_t r = 0; r < n; ++r)
+                if (__builtin_add_overflow(s, static_cast<i128>(x[r * p + a]) * y[r * q + b], &s))
+                    return false;
+            if (!fits(s))
+                return false;
+            out[a * q + b] = static_cast<i64>(s);
+        }
+    return true;
+}
+
+} // namespace
+
+std::optional<bool> int_psd(std::vector<i64>& a, std::size_t n) {
+    // Bareiss: after the pivots used so far (all positive), the trailing entries are the
+    // rational Schur complement times the last pivot used, hence of the same signs; the
+    // division by the previous pivot is exact (Sylvester's identity).
+    i64 prev = 1;
+    for (std::size_t k = 0; k < n; ++k) {
+        const i64 p = a[k * n + k];
+        if (p < 0)
+            return false;
+        if (p == 0) {
+            for (std::size_t j = k + 1; j < n; ++j)
+                if (a[k * n + j] != 0)
+                    return false;
+            continue; // zero row: nothing to eliminate
+        }
+        for (std::size_t j = k + 1; j < n; ++j) {
+            const i128 ajk = a[j * n + k];
+            for (std::size_t l = j; l < n; ++l) {
+                i128 t;
+                if (__builtin_sub_overflow(static_cast<i128>(p) * a[j * n + l], ajk * a[k * n + l], &t))
+                    return std::nullopt;
+                if (t % prev != 0)
+                    throw std::logic_error("fraction-free elimination: inexact division");
+                t /= prev;
+                if (!fits(t))
+                    return std::nullopt;
+                a[j * n + l] = static_cast<i64>(t);
+                a[l * n + j] = static_cast<i64>(t);
+            }
+        }
+        prev = p;
+    }
+    return true;
+}
+
+PairKernel::PairKernel(const Model& m, bool enabled) : c_(m.contacts()), enabled_(enabled) {
+    if (!enabled_)
+        return;
+    const Matrix& H = m.H();
+    // d H, d the least common denominator of H's entries.
+    std::vector<i64> Hs(c_ * c_);
+    {
+        mpz_t d, t;
+        mpz_inits(d, t, nullptr);
+        mpz_set_ui(d, 1);
+        for (std::size_t r = 0; r < c_; ++r)
+            for (std::size_t k = 0; k < c_; ++k)
+                mpz_lcm(d, d, mpq_denref(H(r, k).mpq()));
+        bool ok = true;
+        for (std::size_t r = 0; r < c_ && ok; ++r)
+            for (std::size_t k = 0; k < c_ && ok; ++k) {
+                mpz_divexact(t, d, mpq_denref(H(r, k).mpq()));
+                mpz_mul(t, t, mpq_numref(H(r, k).mpq()));
+                const auto v = to_i64(t);
+                ok = v.has_value();
+                if (ok)
+                    Hs[r * c_ + k] = *v;
+            }
+        mpz_clears(d, t, nullptr);
+        if (!ok) {
+            enabled_ = false;
+            return;
+        }
+    }
+    pieces_.resize(m.pieces().size());
+    for (std::size_t p = 0; p < m.pieces().size(); ++p) {
+        const Piece& piece = m.pieces()[p];
+        PieceData& d = pieces_[p];
+        const Matrix QR = piece.Q * piece.R;
+        if (!scale_columns(piece.R, QR, d.R, d.QR))
+            continue;
+        // HR = Hs R (H symmetric: Hs^T R), E = R^T Hs R - QR^T Hs QR.
+        std::vector<i64> RtHR, QRtHQR;
+        d.ok = transpose_product(Hs, d.R, c_, c_, c_, d.HR) && transpose_product(Hs, d.QR, c_, c_, c_, d.HQR) &&
+               transpose_product(d.R, d.HR, c_, c_, c_, RtHR) && transpose_product(d.QR, d.HQR, c_, c_, c_, QRtHQR);
+        if (!d.ok)
+            continue;
+        d.E.resize(c_ * c_);
+        for (std::size_t k = 0; k < c_ * c_ && d.ok; ++k)
+            d.ok = !__builtin_sub_overflow(RtHR[k], QRtHQR[k], &d.E[k]);
+    }
+}
+
+std::size_t PairKernel::pieces_in_kernel() const {
+    std::size_t n = 0;
+    for (const auto& p : pieces_)
+        n += p.ok ? 1 : 0;
+    return n;
+}
+
+std::optional<CopositivityMethod> PairKernel::decide(std::size_t i, std::size_t j, Scratch& s) const {
+    if (!enabled_ || !pieces_[i].ok || !pieces_[j].ok)
+        return std::nullopt;
+    const PieceData &a = pieces_[i], &b = pieces_[j];
+    const std::size_t c = c_, n = 2 * c_;
+    s.A.assign(n * n, 0);
+    // A = [[E_i, -F], [-F^T, E_j]], F = R_i^T H R_j - QR_i^T H QR_j (all scaled).
+    for (std::size_t r = 0; r < c; ++r)
+        for (std::size_t k = 0; k < c; ++k) {
+            s.A[r * n + k] = a.E[r * c + k];
+            s.A[(c + r) * n + c + k] = b.E[r * c + k];
+        }
+    bool nonnegative = true;
+    for (std::size_t x = 0; x < c; ++x)
+        for (std::size_t y = 0; y < c; ++y) {
+            i128 f = 0;
+            for (std::size_t r = 0; r < c; ++r) {
+                const i128 term = static_cast<i128>(a.R[r * c + x]) * b.HR[r * c + y] -
+                                  static_cast<i128>(a.QR[r * c + x]) * b.HQR[r * c + y];
+                if (__builtin_add_overflow(f, term, &f))
+                    return std::nullopt;
+            }
+            f = -f;
+            if (!fits(f))
+                return std::nullopt;
+            s.A[x * n + c + y] = static_cast<i64>(f);
+            s.A[(c + y) * n + x] = static_cast<i64>(f);
+            nonnegative = nonnegative && f >= 0;
+        }
+    for (std::size_t k = 0; k < n * n && nonnegative; ++k)
+        nonnegative = s.A[k] >= 0;
+    if (nonnegative)
+        return CopositivityMethod::nonnegative_entries;
+    s.C = s.A;
+    const auto psd = int_psd(s.C, n);
+    if (!psd)
+        return std::nullopt;
+    if (*psd)
+        return CopositivityMethod::psd;
+    // P = A with its positive off-diagonal entries set to zero (N holds them).
+    bool any_positive_off_diagonal = false;
+    s.C = s.A;
+    for (std::size_t x = 0; x < n; ++x)
+        for (std::size_t y = 0; y < n; ++y)
+            if (x != y && s.C[x * n + y] > 0) {
+                s.C[x * n + y] = 0;
+                any_positive_off_diagonal = true;
+            }
+    if (!any_positive_off_diagonal)
+        return std::nullopt;
+    const auto split = int_psd(s.C, n);
+    if (split && *split)
+        return CopositivityMethod::psd_plus_nonnegative;
+    return std::nullopt;
+}
+
+} // namespace impactcert

@@ -1,0 +1,57 @@
+// pair_kernel.hpp -- the pair forms of `nonexpansive` in machine integers (proofs/README.md,
+// "Integer kernels").
+//
+// Contract: PairKernel scales a Model once: H by the least common denominator of its entries
+// (d H), and each column r of each piece's ray matrix, together with its image Q_i r, by the
+// least positive integer that makes both integral. The pair form of (i, j) then becomes
+// D A D / d with D a positive diagonal matrix, which is copositive, PSD, entrywise >= 0 or
+// PSD-plus-nonnegative exactly when A is (congruence by D, and D keeps every sign). decide(i, j)
+// tries the cheap certificates of decide_copositivity in the same order, in int64 arithmetic
+// with every product and sum checked for overflow (__int128 or __builtin_*_overflow). It
+// returns the method that proves A copositive, or nothing: when an intermediate value does not
+// fit, when none of the cheap certificates applies (the form may not be copositive, or needs
+// the KKT enumeration), or when the kernel is disabled. The caller then decides A exactly over
+// GMP, so verdicts, methods and witnesses are those of the rational path bit for bit.
+// Thread-safe: decide() only reads the kernel (each call brings its own scratch).
+#pragma once
+
+#include "copositivity.hpp"
+#include "law.hpp"
+
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+namespace impactcert {
+
+class PairKernel {
+  public:
+    // enabled = false: decide() always returns nothing (forces the GMP path everywhere).
+    PairKernel(const Model& m, bool enabled);
+
+    struct Scratch {
+        std::vector<std::int64_t> A, C;
+    };
+
+    std::optional<CopositivityMethod> decide(std::size_t i, std::size_t j, Scratch& s) const;
+
+    // How many pieces fit the kernel (their scaled data are int64); for reports and tests.
+    std::size_t pieces_in_kernel() const;
+
+  private:
+    std::size_t c_ = 0;
+    bool enabled_ = false;
+    struct PieceData {
+        bool ok = false;
+        std::vector<std::int64_t> R, QR, HR, HQR, E; // c x c row-major; E = R^T H R - QR^T H QR
+    };
+    std::vector<PieceData> pieces_;
+};
+
+// int64 symmetric forms, exact: whether the n x n symmetric matrix `a` (row-major; destroyed)
+// is positive semidefinite, by fraction-free symmetric elimination in the pivot order of
+// ldl_psd. Nothing when an intermediate value overflows.
+std::optional<bool> int_psd(std::vector<std::int64_t>& a, std::size_t n);
+
+} // namespace impactcert
