@@ -20,15 +20,17 @@ bool applies(const Json& law, const std::string& id) {
         return declares(law, "single_impacts");
     if (id == "outcomes")
         return declares(law, "outcomes");
+    if (id == "symmetries")
+        return declares(law, "symmetries");
     return true;
 }
 
-Law read_law(const Json& j, const std::string& path) {
+Law read_law(const Json& j, const std::string& path, std::size_t max_pieces) {
     Law law;
     law.json = j;
     // The prover's input rules (SPEC section 4): a law it rejects is never verified.
     expect_keys(j, path, {"format", "name", "masses", "contacts", "pieces"},
-                {"identities", "single_impacts", "outcomes", "claims"});
+                {"identities", "single_impacts", "outcomes", "claims", "symmetries", "pieces_listed"});
     require(field(j, path, "format") == "impactcert-law/1", at(path, "format"), "is not \"impactcert-law/1\"");
     require(!str(field(j, path, "name"), at(path, "name")).empty(), at(path, "name"), "empty law name");
     law.masses = vec(field(j, path, "masses"), at(path, "masses"));
@@ -93,6 +95,73 @@ Law read_law(const Json& j, const std::string& path) {
             if (law.ray_index.emplace(r, law.distinct_rays.size()).second)
                 law.distinct_rays.push_back(r);
         law.pieces.push_back(std::move(piece));
+    }
+    law.listed_pieces = law.pieces.size();
+    // Symmetries, and with orbit representatives the pieces they generate.
+    if (j.contains("symmetries")) {
+        const Json& syms = field(j, path, "symmetries");
+        if (!syms.is_array())
+            malformed(at(path, "symmetries"), "expected an array");
+        std::set<std::string> names;
+        for (std::size_t g = 0; g < syms.size(); ++g) {
+            const std::string sp = at(at(path, "symmetries"), g);
+            expect_keys(syms[g], sp, {"name", "P", "P_prime"});
+            Symmetry sym;
+            sym.name = str(field(syms[g], sp, "name"), at(sp, "name"));
+            require(!sym.name.empty(), at(sp, "name"), "empty symmetry name");
+            require(names.insert(sym.name).second, at(sp, "name"), "duplicate symmetry name");
+            sym.P = mat(field(syms[g], sp, "P"), at(sp, "P"));
+            sym.P_prime = mat(field(syms[g], sp, "P_prime"), at(sp, "P_prime"));
+            for (const char* key : {"P", "P_prime"}) {
+                const Mat& m = std::string(key) == "P" ? sym.P : sym.P_prime;
+                require(m.size() == law.c && m[0].size() == law.c, at(sp, key), "not c x c");
+            }
+            require(invert(sym.P, sym.P_inv), at(sp, "P"), "singular P");
+            law.symmetries.push_back(std::move(sym));
+        }
+    }
+    if (j.contains("pieces_listed")) {
+        const std::string listed = str(field(j, path, "pieces_listed"), at(path, "pieces_listed"));
+        require(listed == "all" || listed == "orbit-representatives", at(path, "pieces_listed"),
+                "expected \"all\" or \"orbit-representatives\"");
+        if (listed == "orbit-representatives") {
+            require(!law.symmetries.empty(), at(path, "pieces_listed"), "orbit representatives need symmetries");
+            std::map<std::vector<std::size_t>, std::size_t> by_rays;
+            auto key = [&](const std::vector<Vec>& rays) {
+                std::vector<std::size_t> ids;
+                for (const auto& r : rays) {
+                    auto it = law.ray_index.find(r);
+                    ids.push_back(it == law.ray_index.end() ? SIZE_MAX : it->second);
+                }
+                std::sort(ids.begin(), ids.end());
+                return ids;
+            };
+            for (std::size_t p = 0; p < law.pieces.size(); ++p)
+                by_rays.emplace(key(law.pieces[p].rays), p);
+            for (std::size_t p = 0; p < law.pieces.size(); ++p)
+                for (const Symmetry& sym : law.symmetries) {
+                    Piece image;
+                    for (const auto& r : law.pieces[p].rays)
+                        image.rays.push_back(primitive(mul(sym.P, r)));
+                    const auto k = key(image.rays);
+                    if (k.back() != SIZE_MAX && by_rays.count(k))
+                        continue;
+                    if (law.pieces.size() >= max_pieces)
+                        undecided("--max-pieces", at(path, "symmetries"),
+                                  "the symmetries generate more than " + std::to_string(max_pieces) + " pieces");
+                    image.name = law.pieces[p].name + "." + sym.name;
+                    require(law.piece_index.emplace(image.name, law.pieces.size()).second, at(path, "symmetries"),
+                            "generated piece name \"" + image.name + "\" is taken");
+                    image.Q_ = mul(mul(sym.P_prime, law.pieces[p].Q_), sym.P_inv);
+                    image.R = from_cols(image.rays);
+                    require(invert(image.R, image.R_inv), at(path, "symmetries"), "a generated cone is degenerate");
+                    for (const auto& r : image.rays)
+                        if (law.ray_index.emplace(r, law.distinct_rays.size()).second)
+                            law.distinct_rays.push_back(r);
+                    by_rays.emplace(key(image.rays), law.pieces.size());
+                    law.pieces.push_back(std::move(image));
+                }
+        }
     }
     // Declarations: their shape is checked here once and kept parsed, so that no later step
     // reads a missing key or a vector of the wrong length (a hash can be recomputed for any law).

@@ -159,19 +159,21 @@ bool Checker::evidence(const std::string& id, const Json& data, const std::strin
     if (id == "P2") {
         expect_keys(data, dp, {"QtHQ"});
         const Json& l = list(data, dp, "QtHQ");
-        require(l.size() <= P(), at(dp, "QtHQ"), "too many entries");
+        const auto ps = firsts(); // one piece per orbit when the symmetries hold
+        require(l.size() <= ps.size(), at(dp, "QtHQ"), "too many entries");
         bool ok = true;
-        for (std::size_t p = 0; p < l.size(); ++p) {
-            const std::string ep = at(at(dp, "QtHQ"), p);
-            expect_keys(l[p], ep, {"piece", "matrix"});
-            expect_piece(l[p], ep, "piece", p);
+        for (std::size_t k = 0; k < l.size(); ++k) {
+            const std::size_t p = ps[k];
+            const std::string ep = at(at(dp, "QtHQ"), k);
+            expect_keys(l[k], ep, {"piece", "matrix"});
+            expect_piece(l[k], ep, "piece", p);
             const Mat m = QtHQ(p);
-            expect_mat(l[p], ep, "matrix", m, "Q^T H Q");
+            expect_mat(l[k], ep, "matrix", m, "Q^T H Q");
             const bool this_ok = m == law_.H;
-            ends_at_first_failure(this_ok, p, l.size(), at(dp, "QtHQ"));
+            ends_at_first_failure(this_ok, k, l.size(), at(dp, "QtHQ"));
             ok = ok && this_ok;
         }
-        complete_unless_failed(!ok, l.size(), P(), at(dp, "QtHQ"));
+        complete_unless_failed(!ok, l.size(), ps.size(), at(dp, "QtHQ"));
         return ok;
     }
     if (id == "P3" || id == "kinematic" || id == "kinetic") {
@@ -220,20 +222,22 @@ bool Checker::evidence(const std::string& id, const Json& data, const std::strin
     if (id == "energetic") {
         expect_keys(data, dp, {"pieces"});
         const Json& l = list(data, dp, "pieces");
-        require(l.size() <= P(), at(dp, "pieces"), "too many entries");
+        const auto ps = firsts(); // one piece per orbit when the symmetries hold
+        require(l.size() <= ps.size(), at(dp, "pieces"), "too many entries");
         bool ok = true;
-        for (std::size_t p = 0; p < l.size(); ++p) {
-            const std::string ep = at(at(dp, "pieces"), p);
-            expect_keys(l[p], ep, {"piece", "B", "certificate"});
-            expect_piece(l[p], ep, "piece", p);
+        for (std::size_t k = 0; k < l.size(); ++k) {
+            const std::size_t p = ps[k];
+            const std::string ep = at(at(dp, "pieces"), k);
+            expect_keys(l[k], ep, {"piece", "B", "certificate"});
+            expect_piece(l[k], ep, "piece", p);
             const Mat B = mul(mul(tr(pc(p).R), sub(law_.H, QtHQ(p))), pc(p).R);
-            expect_mat(l[p], ep, "B", B, "R^T (H - Q^T H Q) R");
+            expect_mat(l[k], ep, "B", B, "R^T (H - Q^T H Q) R");
             const bool this_ok =
-                check_copositive_evidence(B, field(l[p], ep, "certificate"), at(ep, "certificate"), limits_.max_faces);
-            ends_at_first_failure(this_ok, p, l.size(), at(dp, "pieces"));
+                check_copositive_evidence(B, field(l[k], ep, "certificate"), at(ep, "certificate"), limits_.max_faces);
+            ends_at_first_failure(this_ok, k, l.size(), at(dp, "pieces"));
             ok = ok && this_ok;
         }
-        complete_unless_failed(!ok, l.size(), P(), at(dp, "pieces"));
+        complete_unless_failed(!ok, l.size(), ps.size(), at(dp, "pieces"));
         return ok;
     }
     if (id == "identities") {
@@ -285,12 +289,22 @@ bool Checker::evidence(const std::string& id, const Json& data, const std::strin
             require(data.empty(), dp, "lists pairs although S is not a function");
             return false;
         }
-        expect_keys(data, dp, {"pairs"});
+        const auto ps = firsts(); // one first piece per orbit when the symmetries hold
+        if (symmetry_check().hold) {
+            expect_keys(data, dp, {"first_pieces", "pairs"});
+            std::vector<std::string> names;
+            for (auto p : ps)
+                names.push_back(name(p));
+            require(listed_names(field(data, dp, "first_pieces"), at(dp, "first_pieces")) == names,
+                    at(dp, "first_pieces"), "are not the least pieces of the orbits");
+        } else {
+            expect_keys(data, dp, {"pairs"});
+        }
         const Json& l = list(data, dp, "pairs");
-        require(l.size() <= P() * P(), at(dp, "pairs"), "too many entries");
+        require(l.size() <= ps.size() * P(), at(dp, "pairs"), "too many entries");
         bool ok = true;
         for (std::size_t k = 0; k < l.size(); ++k) {
-            const std::size_t i = k / P(), j = k % P();
+            const std::size_t i = ps[k / P()], j = k % P();
             const std::string ep = at(at(dp, "pairs"), k);
             expect_keys(l[k], ep, {"piece_a", "piece_b", "A", "certificate"});
             expect_piece(l[k], ep, "piece_a", i);
@@ -302,31 +316,35 @@ bool Checker::evidence(const std::string& id, const Json& data, const std::strin
             ends_at_first_failure(this_ok, k, l.size(), at(dp, "pairs"));
             ok = ok && this_ok;
         }
-        complete_unless_failed(!ok, l.size(), P() * P(), at(dp, "pairs"));
+        complete_unless_failed(!ok, l.size(), ps.size() * P(), at(dp, "pairs"));
         return ok;
     }
     if (id == "nonexpansive-lemma") {
         expect_keys(data, dp, {}, {"pieces"});
         const Json& l = data.contains("pieces") ? list(data, dp, "pieces") : Json::array();
-        require(l.size() <= P(), at(dp, "pieces"), "too many entries");
-        for (std::size_t p = 0; p < l.size(); ++p) {
-            const std::string ep = at(at(dp, "pieces"), p);
-            expect_keys(l[p], ep, {"piece", "matrix", "L", "D"});
-            expect_piece(l[p], ep, "piece", p);
+        const auto ps = firsts(); // one piece per orbit when the symmetries hold
+        require(l.size() <= ps.size(), at(dp, "pieces"), "too many entries");
+        for (std::size_t k = 0; k < l.size(); ++k) {
+            const std::size_t p = ps[k];
+            const std::string ep = at(at(dp, "pieces"), k);
+            expect_keys(l[k], ep, {"piece", "matrix", "L", "D"});
+            expect_piece(l[k], ep, "piece", p);
             const Mat B = sub(law_.H, QtHQ(p));
-            expect_mat(l[p], ep, "matrix", B, "H - Q^T H Q");
-            check_psd_evidence(B, l[p], ep);
+            expect_mat(l[k], ep, "matrix", B, "H - Q^T H Q");
+            check_psd_evidence(B, l[k], ep);
         }
         if (!s_is_a_function(at(dp, "pieces")) || holds("P1") != Truth::proved) {
             require(l.empty(), at(dp, "pieces"), "listed although S is not a function or P1 is not proved");
             return false;
         }
-        if (l.size() < P()) {
-            require(psd_witness(sub(law_.H, QtHQ(l.size()))).has_value(), at(dp, "pieces"), "is incomplete");
+        if (l.size() < ps.size()) {
+            require(psd_witness(sub(law_.H, QtHQ(ps[l.size()]))).has_value(), at(dp, "pieces"), "is incomplete");
             return false;
         }
         return true;
     }
+    if (id == "symmetries")
+        return symmetries_evidence(data, dp);
     if (id == "outcomes") {
         const auto& decls = law_.outcomes;
         expect_keys(data, dp, {}, {"outcomes"});

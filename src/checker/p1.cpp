@@ -164,21 +164,30 @@ bool Checker::p1_intersections(const Json& data, const std::string& dp) {
 // The rays shared by two pieces, in the prover's order (pairs i < j, then the rays of i in
 // order), at most `limit` of them: generated from the pieces through each ray, so that the
 // work follows the evidence listed rather than the P^2 / 2 pairs.
-std::vector<std::tuple<std::size_t, std::size_t, Vec>> Checker::shared_rays(std::size_t limit) const {
+// With the symmetries holding: the pairs (i, j), i one piece per orbit (firsts) and j != i any
+// piece, in that order.
+std::vector<std::tuple<std::size_t, std::size_t, Vec>> Checker::shared_rays(std::size_t limit) {
     std::vector<std::vector<std::size_t>> through(law_.distinct_rays.size()); // pieces in order
     for (std::size_t p = 0; p < P(); ++p)
         for (const auto& r : pc(p).rays)
             through[ray_id(r)].push_back(p);
+    const bool reduced = symmetry_check().hold;
+    const std::vector<std::size_t> first_pieces = firsts();
     std::vector<std::tuple<std::size_t, std::size_t, Vec>> out;
-    for (std::size_t i = 0; i < P() && out.size() < limit; ++i) {
+    for (std::size_t f = 0; f < first_pieces.size() && out.size() < limit; ++f) {
+        const std::size_t i = first_pieces[f];
         std::vector<std::pair<std::size_t, std::size_t>> mine; // (j, index of the ray in i)
         for (std::size_t a = 0; a < law_.c; ++a) {
-            // The first `limit` pieces after i through this ray (sorted) are all that can be
-            // among the first `limit` pairs of piece i.
+            // The first `limit` pieces after i (any piece but i, reduced) through this ray
+            // (sorted) are all that can be among the first `limit` pairs of piece i.
             const auto& ps = through[ray_id(pc(i).rays[a])];
-            auto it = std::upper_bound(ps.begin(), ps.end(), i);
-            for (std::size_t taken = 0; it != ps.end() && taken < limit; ++it, ++taken)
+            auto it = reduced ? ps.begin() : std::upper_bound(ps.begin(), ps.end(), i);
+            for (std::size_t taken = 0; it != ps.end() && taken < limit; ++it) {
+                if (*it == i)
+                    continue;
                 mine.emplace_back(*it, a);
+                ++taken;
+            }
         }
         std::sort(mine.begin(), mine.end());
         for (const auto& [j, a] : mine)

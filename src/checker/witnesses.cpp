@@ -48,6 +48,10 @@ void Checker::check_witness(const std::string& id, const Json& w, const std::str
             require(local, wp, "a ray's image is negative: that is the canonical witness");
         return;
     }
+    if (id == "symmetries") {
+        check_symmetries_witness(w, wp);
+        return;
+    }
     if (id == "fan") {
         expect_keys(w, wp, {"gamma", "interior_of", "reason"});
         str(field(w, wp, "reason"), at(wp, "reason"));
@@ -136,6 +140,10 @@ void Checker::check_witness(const std::string& id, const Json& w, const std::str
             require(s_is_a_function(wp) && holds("P1") == Truth::proved, wp,
                     "S is not a continuous function: the canonical witness is borrowed");
             require(a == b, wp, "the lemma's witness lies in one cone");
+            const Json& data = field(obl_[10], "$.obligations[10]", "data");
+            const std::size_t listed = data.is_object() && data.contains("pieces") ? data.at("pieces").size() : 0;
+            const auto ps = firsts();
+            require(listed < ps.size() && a == ps[listed], at(wp, "piece_a"), "is not the first piece that fails");
             const auto x = psd_witness(sub(law_.H, QtHQ(a)));
             require(x.has_value(), at(wp, "piece_a"), "H - Q^T H Q is PSD for this piece");
             const Vec centre = mul(pc(a).R, Vec(law_.c, Q(1)));
@@ -159,7 +167,9 @@ void Checker::check_witness(const std::string& id, const Json& w, const std::str
         Vec canonical;
         if (id == "P2") {
             const Json& data = field(obl_[2], "$.obligations[2]", "data");
-            require(p + 1 == field(data, "$.obligations[2].data", "QtHQ").size(), at(wp, "piece"),
+            const std::size_t listed = field(data, "$.obligations[2].data", "QtHQ").size();
+            const auto ps = firsts();
+            require(listed >= 1 && listed <= ps.size() && p == ps[listed - 1], at(wp, "piece"),
                     "is not the first piece that fails");
             const Mat D = sub(QtHQ(p), law_.H);
             for (std::size_t k = 0; k < law_.c && canonical.empty(); ++k)
