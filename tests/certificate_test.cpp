@@ -179,7 +179,7 @@ TEST_CASE("certificates: every fixture gives its registered exit status and reas
         {"parse/decimal_in_matrix.json", "$.system.G[0][0]: \"2.0\" is not a rational"},
         {"parse/law_outcome_without_u_plus.json", "$.law.outcomes[0]: missing key \"u_plus\""},
         {"parse/law_outcome_wrong_size.json", "$.law.outcomes[0].u_minus: expected one velocity per ball"},
-        {"parse/missing_obligation.json", "$.obligations: expected the 12 obligations"},
+        {"parse/missing_obligation.json", "$.obligations: expected the 13 obligations"},
         {"parse/missing_system.json", "missing key \"system\""},
         {"parse/not_json.json", "malformed JSON"},
         {"parse/wrong_format.json", "$.format: not an impactcert-certificate/1 document"},

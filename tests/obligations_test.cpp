@@ -58,6 +58,11 @@ TEST_CASE("paper's law: every obligation of the SPEC is proved", "[obligations]"
     REQUIRE(r.obligations.size() == kObligationIds.size());
     for (const auto& o : r.obligations) {
         INFO(o.id << " " << o.counterexample.dump());
+        if (o.id == "symmetries") { // the paper declares none
+            CHECK_FALSE(o.claimed);
+            CHECK(o.verdict == Verdict::skipped);
+            continue;
+        }
         CHECK(o.claimed);
         CHECK(o.verdict == Verdict::proved);
         CHECK(o.checks > 0);
@@ -185,7 +190,7 @@ TEST_CASE("4-ball law (c = 3, 24 cones): every obligation is proved", "[obligati
     const VerifyReport r = verify(m);
     for (const auto& o : r.obligations) {
         INFO(o.id << " " << o.counterexample.dump());
-        if (o.id == "identities")
+        if (o.id == "identities" || o.id == "symmetries")
             CHECK(o.verdict == Verdict::skipped);
         else
             CHECK(o.verdict == Verdict::proved);
