@@ -43,7 +43,7 @@ constexpr int kExitRefuted = 1;
 constexpr int kExitBadInput = 2;
 
 Model load_model(const std::string& law_path, std::size_t max_pieces = Limits{}.max_pieces) {
-    return Model(law_path.empty() ? paper_law() : load_law_file(law_path, max_pieces), max_pieces);
+    return law_path.empty() ? Model(paper_law(), max_pieces) : load_model_file(law_path, max_pieces);
 }
 
 constexpr int kExitUndecided = 3;

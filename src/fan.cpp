@@ -1,5 +1,7 @@
 #include "fan.hpp"
 
+#include "int_kernel.hpp"
+
 #include <algorithm>
 #include <map>
 #include <set>
@@ -72,12 +74,31 @@ bool check_facets(const Model& model, FanResult& r) {
         Sign side;
     };
     std::map<std::vector<std::size_t>, std::vector<Side>> facets;
-    auto facet_matrix = [&](const std::vector<std::size_t>& ids, const Vector& last) {
+    // The rays in int64 where they fit: the sign of a determinant by fraction-free
+    // elimination (int_kernel.hpp), over GMP when an entry or an intermediate does not fit.
+    std::vector<std::optional<std::vector<intk::i64>>> int_rays;
+    for (const auto& ray : model.rays())
+        int_rays.push_back(intk::to_int_vector(ray));
+    std::vector<intk::i64> scratch(c * c);
+    auto facet_sign = [&](const std::vector<std::size_t>& ids, const Vector& last) {
+        const auto last_int = intk::to_int_vector(last);
+        bool fits = last_int.has_value();
+        for (std::size_t k = 0; k < ids.size() && fits; ++k)
+            fits = int_rays[ids[k]].has_value();
+        if (fits) {
+            for (std::size_t row = 0; row < c; ++row) {
+                for (std::size_t k = 0; k < ids.size(); ++k)
+                    scratch[row * c + k] = (*int_rays[ids[k]])[row];
+                scratch[row * c + c - 1] = (*last_int)[row];
+            }
+            if (const auto sign = intk::det_sign(scratch, c))
+                return static_cast<Sign>(*sign);
+        }
         std::vector<Vector> cols;
         for (auto id : ids)
             cols.push_back(model.rays()[id]);
         cols.push_back(last);
-        return Matrix::from_columns(cols);
+        return sign_of(determinant(Matrix::from_columns(cols)));
     };
     for (std::size_t p = 0; p < pieces.size(); ++p)
         for (std::size_t drop = 0; drop < c; ++drop) {
@@ -86,7 +107,7 @@ bool check_facets(const Model& model, FanResult& r) {
                 if (k != drop)
                     ids.push_back(pieces[p].ray_ids[k]);
             std::sort(ids.begin(), ids.end());
-            facets[ids].push_back({p, sign_of(determinant(facet_matrix(ids, pieces[p].R.column(drop))))});
+            facets[ids].push_back({p, facet_sign(ids, pieces[p].R.column(drop))});
             ++r.checks;
         }
     for (const auto& [ids, sides] : facets) {
@@ -109,7 +130,7 @@ bool check_facets(const Model& model, FanResult& r) {
         bool generic = true;
         for (const auto& entry : facets) {
             ++r.checks;
-            if (sign_of(determinant(facet_matrix(entry.first, point))) == Sign::zero) {
+            if (facet_sign(entry.first, point) == Sign::zero) {
                 generic = false;
                 break;
             }

@@ -1,5 +1,7 @@
 #include "law.hpp"
 
+#include "int_kernel.hpp"
+
 #include <algorithm>
 #include <set>
 
@@ -161,13 +163,42 @@ Model::Model(Law law, std::size_t max_pieces) : law_(std::move(law)) {
         };
         for (std::size_t p = 0; p < pieces_.size(); ++p)
             by_rays.emplace(key_of(pieces_[p].ray_ids), p);
+        // Images of rays in int64 where P (over a common denominator) and the rays fit,
+        // else over GMP; the same primitive rays either way.
+        std::vector<std::optional<intk::IntMatrix>> P_int;
+        for (const auto& sym : law_.symmetries)
+            P_int.push_back(intk::to_int(sym.P));
+        std::map<std::vector<intk::i64>, std::size_t> int_ray_index;
+        std::vector<std::optional<std::vector<intk::i64>>> int_rays;
+        auto int_ray = [&](std::size_t id) -> const std::optional<std::vector<intk::i64>>& {
+            while (int_rays.size() <= id) {
+                int_rays.push_back(intk::to_int_vector(rays_[int_rays.size()]));
+                if (int_rays.back())
+                    int_ray_index.emplace(*int_rays.back(), int_rays.size() - 1);
+            }
+            return int_rays[id];
+        };
+        std::vector<intk::i64> image_int(c);
         for (std::size_t p = 0; p < pieces_.size(); ++p)
             for (std::size_t g = 0; g < law_.symmetries.size(); ++g) {
                 const SymmetryDecl& sym = law_.symmetries[g];
                 std::vector<Vector> image;
                 std::vector<std::size_t> ids;
                 for (std::size_t k = 0; k < c; ++k) {
-                    image.push_back(primitive_ray(sym.P * pieces_[p].R.column(k)));
+                    int_ray(rays_.size() - 1); // every known ray indexed (before r: no reallocation after)
+                    const auto& r = int_rays[pieces_[p].ray_ids[k]];
+                    if (P_int[g] && r && intk::apply(*P_int[g], r->data(), image_int.data())) {
+                        intk::make_primitive(image_int);
+                        auto it = int_ray_index.find(image_int);
+                        if (it != int_ray_index.end()) {
+                            image.push_back(rays_[it->second]);
+                            ids.push_back(it->second);
+                            continue;
+                        }
+                        image.push_back(intk::to_vector(image_int));
+                    } else {
+                        image.push_back(primitive_ray(sym.P * pieces_[p].R.column(k)));
+                    }
                     auto it = ray_index_.find(image.back());
                     ids.push_back(it == ray_index_.end() ? rays_.size() + k : it->second);
                 }

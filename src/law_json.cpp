@@ -317,7 +317,9 @@ Law parse_law_text(const std::string& text, const std::string& origin, std::size
     }
 }
 
-Law load_law_file(const std::string& path, std::size_t max_pieces) {
+namespace {
+
+std::string read_law_text(const std::string& path) {
     // A directory opens like a file and reads as empty ("unexpected end of input"): say so.
     std::error_code ec;
     if (std::filesystem::is_directory(path, ec))
@@ -330,7 +332,22 @@ Law load_law_file(const std::string& path, std::size_t max_pieces) {
     text << in.rdbuf();
     if (in.bad())
         throw InputError(path + ": cannot read file: read error");
-    return parse_law_text(text.str(), path, max_pieces);
+    return text.str();
+}
+
+} // namespace
+
+Law load_law_file(const std::string& path, std::size_t max_pieces) {
+    return parse_law_text(read_law_text(path), path, max_pieces);
+}
+
+Model load_model_file(const std::string& path, std::size_t max_pieces) {
+    const std::string text = read_law_text(path);
+    try {
+        return Model(parse_document(parse_syntax(text)), max_pieces); // validated once
+    } catch (const InputError& e) {
+        throw InputError(path + ": " + e.what());
+    }
 }
 
 nlohmann::ordered_json law_to_json(const Law& law) {

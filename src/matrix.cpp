@@ -66,7 +66,8 @@ Matrix operator*(const Matrix& a, const Matrix& b) {
         for (std::size_t j = 0; j < b.cols(); ++j) {
             Rational s = 0;
             for (std::size_t k = 0; k < a.cols(); ++k)
-                s += a(i, k) * b(k, j);
+                if (sign_of(a(i, k)) != Sign::zero && sign_of(b(k, j)) != Sign::zero) // exact: skip zero terms
+                    s += a(i, k) * b(k, j);
             c(i, j) = s;
         }
     return c;
@@ -78,7 +79,8 @@ Vector operator*(const Matrix& a, const Vector& x) {
     for (std::size_t i = 0; i < a.rows(); ++i) {
         Rational s = 0;
         for (std::size_t k = 0; k < a.cols(); ++k)
-            s += a(i, k) * x[k];
+            if (sign_of(a(i, k)) != Sign::zero && sign_of(x[k]) != Sign::zero) // exact: skip zero terms
+                s += a(i, k) * x[k];
         y[i] = s;
     }
     return y;

@@ -83,6 +83,11 @@ class Checker {
         std::vector<std::size_t> representatives;   // least piece of each orbit (when hold)
     };
     std::optional<SymmetryCheck> sym_;
+    // Per-piece products of the pair forms (pair_form), computed once.
+    struct PairData {
+        Mat R, QR, HR, HQR, E;
+    };
+    mutable std::vector<std::optional<PairData>> pair_data_;
 
     Truth holds(const std::string& id) {
         return holds(static_cast<std::size_t>(std::find(kIds.begin(), kIds.end(), id) - kIds.begin()));
@@ -159,6 +164,7 @@ class Checker {
     // hold (the reduced lists of P1, P2, energetic, nonexpansive, nonexpansive-lemma), else all
     const SymmetryCheck& symmetry_check();
     std::vector<std::size_t> firsts();
+    std::vector<std::size_t> orthant_firsts(); // P3 and kinematic: firsts() when every P' keeps the orthant
     bool symmetries_evidence(const Json& data, const std::string& dp);
     void check_symmetries_witness(const Json& w, const std::string& wp);
 

@@ -16,16 +16,21 @@ Mat eye(std::size_t n) {
 Mat mul(const Mat& a, const Mat& b) {
     Mat c = zeros(a.size(), b[0].size());
     for (std::size_t i = 0; i < a.size(); ++i)
-        for (std::size_t k = 0; k < b.size(); ++k)
+        for (std::size_t k = 0; k < b.size(); ++k) {
+            if (sgn(a[i][k]) == 0)
+                continue; // exact: a zero term adds nothing (laws are mostly sparse)
             for (std::size_t j = 0; j < b[0].size(); ++j)
-                c[i][j] += a[i][k] * b[k][j];
+                if (sgn(b[k][j]) != 0)
+                    c[i][j] += a[i][k] * b[k][j];
+        }
     return c;
 }
 Vec mul(const Mat& a, const Vec& x) {
     Vec y(a.size(), Q(0));
     for (std::size_t i = 0; i < a.size(); ++i)
         for (std::size_t k = 0; k < x.size(); ++k)
-            y[i] += a[i][k] * x[k];
+            if (sgn(a[i][k]) != 0 && sgn(x[k]) != 0)
+                y[i] += a[i][k] * x[k];
     return y;
 }
 Mat tr(const Mat& a) {

@@ -146,6 +146,27 @@ std::vector<std::size_t> Checker::firsts() {
     return all;
 }
 
+std::vector<std::size_t> Checker::orthant_firsts() {
+    // Every P' a non-negative monomial matrix (one non-zero entry, positive, per row and
+    // column): then P' maps the orthant onto itself and P3, kinematic reduce to one piece per orbit.
+    bool keeps = symmetry_check().hold;
+    for (const Symmetry& sym : law_.symmetries)
+        for (std::size_t r = 0; r < law_.c && keeps; ++r) {
+            std::size_t in_row = 0, in_column = 0;
+            for (std::size_t k = 0; k < law_.c; ++k) {
+                keeps = keeps && sgn(sym.P_prime[r][k]) >= 0 && sgn(sym.P_prime[k][r]) >= 0;
+                in_row += sgn(sym.P_prime[r][k]) != 0 ? 1 : 0;
+                in_column += sgn(sym.P_prime[k][r]) != 0 ? 1 : 0;
+            }
+            keeps = keeps && in_row == 1 && in_column == 1;
+        }
+    if (keeps)
+        return symmetry_check().representatives;
+    std::vector<std::size_t> all(P());
+    std::iota(all.begin(), all.end(), std::size_t{0});
+    return all;
+}
+
 bool Checker::symmetries_evidence(const Json& data, const std::string& dp) {
     const SymmetryCheck& s = symmetry_check();
     if (s.hold)

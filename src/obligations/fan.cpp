@@ -39,34 +39,36 @@ Outcome Prover::fan() {
     Outcome o;
     o.checks = f.checks;
     o.method = f.method;
-    Json points = Json::array();
-    for (const auto& p : f.test_points)
-        points.push_back(to_json(p));
-    if (f.method == "angular-sectors") {
-        Json rays = Json::array();
-        for (const auto& r : f.rays_by_angle)
-            rays.push_back(to_json(r));
-        o.data["rays_by_angle"] = rays;
-        o.data["sector_points"] = points;
-    } else if (f.method == "facet-matching") {
-        Json facets = Json::array();
-        for (const auto& fc : f.facets) {
+    if (limits_.evidence) {
+        Json points = Json::array();
+        for (const auto& p : f.test_points)
+            points.push_back(to_json(p));
+        if (f.method == "angular-sectors") {
             Json rays = Json::array();
-            for (const auto& r : fc.rays)
+            for (const auto& r : f.rays_by_angle)
                 rays.push_back(to_json(r));
-            facets.push_back(Json{{"rays", rays}, {"pieces", names_of(fc.pieces)}});
-        }
-        o.data["facets"] = facets;
-        o.data["generic_point"] = points.at(0);
-    } else {
-        Json planes = Json::array();
-        for (const auto& n : f.hyperplanes)
-            planes.push_back(to_json(n));
-        o.data["hyperplanes"] = planes;
-        if (f.method == "walls")
+            o.data["rays_by_angle"] = rays;
+            o.data["sector_points"] = points;
+        } else if (f.method == "facet-matching") {
+            Json facets = Json::array();
+            for (const auto& fc : f.facets) {
+                Json rays = Json::array();
+                for (const auto& r : fc.rays)
+                    rays.push_back(to_json(r));
+                facets.push_back(Json{{"rays", rays}, {"pieces", names_of(fc.pieces)}});
+            }
+            o.data["facets"] = facets;
             o.data["generic_point"] = points.at(0);
-        else
-            o.data["chamber_points"] = points;
+        } else {
+            Json planes = Json::array();
+            for (const auto& n : f.hyperplanes)
+                planes.push_back(to_json(n));
+            o.data["hyperplanes"] = planes;
+            if (f.method == "walls")
+                o.data["generic_point"] = points.at(0);
+            else
+                o.data["chamber_points"] = points;
+        }
     }
     if (!f.proved) {
         const std::size_t k = *f.failing;

@@ -12,7 +12,12 @@ namespace impactcert::detail {
 Outcome Prover::kinematic() {
     Outcome o;
     o.method = "images of rays >= 0, with fan";
-    for (std::size_t p = 0; p < pieces_.size(); ++p)
+    // With verified symmetries whose P' keep the orthant, one piece per orbit (proofs/README.md,
+    // "Symmetries": Q_sigma(i) P r = P' Q_i r).
+    const auto ps = orthant_representatives();
+    if (ps.size() < pieces_.size())
+        o.method += by_symmetries();
+    for (const std::size_t p : ps)
         for (std::size_t a = 0; a < c_; ++a) {
             const Vector r = pieces_[p].R.column(a);
             const Vector img = pieces_[p].Q * r;

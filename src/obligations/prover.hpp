@@ -45,6 +45,7 @@ Json certificate_json(const CopositivityResult& r);
 struct SymmetryData {
     std::vector<std::vector<std::size_t>> sigma;
     std::vector<std::size_t> representatives;
+    bool orthant_preserving = false; // every P' is a non-negative monomial matrix
 };
 
 class Prover {
@@ -113,6 +114,8 @@ class Prover {
     const SymmetryData* symmetry();
     std::vector<std::size_t> orbit_representatives();
     std::string by_symmetries(); // the note on a method reduced by the symmetries, or ""
+    // P3 and kinematic: one piece per orbit when moreover every P' maps the orthant onto itself.
+    std::vector<std::size_t> orthant_representatives();
 
     // nonexpansive.cpp (pair_witness is also the lemma's witness)
     Json pair_witness(std::size_t i, std::size_t j, const Vector& gamma_a, const Vector& gamma_b);

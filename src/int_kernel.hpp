@@ -1,0 +1,50 @@
+// int_kernel.hpp -- small exact integer linear algebra in int64, for the fast paths of the
+// exact core (proofs/README.md, "Integer kernels").
+//
+// Contract: every function either returns the exact result or reports overflow (nothing /
+// false); callers then take the GMP path, so a result never depends on which path ran.
+// An IntMatrix stands for the rational matrix a / den (den > 0). No floating point.
+#pragma once
+
+#include "matrix.hpp"
+
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+namespace impactcert::intk {
+
+using i64 = std::int64_t;
+
+struct IntMatrix {
+    std::size_t rows = 0, cols = 0;
+    std::vector<i64> a; // row-major numerators
+    i64 den = 1;        // common positive denominator
+    i64 operator()(std::size_t r, std::size_t c) const { return a[r * cols + c]; }
+};
+
+// m as integers over the least common denominator of its entries; nothing when a numerator
+// or the denominator does not fit int64.
+std::optional<IntMatrix> to_int(const Matrix& m);
+
+// An integer vector (every denominator 1) as int64; nothing when it is not integral or does
+// not fit.
+std::optional<std::vector<i64>> to_int_vector(const Vector& v);
+
+// out = A.a x (numerators only: the value is out / A.den). False on overflow.
+bool apply(const IntMatrix& A, const i64* x, i64* out);
+
+// out = A B with out.den = A.den B.den (not reduced). False on overflow.
+bool multiply(const IntMatrix& A, const IntMatrix& B, IntMatrix& out);
+
+// Divides v by the gcd of its entries (the primitive vector of its direction, v != 0).
+void make_primitive(std::vector<i64>& v);
+
+// The sign of det of the n x n matrix a (row-major; destroyed), by fraction-free elimination
+// with row pivoting; nothing on overflow.
+std::optional<int> det_sign(std::vector<i64>& a, std::size_t n);
+
+Vector to_vector(const std::vector<i64>& v);
+
+} // namespace impactcert::intk
