@@ -43,6 +43,11 @@ std::string sha256_hex(const std::string& bytes) {
 }
 
 Json make_certificate(const Model& model, const VerifyReport& report) {
+    VerifyReport copy = report;
+    return make_certificate(model, std::move(copy));
+}
+
+Json make_certificate(const Model& model, VerifyReport&& report) {
     const Json law = law_to_json(model.law());
     Json cert;
     cert["format"] = kCertificateFormat;
@@ -52,7 +57,7 @@ Json make_certificate(const Model& model, const VerifyReport& report) {
     cert["verdict"] = report.verdict();
     cert["system"] = Json{{"G", to_json(model.G())}, {"H", to_json(model.H())}};
     Json obligations = Json::array();
-    for (const auto& o : report.obligations) {
+    for (auto& o : report.obligations) {
         Json item;
         item["id"] = o.id;
         item["statement"] = statement_of(o.id);
@@ -60,7 +65,7 @@ Json make_certificate(const Model& model, const VerifyReport& report) {
         item["claimed"] = o.claimed;
         item["verdict"] = to_string(o.verdict);
         item["checks"] = o.checks;
-        item["data"] = o.data.is_null() ? Json::object() : o.data;
+        item["data"] = o.data.is_null() ? Json::object() : std::move(o.data);
         if (o.verdict == Verdict::refuted)
             item["counterexample"] = o.counterexample;
         if (o.verdict == Verdict::undecided)
@@ -87,7 +92,7 @@ bool is_flat(const Json& j) {
     return true;
 }
 
-void print(const Json& j, int depth, std::string& out) {
+template <class Out> void print(const Json& j, int depth, Out& out) {
     if (is_flat(j)) {
         out += j.dump();
         return;
@@ -113,6 +118,27 @@ std::string certificate_text(const Json& certificate) {
     std::string out;
     print(certificate, 0, out);
     return out + "\n";
+}
+
+void write_certificate(std::ostream& out, const Json& certificate) {
+    // Each line is printed as certificate_text prints it; the stream takes the text as it comes.
+    struct Sink {
+        std::ostream& os;
+        Sink& operator+=(const std::string& s) {
+            os << s;
+            return *this;
+        }
+        Sink& operator+=(const char* s) {
+            os << s;
+            return *this;
+        }
+        Sink& operator+=(char ch) {
+            os << ch;
+            return *this;
+        }
+    } sink{out};
+    print(certificate, 0, sink);
+    out << "\n";
 }
 
 } // namespace impactcert

@@ -11,6 +11,7 @@
 
 #include "obligations.hpp"
 
+#include <ostream>
 #include <string>
 
 namespace impactcert {
@@ -18,7 +19,10 @@ namespace impactcert {
 inline constexpr const char* kCertificateFormat = "impactcert-certificate/1";
 
 Json make_certificate(const Model& model, const VerifyReport& report);
+// The same, moving the evidence out of `report` (a large law's evidence is not held twice).
+Json make_certificate(const Model& model, VerifyReport&& report);
 std::string certificate_text(const Json& certificate); // what `certify -o` writes
+void write_certificate(std::ostream& out, const Json& certificate); // the same bytes, streamed
 std::string sha256_hex(const std::string& bytes);
 const char* statement_of(const std::string& obligation_id);
 

@@ -104,16 +104,17 @@ int run_verify(const std::string& law_path, bool json, const std::string& junit_
 
 int run_certify(const std::string& law_path, const std::string& out_path, const Limits& limits) {
     const Model model = load_model(law_path, limits.max_pieces);
-    const VerifyReport report = verify_with_progress(model, limits);
-    const std::string text = certificate_text(make_certificate(model, report));
+    VerifyReport report = verify_with_progress(model, limits);
+    const std::string law = report.law, verdict = report.verdict();
+    const int status = report.exit_status();
+    const Json certificate = make_certificate(model, std::move(report));
     std::ofstream out(out_path, std::ios::binary);
-    out << text;
+    write_certificate(out, certificate);
     out.close();
     if (!out)
         throw InputError(out_path + ": cannot write the certificate");
-    std::cerr << "impactcert: wrote " << out_path << " (" << report.law << ": "
-              << report.verdict() << ")\n";
-    return report.exit_status();
+    std::cerr << "impactcert: wrote " << out_path << " (" << law << ": " << verdict << ")\n";
+    return status;
 }
 
 void write_file(const std::string& path, const std::string& text) {

@@ -137,7 +137,9 @@ class Checker {
     std::vector<std::size_t> planar_cover(const std::vector<Vec>& sorted) const;
     bool fan_planar(const Json& data, const std::string& dp);
     std::size_t ray_id(const Vec& r) const { return law_.ray_index.at(r); }
-    std::map<std::vector<std::size_t>, std::vector<std::pair<std::size_t, int>>> all_facets() const;
+    const std::map<std::vector<std::size_t>, std::vector<std::pair<std::size_t, int>>>& all_facets() const;
+    mutable std::optional<std::map<std::vector<std::size_t>, std::vector<std::pair<std::size_t, int>>>> facets_;
+    mutable std::optional<Vec> generic_point_;
     std::vector<Vec> facet_rays(const std::vector<std::size_t>& ids) const;
     std::vector<Vec> listed_rays(const Json& l, const std::string& path) const;
     std::vector<std::string> listed_names(const Json& l, const std::string& path) const;

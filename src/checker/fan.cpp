@@ -103,8 +103,10 @@ bool Checker::fan_planar(const Json& data, const std::string& dp) {
 }
 
 // Facets keyed by their ray ids (first appearance in the law), owners in piece order.
-std::map<std::vector<std::size_t>, std::vector<std::pair<std::size_t, int>>> Checker::all_facets() const {
-    std::map<std::vector<std::size_t>, std::vector<std::pair<std::size_t, int>>> facets;
+const std::map<std::vector<std::size_t>, std::vector<std::pair<std::size_t, int>>>& Checker::all_facets() const {
+    if (facets_)
+        return *facets_; // computed once: the fan's evidence, its criterion and the generic point use it
+    auto& facets = facets_.emplace();
     for (std::size_t p = 0; p < P(); ++p)
         for (std::size_t drop = 0; drop < law_.c; ++drop) {
             std::vector<std::size_t> ids;
@@ -147,7 +149,9 @@ std::vector<std::string> Checker::listed_names(const Json& l, const std::string&
 }
 
 Vec Checker::generic_point() const {
-    const auto facets = all_facets();
+    if (generic_point_)
+        return *generic_point_;
+    const auto& facets = all_facets();
     for (long t = 1;; ++t) {
         Vec p(law_.c);
         Q power = 1;
@@ -160,12 +164,12 @@ Vec Checker::generic_point() const {
             generic = generic && sgn(det(from_cols(cols))) != 0;
         }
         if (generic)
-            return p;
+            return *(generic_point_ = p);
     }
 }
 
 bool Checker::fan_facets(const Json& data, const std::string& dp) {
-    const auto facets = all_facets();
+    const auto& facets = all_facets();
     const Json& l = list(data, dp, "facets");
     require(l.size() == facets.size(), at(dp, "facets"), "does not list every facet");
     bool ok = true;
