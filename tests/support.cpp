@@ -258,6 +258,50 @@ void revalidate(const Model& m, const ObligationResult& r) {
         } else {
             REQUIRE(m.pieces_containing(gamma).empty());
         }
+    } else if (r.id == "symmetries") {
+        // By the declaration, not by the prover's tables: find the symmetry by name.
+        const SymmetryDecl* sym = nullptr;
+        for (const auto& d : m.law().symmetries)
+            if (d.name == w["symmetry"].get<std::string>())
+                sym = &d;
+        REQUIRE(sym != nullptr);
+        if (w.contains("matrix")) {
+            // |M x|_H != |x|_H: M is no H-isometry.
+            const Matrix& M = w["matrix"] == "P" ? sym->P : sym->P_prime;
+            const Vector x = vec_of(w["gamma"]);
+            REQUIRE(m.energy(M * x) != m.energy(x));
+            REQUIRE(to_string(m.energy(M * x)) == w["lhs"].get<std::string>());
+            REQUIRE(to_string(m.energy(x)) == w["rhs"].get<std::string>());
+        } else if (w.contains("image_rays")) {
+            // P C_p is no cone of the law: no piece has these rays (as a set of directions).
+            const std::size_t p = piece_named(m, w["piece"]);
+            std::vector<Vector> image;
+            for (std::size_t k = 0; k < m.contacts(); ++k)
+                image.push_back(primitive_ray(sym->P * m.pieces()[p].R.column(k)));
+            std::vector<Vector> listed;
+            for (const auto& v : w["image_rays"])
+                listed.push_back(vec_of(v));
+            REQUIRE(listed == image);
+            std::sort(image.begin(), image.end());
+            for (const auto& piece : m.pieces()) {
+                std::vector<Vector> rays;
+                for (std::size_t k = 0; k < m.contacts(); ++k)
+                    rays.push_back(piece.R.column(k));
+                std::sort(rays.begin(), rays.end());
+                REQUIRE(rays != image);
+            }
+        } else {
+            // A ray r of C_p with Q_q P r != P' Q_p r, q the piece whose cone is P C_p.
+            const std::size_t p = piece_named(m, w["piece"]), q = piece_named(m, w["image_piece"]);
+            const Vector ray = vec_of(w["gamma"]);
+            REQUIRE(is_ray_of(m, p, ray));
+            for (std::size_t k = 0; k < m.contacts(); ++k)
+                REQUIRE(is_ray_of(m, q, sym->P * m.pieces()[p].R.column(k)));
+            const Vector lhs = m.pieces()[q].Q * (sym->P * ray), rhs = sym->P_prime * (m.pieces()[p].Q * ray);
+            REQUIRE(lhs == vec_of(w["lhs"]));
+            REQUIRE(rhs == vec_of(w["rhs"]));
+            REQUIRE(lhs != rhs);
+        }
     } else {
         FAIL("no re-validation for obligation " << r.id);
     }

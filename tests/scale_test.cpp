@@ -1,0 +1,375 @@
+// scale_test.cpp -- issue 9: integer kernels (always the verdicts of GMP), declared symmetries
+// (verified, refuted with witnesses, used only when proved), compact laws, derive cradle, and
+// --jobs (the same output for any number of threads). Every certificate is re-checked.
+#include "certificate.hpp"
+#include "cradle.hpp"
+#include "derive.hpp"
+#include "impactcert_check.hpp"
+#include "int_kernel.hpp"
+#include "law_json.hpp"
+#include "pair_kernel.hpp"
+#include "paper_law.hpp"
+#include "support.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <map>
+#include <random>
+
+using namespace impactcert;
+using impactcert::test::source_path;
+
+namespace {
+
+Model load(const std::string& relative) { return Model(load_law_file(source_path(relative))); }
+
+impactcert_check::Outcome check(const Json& cert) { return impactcert_check::check_text(cert.dump()); }
+
+// The law as a function: primitive ray set (sorted) -> Q.
+std::map<std::vector<Vector>, Matrix> cones_of(const Model& m) {
+    std::map<std::vector<Vector>, Matrix> out;
+    for (const auto& p : m.pieces()) {
+        std::vector<Vector> rays;
+        for (std::size_t k = 0; k < m.contacts(); ++k)
+            rays.push_back(p.R.column(k));
+        std::sort(rays.begin(), rays.end());
+        out.emplace(rays, p.Q);
+    }
+    return out;
+}
+
+// Everything a verdict says, kernel or not, threads or not (the elapsed time aside).
+void require_same(const VerifyReport& a, const VerifyReport& b) {
+    REQUIRE(a.obligations.size() == b.obligations.size());
+    for (std::size_t k = 0; k < a.obligations.size(); ++k) {
+        const auto &x = a.obligations[k], &y = b.obligations[k];
+        INFO(x.id);
+        CHECK(x.verdict == y.verdict);
+        CHECK(x.checks == y.checks);
+        CHECK(x.method == y.method);
+        CHECK(x.counterexample == y.counterexample);
+        CHECK(x.limit == y.limit);
+        CHECK(x.data == y.data);
+    }
+}
+
+void require_sound(const Model& m, const VerifyReport& r) {
+    for (const auto& o : r.obligations)
+        if (o.verdict == Verdict::refuted)
+            test::revalidate(m, o);
+    const auto outcome = check(make_certificate(m, r));
+    INFO(outcome.message);
+    REQUIRE(outcome.status == impactcert_check::kVerified);
+}
+
+Limits with(bool kernels, bool evidence, unsigned jobs = 1) {
+    Limits l;
+    l.integer_kernels = kernels;
+    l.evidence = evidence;
+    l.jobs = jobs;
+    return l;
+}
+
+// Laws whose pair forms take every route: A >= 0 (sort), PSD and PSD + N and KKT (derived
+// inelastic chains, the controls), refutations (the controls).
+std::vector<Model> kernel_laws() {
+    std::vector<Model> laws;
+    laws.emplace_back(paper_law());
+    laws.push_back(load("proofs/newton4/law.json"));
+    for (const char* c : {"discontinuous-isometric", "expansive-scaled", "missing-cone", "newton-simultaneous",
+                          "perturbed-entry", "swapped-pieces"})
+        laws.push_back(load(std::string("proofs/controls/") + c + ".json"));
+    DeriveOptions o;
+    o.masses = {Rational(1), Rational(2), Rational(3)};
+    o.restitution = {Rational(1, 2), Rational(1)};
+    laws.emplace_back(*derive_sequential(o).law);
+    o.masses = {Rational(3), Rational(1), Rational(2), Rational(5)};
+    o.restitution = {Rational(1), Rational(1), Rational(1)};
+    laws.emplace_back(*derive_sequential(o).law);
+    return laws;
+}
+
+} // namespace
+
+TEST_CASE("integer kernels: verdicts, counts, methods and witnesses are GMP's, the kernel forced off everywhere",
+          "[scale][kernel]") {
+    std::size_t methods_seen[4] = {0, 0, 0, 0};
+    for (const Model& m : kernel_laws()) {
+        INFO(m.law().name);
+        const VerifyReport gmp = verify(m, with(false, false));
+        require_same(verify(m, with(true, false)), gmp);
+        // With evidence the kernel is also run and must agree pair by pair (ensure in the prover).
+        require_same(verify(m, with(true, true)), verify(m, with(false, true)));
+        const std::string method = gmp.at("nonexpansive").method;
+        for (int k = 0; k < 4; ++k) {
+            static const char* names[] = {" A>=0", " PSD,", " PSD+N", " KKT"};
+            const auto at = method.find(names[k]);
+            if (at != std::string::npos && at > 0 && method[at - 1] != '0' && method[at - 2] == ' ')
+                ++methods_seen[k];
+        }
+    }
+    // The set covers entrywise, PSD and KKT routes at least (else the comparison is weak).
+    CHECK(methods_seen[0] > 0);
+    CHECK(methods_seen[1] + methods_seen[2] > 0);
+}
+
+TEST_CASE("integer kernels: fraction-free PSD and determinant signs equal GMP's on random integer matrices",
+          "[scale][kernel]") {
+    std::mt19937_64 rng(20261123);
+    std::uniform_int_distribution<int> small(-4, 4), size(1, 6);
+    for (int trial = 0; trial < 3000; ++trial) {
+        const std::size_t n = static_cast<std::size_t>(size(rng));
+        // Symmetric: B^T B (PSD) or a random symmetric matrix, or a rank-deficient one.
+        Matrix A(n, n), B(n, n);
+        for (std::size_t i = 0; i < n; ++i)
+            for (std::size_t j = 0; j < n; ++j)
+                B(i, j) = small(rng);
+        if (trial % 3 == 0)
+            A = transpose(B) * B;
+        else if (trial % 3 == 1)
+            A = B + transpose(B);
+        else {
+            Matrix C = B;
+            for (std::size_t i = 0; i < n; ++i)
+                C(i, n - 1) = C(i, 0); // two equal columns
+            A = transpose(C) * C;
+        }
+        std::vector<intk::i64> a(n * n), b(n * n);
+        for (std::size_t i = 0; i < n; ++i)
+            for (std::size_t j = 0; j < n; ++j) {
+                a[i * n + j] = intk::to_int_vector(Vector{A(i, j)}).value()[0];
+                b[i * n + j] = intk::to_int_vector(Vector{B(i, j)}).value()[0];
+            }
+        const auto psd = int_psd(a, n);
+        REQUIRE(psd.has_value());
+        CHECK(*psd == ldl_psd(A).psd);
+        const auto sign = intk::det_sign(b, n);
+        REQUIRE(sign.has_value());
+        CHECK(*sign == static_cast<int>(sign_of(determinant(B))));
+    }
+    // Overflow is reported, never wrapped: entries near 2^62 overflow the 2 x 2 minor.
+    std::vector<intk::i64> big = {intk::i64{1} << 62, intk::i64{1} << 61, intk::i64{1} << 61, intk::i64{1} << 62};
+    CHECK_FALSE(intk::det_sign(big, 2).has_value());
+    big = {intk::i64{1} << 62, intk::i64{1} << 61, intk::i64{1} << 61, intk::i64{1} << 62};
+    CHECK_FALSE(int_psd(big, 2).has_value());
+}
+
+TEST_CASE("integer kernels: a law whose entries do not fit int64 falls back to GMP with the same verdicts",
+          "[scale][kernel]") {
+    Law law = paper_law();
+    // Large rationals in the masses: H's common denominator exceeds int64.
+    std::string m1 = "1" + std::string(25, '0') + "1"; // 10^26 + 1
+    law.masses = {*parse_rational(m1), Rational(1), *parse_rational("1/" + m1)};
+    law.claims.reset();
+    law.identities.clear();
+    law.single_impacts.clear();
+    law.outcomes.clear();
+    const Model m(law);
+    const PairKernel kernel(m, true);
+    CHECK(kernel.pieces_in_kernel() == 0);
+    require_same(verify(m, with(true, false)), verify(m, with(false, false)));
+}
+
+TEST_CASE("symmetries: the cradle's relabelings and reversal are proved and reduce every pairwise check",
+          "[scale][symmetries]") {
+    for (std::size_t n : {3, 4, 5}) {
+        INFO("n = " << n);
+        const Model compact(cradle_law(n, CradleListing::representatives, true));
+        const Model listed(cradle_law(n, CradleListing::all, true));
+        const Model plain(cradle_law(n, CradleListing::all, false));
+        // One law, three ways: the same cones and matrices.
+        REQUIRE(cones_of(compact) == cones_of(plain));
+        REQUIRE(cones_of(listed) == cones_of(plain));
+        std::size_t factorial = 1;
+        for (std::size_t k = 2; k <= n; ++k)
+            factorial *= k;
+        REQUIRE(compact.pieces().size() == factorial);
+        const VerifyReport r = verify(compact);
+        CHECK(r.passed());
+        CHECK(r.at("symmetries").verdict == Verdict::proved);
+        CHECK(r.at("nonexpansive").checks == factorial); // 1 orbit x n! pieces, not (n!)^2
+        CHECK(r.at("nonexpansive").method.find("by the symmetries") != std::string::npos);
+        CHECK(r.at("P3").checks == n - 1);              // P' = I or the reversal: orthant kept
+        CHECK(r.at("kinetic").checks == factorial * (n - 1)); // not reducible: every piece
+        const VerifyReport full = verify(plain);
+        CHECK(full.passed());
+        CHECK(full.at("nonexpansive").checks == factorial * factorial);
+        require_sound(compact, r);
+        require_sound(listed, verify(listed));
+    }
+}
+
+TEST_CASE("derive cradle agrees with proofs/newton3, proofs/newton4 and derive sequential on equal masses",
+          "[scale][cradle]") {
+    // newton4: the very same pieces, names and rays.
+    const Law listed4 = cradle_law(4, CradleListing::all, false);
+    const Law newton4 = load_law_file(source_path("proofs/newton4/law.json"));
+    REQUIRE(listed4.pieces.size() == newton4.pieces.size());
+    for (std::size_t p = 0; p < newton4.pieces.size(); ++p) {
+        CHECK(listed4.pieces[p].name == newton4.pieces[p].name);
+        CHECK(listed4.pieces[p].Q == newton4.pieces[p].Q);
+        CHECK(*listed4.pieces[p].rays == *newton4.pieces[p].rays);
+    }
+    // newton3 (the paper's table): the same cones and matrices.
+    CHECK(cones_of(Model(cradle_law(3, CradleListing::representatives, true))) ==
+          cones_of(Model(load_law_file(source_path("proofs/newton3/law.json")))));
+    // derive sequential, equal masses, e = 1: every derived cone lies in a cradle cone with the
+    // same matrix (derive may split a cone by the order of impacts; S is the same).
+    for (std::size_t n : {3, 4, 5}) {
+        INFO("n = " << n);
+        DeriveOptions o;
+        o.masses.assign(n, Rational(1));
+        o.restitution.assign(n - 1, Rational(1));
+        const Model derived(*derive_sequential(o).law);
+        const Model cradle(cradle_law(n, CradleListing::representatives, true));
+        for (const auto& piece : derived.pieces()) {
+            const Vector centre = piece.R * Vector(n - 1, Rational(1));
+            bool found = false;
+            for (std::size_t q = 0; q < cradle.pieces().size() && !found; ++q)
+                if (cradle.in_interior(q, centre)) {
+                    found = true;
+                    CHECK(cradle.pieces()[q].Q == piece.Q);
+                    for (std::size_t k = 0; k < n - 1; ++k)
+                        CHECK(cradle.pieces_containing(piece.R.column(k)).size() >= 1);
+                }
+            CHECK(found);
+        }
+    }
+}
+
+TEST_CASE("symmetries: negative controls are refuted with witnesses, and then nothing is reduced",
+          "[scale][symmetries]") {
+    SECTION("P' of the reversal wrong: Q_sigma(i) P != P' Q_i on a ray") {
+        Law law = cradle_law(4, CradleListing::all, true);
+        law.symmetries.back().P_prime = Matrix::identity(3);
+        const Model m(law);
+        const VerifyReport r = verify(m);
+        REQUIRE(r.at("symmetries").verdict == Verdict::refuted);
+        CHECK(r.at("symmetries").counterexample.contains("image_piece"));
+        CHECK(r.at("nonexpansive").checks == 24 * 24); // no reduction
+        CHECK(r.at("nonexpansive").verdict == Verdict::proved);
+        require_sound(m, r);
+    }
+    SECTION("P not an H-isometry") {
+        Law law = cradle_law(3, CradleListing::all, true);
+        law.symmetries.front().P = Rational(2) * Matrix::identity(2);
+        const Model m(law);
+        const VerifyReport r = verify(m);
+        REQUIRE(r.at("symmetries").verdict == Verdict::refuted);
+        CHECK(r.at("symmetries").counterexample["matrix"] == "P");
+        require_sound(m, r);
+    }
+    SECTION("an H-isometry that maps a cone onto no cone (reflection along (2, 1))") {
+        Law law = paper_law();
+        law.claims.reset();
+        Matrix P(2, 2);
+        P(0, 0) = Rational(-3, 7);
+        P(0, 1) = Rational(-8, 7);
+        P(1, 0) = Rational(-5, 7);
+        P(1, 1) = Rational(3, 7);
+        law.symmetries.push_back(SymmetryDecl{"reflection", P, P});
+        const Model m(law);
+        REQUIRE(transpose(P) * m.H() * P == m.H()); // an isometry indeed
+        const VerifyReport r = verify(m);
+        REQUIRE(r.at("symmetries").verdict == Verdict::refuted);
+        CHECK(r.at("symmetries").counterexample.contains("image_rays"));
+        CHECK(r.at("P2").checks == 6);
+        require_sound(m, r);
+    }
+    SECTION("a compact law with a wrong generator: expanded all the same, checked without reduction") {
+        Law law = cradle_law(4, CradleListing::representatives, true);
+        law.symmetries.front().P_prime = Rational(2) * Matrix::identity(3);
+        const Model m(law);
+        const VerifyReport r = verify(m);
+        REQUIRE(r.at("symmetries").verdict == Verdict::refuted);
+        CHECK(r.at("symmetries").counterexample["matrix"] == "P_prime");
+        CHECK(r.at("P2").verdict == Verdict::refuted); // generated pieces double the energy
+        CHECK(r.at("nonexpansive").verdict == Verdict::refuted);
+        CHECK(r.at("nonexpansive").method.find("by the symmetries") == std::string::npos);
+        require_sound(m, r);
+    }
+    SECTION("valid symmetries of an expansive law: the reduced check still refutes it") {
+        Law law = cradle_law(4, CradleListing::representatives, true);
+        law.pieces.front().Q = Rational(2) * Matrix::identity(3);
+        law.single_impacts.clear();
+        law.outcomes.clear();
+        const Model m(law);
+        const VerifyReport r = verify(m);
+        REQUIRE(r.at("symmetries").verdict == Verdict::proved);
+        CHECK(r.at("nonexpansive").verdict == Verdict::refuted);
+        CHECK(r.at("energetic").verdict == Verdict::refuted);
+        CHECK(r.at("P2").verdict == Verdict::refuted);
+        require_sound(m, r);
+    }
+}
+
+TEST_CASE("symmetries: law files are validated with paths, and compact laws are small", "[scale][symmetries]") {
+    auto error_of = [](const std::string& text) {
+        try {
+            parse_law_text(text, "law.json");
+        } catch (const InputError& e) {
+            return std::string(e.what());
+        }
+        return std::string("no error");
+    };
+    const std::string head = R"({"format": "impactcert-law/1", "name": "x", "masses": ["1","1","1"],
+        "pieces": [{"name": "I", "Q": [["1","0"],["0","1"]]}], )";
+    CHECK(error_of(head + R"("symmetries": [{"name": "s", "P": [["1","0"],["0","0"]], "P_prime": [["1","0"],["0","1"]]}]})") ==
+          "law.json: $.symmetries[0].P: singular matrix (a symmetry maps the cones one to one)");
+    CHECK(error_of(head + R"("symmetries": [{"name": "s", "P": [["1","0"]], "P_prime": [["1","0"],["0","1"]]}]})") ==
+          "law.json: $.symmetries[0].P: expected a 2x2 matrix, got 1x2");
+    CHECK(error_of(head + R"("symmetries": [{"name": "s", "P": [["1","0"],["0","1"]], "P_prime": [["1","0"],["0","1"]], "Q": 1}]})")
+              .find("$.symmetries[0]") != std::string::npos);
+    CHECK(error_of(head + R"("pieces_listed": "orbit-representatives"})") ==
+          "law.json: $.pieces_listed: orbit representatives need \"symmetries\"");
+    CHECK(error_of(head + R"("pieces_listed": "some"})").find("$.pieces_listed: expected") != std::string::npos);
+    // A rotation of infinite order (3/5, 4/5 in an orthonormal frame) generates pieces without end:
+    // stopped at the limit, with the option named.
+    const std::string rot = R"({"format": "impactcert-law/1", "name": "x", "masses": ["1","1"],
+        "pieces": [{"name": "I", "Q": [["1"]]}], "symmetries": [{"name": "s", "P": [["-1"]], "P_prime": [["-1"]]}],
+        "pieces_listed": "orbit-representatives"})";
+    CHECK(Model(parse_law_text(rot, "law.json")).pieces().size() == 2);
+    Law grow = cradle_law(5, CradleListing::representatives, true);
+    CHECK_THROWS_WITH(Model(grow, 100), Catch::Contains("--max-pieces"));
+    // The n = 8 law is a small file.
+    CHECK(law_to_json(cradle_law(8, CradleListing::representatives, true)).dump().size() < 20000);
+}
+
+TEST_CASE("jobs: the verdict, the evidence and the certificate do not depend on the number of threads",
+          "[scale][jobs]") {
+    for (const char* path : {"proofs/controls/perturbed-entry.json", "proofs/controls/expansive-scaled.json",
+                             "proofs/newton4/law.json"}) {
+        INFO(path);
+        const Model m = load(path);
+        const VerifyReport one = verify(m, with(true, true, 1));
+        const VerifyReport three = verify(m, with(true, true, 3));
+        require_same(one, three);
+        CHECK(certificate_text(make_certificate(m, one)) == certificate_text(make_certificate(m, three)));
+    }
+    const Model m(cradle_law(5, CradleListing::all, false));
+    require_same(verify(m, with(true, false, 1)), verify(m, with(true, false, 2)));
+}
+
+TEST_CASE("cli: derive cradle writes a compact law that verifies, and rejects bad options", "[scale][cli]") {
+    const std::string out = "/tmp/impactcert-test-cradle5.json";
+    auto run = test::run_cli("derive cradle --balls 5 -o " + out);
+    REQUIRE(run.status == 0);
+    CHECK(run.err.find("1 pieces listed, 120 in all, 5 symmetries") != std::string::npos);
+    run = test::run_cli("verify --law " + out + " --jobs 2");
+    CHECK(run.status == 0);
+    CHECK(run.out.find("verdict: proved (12/12 claimed obligations proved") != std::string::npos);
+    const std::string cert = "/tmp/impactcert-test-cradle5.cert.json";
+    REQUIRE(test::run_cli("certify --law " + out + " -o " + cert).status == 0);
+    const auto checked = impactcert_check::check_text(test::read_file(cert));
+    CHECK(checked.status == impactcert_check::kVerified);
+    std::remove(out.c_str());
+    std::remove(cert.c_str());
+    for (const char* bad : {"derive cradle --balls 1", "derive cradle --balls 13", "derive cradle --balls 4 --no-symmetries",
+                            "derive cradle --balls 4 --pieces some", "verify --jobs 0"}) {
+        INFO(bad);
+        const auto r = test::run_cli(bad);
+        CHECK(r.status == 2);
+        CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
+    }
+}
