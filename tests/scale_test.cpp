@@ -373,3 +373,64 @@ TEST_CASE("cli: derive cradle writes a compact law that verifies, and rejects ba
         CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
     }
 }
+
+TEST_CASE("symmetries: the checker holds reduced certificates to the reduced lists, and no other",
+          "[scale][symmetries][certificate]") {
+    const Model m(cradle_law(4, CradleListing::representatives, true));
+    const Json cert = make_certificate(m, verify(m));
+    REQUIRE(check(cert).status == impactcert_check::kVerified);
+    auto index_of = [&](const std::string& id) {
+        for (std::size_t k = 0; k < cert["obligations"].size(); ++k)
+            if (cert["obligations"][k]["id"] == id)
+                return k;
+        throw std::logic_error("no obligation " + id);
+    };
+    auto refused = [&](const Json& forged, const std::string& reason) {
+        const auto outcome = check(forged);
+        INFO(outcome.message);
+        CHECK(outcome.status != impactcert_check::kVerified);
+        CHECK(outcome.message.find(reason) != std::string::npos);
+    };
+    {
+        // P3 listed for every piece, as without symmetries: more than the orbit representatives.
+        Json forged = cert;
+        Json& images = forged["obligations"][index_of("P3")]["data"]["images"];
+        for (std::size_t p = 1; p < m.pieces().size(); ++p)
+            for (std::size_t k = 0; k < 3; ++k) {
+                const Vector r = m.pieces()[p].R.column(k);
+                images.push_back(Json{{"piece", m.pieces()[p].name}, {"ray", to_json(r)}, {"image", to_json(m.pieces()[p].Q * r)}});
+            }
+        refused(forged, "too many entries");
+    }
+    {
+        Json forged = cert;
+        forged["obligations"][index_of("nonexpansive")]["data"].erase("first_pieces");
+        refused(forged, "first_pieces");
+    }
+    {
+        Json forged = cert;
+        forged["obligations"][index_of("symmetries")]["data"]["orbit_representatives"] = Json::array({"sorted.s1"});
+        refused(forged, "are not the least pieces of the orbits");
+    }
+    {
+        Json forged = cert;
+        forged["obligations"][index_of("symmetries")]["data"]["symmetries"][0]["permutation"][3] = 4;
+        refused(forged, "permutation of the pieces");
+    }
+    {
+        // A pair list cut short: every ordered pair must be covered by a checked representative.
+        Json forged = cert;
+        forged["obligations"][index_of("nonexpansive")]["data"]["pairs"].erase(23);
+        refused(forged, "is incomplete");
+    }
+    {
+        // The symmetries said refuted (with a made-up witness) although they hold.
+        Json forged = cert;
+        Json& o = forged["obligations"][index_of("symmetries")];
+        o["verdict"] = "refuted";
+        o["counterexample"] = Json{{"symmetry", "s1"}, {"matrix", "P"}, {"gamma", Json::array({"1", "0", "0"})},
+                                   {"lhs", "1"}, {"rhs", "1"}};
+        forged["verdict"] = "refuted";
+        refused(forged, "every symmetry holds");
+    }
+}
