@@ -125,6 +125,8 @@ TEST_CASE("negative controls: each is refuted on exactly the obligations its not
         {"discontinuous-isometric", {"P1", "kinetic", "nonexpansive", "nonexpansive-lemma"}},
         {"expansive-scaled", {"P2", "energetic", "identities", "single-impacts", "nonexpansive", "nonexpansive-lemma",
                               "outcomes"}},
+        {"symmetry-wrong-reversal", {"symmetries"}},
+        {"symmetric-expansive", {"P2", "energetic", "nonexpansive", "nonexpansive-lemma"}},
     };
     for (const auto& [name, expected] : controls) {
         INFO("control " << name);
