@@ -14,7 +14,9 @@
 #include <fcntl.h>
 #include <spawn.h>
 #include <string>
+#include <sys/resource.h>
 #include <sys/wait.h>
+#include <thread>
 #include <unistd.h>
 #include <vector>
 
@@ -35,6 +37,7 @@ Stats stats_of(std::vector<double> ms) {
 
 // Exit statuses a run may end with (verify of a law with a refuted claim exits 1).
 int g_max_status = 0;
+long g_last_maxrss_kb = 0; // peak resident memory of the last process run (ru_maxrss)
 
 double run_once(const std::vector<std::string>& argv) {
     std::vector<char*> args;
@@ -51,8 +54,10 @@ double run_once(const std::vector<std::string>& argv) {
         std::exit(2);
     }
     int status = 0;
-    waitpid(pid, &status, 0);
+    struct rusage usage {};
+    wait4(pid, &status, 0, &usage);
     const auto stop = Clock::now();
+    g_last_maxrss_kb = usage.ru_maxrss;
     posix_spawn_file_actions_destroy(&actions);
     if (!WIFEXITED(status) || WEXITSTATUS(status) > g_max_status) {
         std::fprintf(stderr, "%s exited with status %d\n", args[0], WEXITSTATUS(status));
@@ -77,10 +82,11 @@ void print(const char* what, const Stats& s) {
 
 int main(int argc, char** argv) {
     if (argc < 2) {
-        std::fprintf(stderr, "usage: %s PATH/TO/impactcert [RUNS]\n", argv[0]);
+        std::fprintf(stderr, "usage: %s PATH/TO/impactcert [RUNS [PATH/TO/impactcert-check]]\n", argv[0]);
         return 2;
     }
     const std::string cli = argv[1];
+    const std::string checker = argc > 3 ? argv[3] : cli + "-check";
     const int runs = argc > 2 ? std::max(5, std::atoi(argv[2])) : 200;
     const std::string law_file = std::string(IMPACTCERT_SOURCE_DIR) + "/proofs/newton3/law.json";
 
@@ -104,7 +110,7 @@ int main(int argc, char** argv) {
         in_process.push_back(std::chrono::duration<double, std::milli>(Clock::now() - start).count());
         pairs_checked = report.at("nonexpansive").checks;
     }
-    print("verify() in process (12 obligations)", stats_of(in_process));
+    print("verify() in process (13 obligations)", stats_of(in_process));
     std::printf("  (nonexpansive: %zu exact checks over 36 ordered cone pairs)\n", pairs_checked);
 
     const bool ok = embedded.median_ms < 10.0;
@@ -141,5 +147,50 @@ int main(int argc, char** argv) {
                     st.median_ms < chain.target_ms ? "met" : "MISSED");
     }
     std::remove(out.c_str());
+
+    // Scale (issue 9): the n-ball cradle, explicit and through its symmetries.
+    const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
+    std::printf("\nn-ball cradle (derive cradle; %u cores, --jobs default = all; one run each; peak memory per process)\n",
+                cores);
+    g_max_status = 0;
+    const std::string dir = "/tmp/impactcert-bench-cradle";
+    std::system(("mkdir -p " + dir).c_str());
+    auto timed = [&](const char* what, const std::vector<std::string>& args, double target_s, double target_gb) {
+        const double ms = run_once(args);
+        const double gb = static_cast<double>(g_last_maxrss_kb) / (1024.0 * 1024.0);
+        std::printf("  %-58s %9.2f s  %6.2f GB", what, ms / 1000.0, gb);
+        if (target_s > 0)
+            std::printf("   target < %.0f s%s: %s", target_s, target_gb > 0 ? " and < 4 GB" : "",
+                        ms / 1000.0 < target_s && (target_gb <= 0 || gb < target_gb) ? "met" : "MISSED");
+        std::printf("\n");
+        return ms;
+    };
+    const std::string n5 = dir + "/cradle5-all.json", n6 = dir + "/cradle6-all.json", n8 = dir + "/cradle8.json",
+                      c8 = dir + "/cradle8.cert.json";
+    run_once({cli, "derive", "cradle", "--balls", "5", "--pieces", "all", "--no-symmetries", "-o", n5});
+    run_once({cli, "derive", "cradle", "--balls", "6", "--pieces", "all", "--no-symmetries", "-o", n6});
+    std::printf(" baseline (the same decisions over GMP alone) and integer kernels, explicit laws, no symmetries:\n");
+    const double gmp5 = timed("verify n = 5 explicit (14,400 pairs) --no-integer-kernels",
+                              {cli, "verify", "--law", n5, "--no-integer-kernels"}, 0, 0);
+    const double int5 = timed("verify n = 5 explicit (14,400 pairs)", {cli, "verify", "--law", n5}, 0, 0);
+    std::printf("  %-58s %9.1fx\n", "integer kernels vs GMP, n = 5", gmp5 / int5);
+    timed("verify n = 6 explicit (518,400 pairs), goal 10 s", {cli, "verify", "--law", n6}, 60, 0);
+    std::printf(" through the symmetries (1.6 billion ordered pairs for n = 8, 40,320 checked):\n");
+    const double d8 = timed("derive cradle --balls 8", {cli, "derive", "cradle", "--balls", "8", "-o", n8}, 0, 0);
+    const double v8 = timed("verify n = 8", {cli, "verify", "--law", n8}, 0, 0);
+    std::printf("  %-58s %9.2f s           target < 60 s: %s\n", "derive + verify n = 8", (d8 + v8) / 1000.0,
+                d8 + v8 < 60000 ? "met" : "MISSED");
+    const double cert8 = timed("certify n = 8", {cli, "certify", "--law", n8, "-o", c8}, 0, 4);
+    const double check8 = timed("impactcert-check n = 8", {checker, c8}, 0, 4);
+    std::printf("  %-58s %9.2f s           target < 120 s: %s\n", "certify + check n = 8", (cert8 + check8) / 1000.0,
+                cert8 + check8 < 120000 ? "met" : "MISSED");
+    if (std::getenv("IMPACTCERT_BENCH_N9")) {
+        const std::string n9 = dir + "/cradle9.json";
+        timed("derive cradle --balls 9 (stretch)", {cli, "derive", "cradle", "--balls", "9", "-o", n9}, 0, 0);
+        timed("verify n = 9 (stretch)", {cli, "verify", "--law", n9}, 0, 0);
+    } else {
+        std::printf("  (n = 9, the stretch: IMPACTCERT_BENCH_N9=1 scripts/bench)\n");
+    }
+    std::system(("rm -rf " + dir).c_str());
     return 0;
 }
