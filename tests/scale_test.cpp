@@ -2,6 +2,7 @@
 // (verified, refuted with witnesses, used only when proved), compact laws, derive cradle, and
 // --jobs (the same output for any number of threads). Every certificate is re-checked.
 #include "certificate.hpp"
+#include "checker.hpp"
 #include "cradle.hpp"
 #include "derive.hpp"
 #include "impactcert_check.hpp"
@@ -14,6 +15,7 @@
 #include <catch2/catch.hpp>
 
 #include <algorithm>
+#include <filesystem>
 #include <map>
 #include <random>
 
@@ -433,4 +435,40 @@ TEST_CASE("symmetries: the checker holds reduced certificates to the reduced lis
         forged["verdict"] = "refuted";
         refused(forged, "every symmetry holds");
     }
+}
+
+TEST_CASE("impactcert-check --jobs: every fixture and certificate gets the same outcome and message with 3 threads",
+          "[scale][jobs][certificate]") {
+    namespace fs = std::filesystem;
+    std::size_t compared = 0;
+    for (const char* dir : {"tests/certificates/valid", "tests/certificates/fail", "proofs/controls", "proofs/cradle4"})
+        for (const auto& entry : fs::directory_iterator(source_path(dir))) {
+            const std::string path = entry.path().string();
+            if (path.find("certificate") == std::string::npos && std::string(dir).find("tests/") == std::string::npos)
+                continue;
+            INFO(path);
+            const std::string text = test::read_file(path);
+            impactcert_check::detail::Limits one, three;
+            three.jobs = 3;
+            const auto a = impactcert_check::check_text(text, one), b = impactcert_check::check_text(text, three);
+            CHECK(a.status == b.status);
+            CHECK(a.message == b.message);
+            ++compared;
+        }
+    CHECK(compared > 40);
+    // A forged pair deep in a list: the first failure in order is reported, whatever the threads.
+    const Model m(cradle_law(4, CradleListing::all, false));
+    Json cert = make_certificate(m, verify(m));
+    for (std::size_t k = 0; k < cert["obligations"].size(); ++k)
+        if (cert["obligations"][k]["id"] == "nonexpansive") {
+            cert["obligations"][k]["data"]["pairs"][400]["certificate"]["method"] = "psd-ldlt";
+            cert["obligations"][k]["data"]["pairs"][500]["piece_b"] = "x";
+        }
+    impactcert_check::detail::Limits three;
+    three.jobs = 3;
+    const auto a = impactcert_check::check_text(cert.dump(), impactcert_check::detail::Limits{});
+    const auto b = impactcert_check::check_text(cert.dump(), three);
+    CHECK(a.status != impactcert_check::kVerified);
+    CHECK(a.message.find("pairs[400]") != std::string::npos);
+    CHECK(a.message == b.message);
 }

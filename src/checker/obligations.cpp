@@ -7,8 +7,10 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <exception>
 #include <functional>
 #include <numeric>
+#include <thread>
 
 namespace impactcert_check::detail {
 
@@ -308,18 +310,48 @@ bool Checker::evidence(const std::string& id, const Json& data, const std::strin
         }
         const Json& l = list(data, dp, "pairs");
         require(l.size() <= ps.size() * P(), at(dp, "pairs"), "too many entries");
+        // Each entry is checked by itself (by `jobs` threads, each taking every jobs-th entry);
+        // the outcomes are then read in order, so the first failure reported is the one a
+        // single thread would report.
+        for (std::size_t p = 0; p < P(); ++p)
+            pair_form(p, p); // fills the per-piece cache before any thread reads it
+        const std::size_t count = l.size();
+        std::vector<char> entry_ok(count, 0);
+        std::vector<std::exception_ptr> error(count);
+        auto check_entry = [&](std::size_t k) {
+            try {
+                const std::size_t i = ps[k / P()], j = k % P();
+                const std::string ep = at(at(dp, "pairs"), k);
+                expect_keys(l[k], ep, {"piece_a", "piece_b", "certificate"});
+                expect_piece(l[k], ep, "piece_a", i);
+                expect_piece(l[k], ep, "piece_b", j);
+                const Mat A = pair_form(i, j); // recomputed from the law, never read
+                entry_ok[k] = check_copositive_evidence(A, field(l[k], ep, "certificate"), at(ep, "certificate"),
+                                                        limits_.max_faces);
+            } catch (...) {
+                error[k] = std::current_exception();
+            }
+        };
+        const std::size_t jobs = std::max<std::size_t>(1, std::min<std::size_t>(limits_.jobs, count));
+        if (jobs <= 1) {
+            for (std::size_t k = 0; k < count; ++k)
+                check_entry(k);
+        } else {
+            std::vector<std::thread> threads;
+            for (std::size_t t = 0; t < jobs; ++t)
+                threads.emplace_back([&, t] {
+                    for (std::size_t k = t; k < count; k += jobs)
+                        check_entry(k);
+                });
+            for (auto& th : threads)
+                th.join();
+        }
         bool ok = true;
-        for (std::size_t k = 0; k < l.size(); ++k) {
-            const std::size_t i = ps[k / P()], j = k % P();
-            const std::string ep = at(at(dp, "pairs"), k);
-            expect_keys(l[k], ep, {"piece_a", "piece_b", "certificate"});
-            expect_piece(l[k], ep, "piece_a", i);
-            expect_piece(l[k], ep, "piece_b", j);
-            const Mat A = pair_form(i, j); // recomputed from the law, never read
-            const bool this_ok =
-                check_copositive_evidence(A, field(l[k], ep, "certificate"), at(ep, "certificate"), limits_.max_faces);
-            ends_at_first_failure(this_ok, k, l.size(), at(dp, "pairs"));
-            ok = ok && this_ok;
+        for (std::size_t k = 0; k < count; ++k) {
+            if (error[k])
+                std::rethrow_exception(error[k]);
+            ends_at_first_failure(entry_ok[k] != 0, k, count, at(dp, "pairs"));
+            ok = ok && entry_ok[k] != 0;
         }
         complete_unless_failed(!ok, l.size(), ps.size() * P(), at(dp, "pairs"));
         return ok;
