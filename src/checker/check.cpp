@@ -5,6 +5,9 @@
 #include "sha256.hpp"
 
 #include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <unistd.h>
 #include <exception>
 #include <new>
 
@@ -31,7 +34,23 @@ int check(const Json& cert, const Limits& limits) {
         malformed("$.obligations", "expected the " + std::to_string(kIds.size()) + " obligations");
     Checker checker(law, obligations, limits);
     bool any_claimed_refuted = false, any_claimed_undecided = false;
+    // Progress on a terminal for long checks: the obligation being checked, rewritten in place.
+    const bool terminal = limits.progress && isatty(2) != 0;
+    const auto start = std::chrono::steady_clock::now();
+    struct ClearLine { // on every way out, a rejection included
+        bool shown = false;
+        ~ClearLine() {
+            if (shown)
+                std::fprintf(stderr, "\r\033[K");
+        }
+    } line;
+    bool& shown = line.shown;
     for (std::size_t k = 0; k < kIds.size(); ++k) {
+        if (terminal && std::chrono::steady_clock::now() - start > std::chrono::seconds(1)) {
+            std::fprintf(stderr, "\r\033[Kimpactcert-check: %s (%zu/%zu)", kIds[k].c_str(), k + 1, kIds.size());
+            std::fflush(stderr);
+            shown = true;
+        }
         const std::string path = at("$.obligations", k);
         const Json& o = obligations[k];
         expect_keys(o, path, {"id", "statement", "method", "claimed", "verdict", "checks", "data"},

@@ -37,6 +37,7 @@ int usage_error(const std::string& why) {
 int main(int argc, char** argv) {
     Limits limits;
     limits.jobs = std::max(1u, std::thread::hardware_concurrency());
+    limits.progress = true;
     std::string file;
     bool have_file = false, options_done = false;
     for (int i = 1; i < argc; ++i) {
