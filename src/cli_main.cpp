@@ -851,8 +851,11 @@ int main(int argc, char** argv) {
             return run_derive_sequential(derive_args);
         if (cradle_cmd->parsed())
             return run_derive_cradle(cradle_args);
-        if (sweep_cmd->parsed())
+        if (sweep_cmd->parsed()) {
+            limits.jobs = 1; // sweep's --jobs are worker processes: one thread each
+            limits.evidence = false;
             return run_sweep_command(sweep_args, limits);
+        }
         if (fuzz_cmd->parsed()) {
             fuzz_args.impl_given = fuzz_cmd->count("--impl") > 0;
             fuzz_args.impl_cmd_given = fuzz_cmd->count("--impl-cmd") > 0;
