@@ -47,32 +47,44 @@ Json make_certificate(const Model& model, const VerifyReport& report) {
     return make_certificate(model, std::move(copy));
 }
 
-Json make_certificate(const Model& model, VerifyReport&& report) {
+namespace {
+
+Json certificate_head(const Model& model, const std::string& verdict) {
     const Json law = law_to_json(model.law());
     Json cert;
     cert["format"] = kCertificateFormat;
     cert["tool"] = std::string("impactcert ") + IMPACTCERT_VERSION;
     cert["law_sha256"] = sha256_hex(law.dump());
     cert["law"] = law;
-    cert["verdict"] = report.verdict();
+    cert["verdict"] = verdict;
     cert["system"] = Json{{"G", to_json(model.G())}, {"H", to_json(model.H())}};
+    return cert;
+}
+
+Json obligation_item(const ObligationResult& o, Json data) {
+    Json item;
+    item["id"] = o.id;
+    item["statement"] = statement_of(o.id);
+    item["method"] = o.method;
+    item["claimed"] = o.claimed;
+    item["verdict"] = to_string(o.verdict);
+    item["checks"] = o.checks;
+    item["data"] = data.is_null() ? Json::object() : std::move(data);
+    if (o.verdict == Verdict::refuted)
+        item["counterexample"] = o.counterexample;
+    if (o.verdict == Verdict::undecided)
+        item["limit"] = o.limit;
+    return item;
+}
+
+} // namespace
+
+Json make_certificate(const Model& model, VerifyReport&& report) {
+    Json cert = certificate_head(model, report.verdict());
     Json obligations = Json::array();
-    for (auto& o : report.obligations) {
-        Json item;
-        item["id"] = o.id;
-        item["statement"] = statement_of(o.id);
-        item["method"] = o.method;
-        item["claimed"] = o.claimed;
-        item["verdict"] = to_string(o.verdict);
-        item["checks"] = o.checks;
-        item["data"] = o.data.is_null() ? Json::object() : std::move(o.data);
-        if (o.verdict == Verdict::refuted)
-            item["counterexample"] = o.counterexample;
-        if (o.verdict == Verdict::undecided)
-            item["limit"] = o.limit;
-        obligations.push_back(std::move(item));
-    }
-    cert["obligations"] = obligations;
+    for (auto& o : report.obligations)
+        obligations.push_back(obligation_item(o, std::move(o.data)));
+    cert["obligations"] = std::move(obligations);
     return cert;
 }
 
@@ -120,25 +132,53 @@ std::string certificate_text(const Json& certificate) {
     return out + "\n";
 }
 
+namespace {
+
+// certificate_text's printer writing to a stream as it goes.
+struct StreamSink {
+    std::ostream& os;
+    StreamSink& operator+=(const std::string& s) {
+        os << s;
+        return *this;
+    }
+    StreamSink& operator+=(const char* s) {
+        os << s;
+        return *this;
+    }
+    StreamSink& operator+=(char ch) {
+        os << ch;
+        return *this;
+    }
+};
+
+} // namespace
+
 void write_certificate(std::ostream& out, const Json& certificate) {
-    // Each line is printed as certificate_text prints it; the stream takes the text as it comes.
-    struct Sink {
-        std::ostream& os;
-        Sink& operator+=(const std::string& s) {
-            os << s;
-            return *this;
-        }
-        Sink& operator+=(const char* s) {
-            os << s;
-            return *this;
-        }
-        Sink& operator+=(char ch) {
-            os << ch;
-            return *this;
-        }
-    } sink{out};
+    StreamSink sink{out};
     print(certificate, 0, sink);
     out << "\n";
 }
+
+// The layout of print() for the top object: keys at depth 1, the obligations' items at depth 2.
+CertificateWriter::CertificateWriter(std::ostream& out, const Model& model, const std::string& verdict) : out_(out) {
+    const Json head = certificate_head(model, verdict);
+    StreamSink sink{out_};
+    out_ << "{\n";
+    for (auto it = head.begin(); it != head.end(); ++it) {
+        out_ << "  " << Json(it.key()).dump() << ": ";
+        print(*it, 1, sink);
+        out_ << ",\n";
+    }
+    out_ << "  \"obligations\": [\n";
+}
+
+void CertificateWriter::add(ObligationResult& o) {
+    StreamSink sink{out_};
+    out_ << (first_ ? "" : ",\n") << "    ";
+    first_ = false;
+    print(obligation_item(o, std::move(o.data)), 2, sink);
+}
+
+void CertificateWriter::finish() { out_ << "\n  ]\n}\n"; }
 
 } // namespace impactcert

@@ -23,6 +23,20 @@ Json make_certificate(const Model& model, const VerifyReport& report);
 Json make_certificate(const Model& model, VerifyReport&& report);
 std::string certificate_text(const Json& certificate); // what `certify -o` writes
 void write_certificate(std::ostream& out, const Json& certificate); // the same bytes, streamed
+
+// The same bytes again, one obligation at a time (`certify`): the header needs the top verdict,
+// so it comes from a first verification without evidence; each obligation is then written as
+// verify_streaming decides it, and finish() requires the two verdicts to agree.
+class CertificateWriter {
+  public:
+    CertificateWriter(std::ostream& out, const Model& model, const std::string& verdict);
+    void add(ObligationResult& o); // moves o.data out
+    void finish();
+
+  private:
+    std::ostream& out_;
+    bool first_ = true;
+};
 std::string sha256_hex(const std::string& bytes);
 const char* statement_of(const std::string& obligation_id);
 

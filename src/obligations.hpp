@@ -55,4 +55,11 @@ using Progress = std::function<void(const std::string& id, const std::string& st
 VerifyReport verify(const Model& model, const Limits& limits = {}, const Progress& progress = {},
                     const std::vector<std::string>* only = nullptr);
 
+// The same, handing each obligation's result to `sink` as soon as it is decided; the report then
+// keeps everything but the evidence (`data`), so that a certificate can be written one
+// obligation at a time (certificate.hpp, CertificateWriter).
+using ResultSink = std::function<void(ObligationResult&)>; // may move the evidence out
+VerifyReport verify_streaming(const Model& model, const Limits& limits, const Progress& progress,
+                              const ResultSink& sink);
+
 } // namespace impactcert

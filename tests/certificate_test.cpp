@@ -144,6 +144,18 @@ TEST_CASE("certificates: certify + impactcert-check as processes, exit statuses"
     std::remove(path.c_str());
 }
 
+TEST_CASE("certificates: certify streams, one obligation at a time, the very bytes of the in-process certificate",
+          "[certificate][cli]") {
+    const std::string path = "/tmp/impactcert-cert-stream-test.json";
+    for (const auto& [law, cert] : kCommitted) {
+        INFO(law);
+        const auto run = test::run_cli("certify --jobs 2 --law '" + source_path(law) + "' -o " + path);
+        CHECK((run.status == 0 || run.status == 1));
+        CHECK(read_file(path) == certify_text(law));
+    }
+    std::remove(path.c_str());
+}
+
 TEST_CASE("certificates: every fixture gives its registered exit status and reason", "[certificate]") {
     // valid/: exit 0; fail/: exit 1 (content does not follow); parse/: exit 2 (unreadable);
     // limit/: exit 3 (undecided: checking it would exceed a limit, which the message names).

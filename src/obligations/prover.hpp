@@ -50,8 +50,10 @@ struct SymmetryData {
 
 class Prover {
   public:
-    Prover(const Model& m, const Limits& limits, const Progress& progress, const std::vector<std::string>* only)
-        : m_(m), c_(m.contacts()), pieces_(m.pieces()), limits_(limits), progress_(progress), only_(only) {}
+    Prover(const Model& m, const Limits& limits, const Progress& progress, const std::vector<std::string>* only,
+           const ResultSink* sink = nullptr)
+        : m_(m), c_(m.contacts()), pieces_(m.pieces()), limits_(limits), progress_(progress), only_(only),
+          sink_(sink) {}
 
     VerifyReport run();
 
@@ -62,6 +64,7 @@ class Prover {
     const Limits& limits_;
     const Progress& progress_;
     const std::vector<std::string>* only_;
+    const ResultSink* sink_; // when given, each result goes there as soon as it is decided
     std::optional<FanResult> fan_;
     std::optional<LimitExceeded> fan_limit_; // the fan's decision exceeded a limit
     std::optional<Outcome> p1_;

@@ -134,6 +134,10 @@ VerifyReport Prover::run() {
             }
         }
         r.elapsed = std::chrono::steady_clock::now() - start;
+        if (sink_) {
+            (*sink_)(r);
+            r.data = Json::object(); // written: not held
+        }
         report.obligations.push_back(std::move(r));
     }
     return report;
@@ -161,6 +165,11 @@ Outcome Prover::dispatch(const std::string& id) {
 VerifyReport verify(const Model& model, const Limits& limits, const Progress& progress,
                     const std::vector<std::string>* only) {
     return detail::Prover(model, limits, progress, only).run();
+}
+
+VerifyReport verify_streaming(const Model& model, const Limits& limits, const Progress& progress,
+                              const ResultSink& sink) {
+    return detail::Prover(model, limits, progress, nullptr, &sink).run();
 }
 
 } // namespace impactcert
