@@ -156,6 +156,17 @@ Model::Model(Law law, std::size_t max_pieces) : law_(std::move(law)) {
     if (law_.representatives_only) {
         if (law_.symmetries.empty())
             input_error("$.pieces_listed", "orbit representatives need \"symmetries\"");
+        // Generating pieces is only meaningful (and only bounded) for H-isometries: a compact
+        // law whose P or P' is not one is an input error, before anything is generated.
+        for (std::size_t g = 0; g < law_.symmetries.size(); ++g) {
+            const SymmetryDecl& sym = law_.symmetries[g];
+            if (transpose(sym.P) * H_ * sym.P != H_)
+                input_error(idx("$.symmetries", g) + ".P", "not an H-isometry (P^T H P != H): a compact law's "
+                                                           "symmetries must be");
+            if (transpose(sym.P_prime) * H_ * sym.P_prime != H_)
+                input_error(idx("$.symmetries", g) + ".P_prime", "not an H-isometry (P'^T H P' != H): a compact "
+                                                                 "law's symmetries must be");
+        }
         std::map<std::vector<std::size_t>, std::size_t> by_rays;
         auto key_of = [](std::vector<std::size_t> ids) {
             std::sort(ids.begin(), ids.end());
@@ -208,6 +219,11 @@ Model::Model(Law law, std::size_t max_pieces) : law_(std::move(law)) {
                     input_error("$.symmetries", "the symmetries generate more than " + std::to_string(max_pieces) +
                                                     " pieces (raise it with --max-pieces)");
                 const std::string name = pieces_[p].name + "." + sym.name;
+                // Names grow with the depth of the breadth-first search: a group of infinite
+                // order (a rational rotation) is stopped here long before memory runs out.
+                if (name.size() > kMaxGeneratedName)
+                    input_error("$.symmetries", "generated piece name longer than " + std::to_string(kMaxGeneratedName) +
+                                                    " characters (a symmetry of infinite order?)");
                 if (!names.insert(name).second)
                     input_error(idx("$.symmetries", g) + ".name",
                                 "generated piece name " + in_quotes(name) + " is taken");

@@ -50,6 +50,10 @@ struct OutcomeDecl {
 // A declared symmetry (proofs/README.md, "Symmetries"): P and P' rational c x c matrices with
 // P^T H P = H, P'^T H P' = H, P mapping every cone onto a cone C_sigma(i) and
 // Q_sigma(i) P = P' Q_i, so that S(P x) = P' S(x). Verified by the obligation `symmetries`.
+// Generated piece names longer than this end the expansion with an input error (proofs/README.md,
+// "Symmetries": the depth of the search bounds the name; a group of infinite order has no bound).
+inline constexpr std::size_t kMaxGeneratedName = 4096;
+
 struct SymmetryDecl {
     std::string name;
     Matrix P, P_prime;

@@ -17,7 +17,7 @@ struct Limits {
     std::size_t max_faces = 16384;      // --max-faces: simplex faces of one KKT enumeration
     std::size_t max_chambers = 200000;  // --max-chambers: chambers of the facet arrangement
     std::size_t max_subsets = 5000000;  // --max-subsets: constraint subsets for cone intersections
-    std::size_t max_pieces = 2000000;   // --max-pieces: pieces a law's symmetries may generate
+    std::size_t max_pieces = 500000;    // --max-pieces: pieces of a law with symmetries, listed and generated
 
     // How the work is done; no effect on any verdict, method, count or witness.
     bool evidence = true;          // build each obligation's evidence (certify); verify needs none

@@ -15,6 +15,7 @@
 #include <catch2/catch.hpp>
 
 #include <algorithm>
+#include <cctype>
 #include <filesystem>
 #include <map>
 #include <random>
@@ -103,17 +104,45 @@ TEST_CASE("integer kernels: verdicts, counts, methods and witnesses are GMP's, t
         require_same(verify(m, with(true, false)), gmp);
         // With evidence the kernel is also run and must agree pair by pair (ensure in the prover).
         require_same(verify(m, with(true, true)), verify(m, with(false, true)));
+        // "copositive pair forms: 23 A>=0, 3 PSD, 3 PSD+N, 5 KKT": the counts of each route.
         const std::string method = gmp.at("nonexpansive").method;
+        static const char* names[] = {" A>=0", " PSD,", " PSD+N", " KKT"};
         for (int k = 0; k < 4; ++k) {
-            static const char* names[] = {" A>=0", " PSD,", " PSD+N", " KKT"};
             const auto at = method.find(names[k]);
-            if (at != std::string::npos && at > 0 && method[at - 1] != '0' && method[at - 2] == ' ')
-                ++methods_seen[k];
+            if (at == std::string::npos)
+                continue;
+            auto digits = at;
+            while (digits > 0 && std::isdigit(static_cast<unsigned char>(method[digits - 1])))
+                --digits;
+            if (digits < at)
+                methods_seen[k] += std::stoul(method.substr(digits, at - digits));
         }
     }
-    // The set covers entrywise, PSD and KKT routes at least (else the comparison is weak).
+    // The set takes every route (else the comparison is weak).
     CHECK(methods_seen[0] > 0);
-    CHECK(methods_seen[1] + methods_seen[2] > 0);
+    CHECK(methods_seen[1] > 0);
+    CHECK(methods_seen[2] > 0);
+    CHECK(methods_seen[3] > 0);
+    // And the kernel does decide (a kernel that always declined would pass the comparisons).
+    const Model cradle(cradle_law(4, CradleListing::all, false));
+    const PairKernel kernel(cradle, true);
+    CHECK(kernel.pieces_in_kernel() == 24);
+    PairKernel::Scratch scratch;
+    for (std::size_t j = 0; j < 24; ++j)
+        CHECK(kernel.decide(0, j, scratch) == CopositivityMethod::nonnegative_entries);
+    CHECK_FALSE(PairKernel(cradle, false).decide(0, 1, scratch).has_value());
+    DeriveOptions o;
+    o.masses = {Rational(1), Rational(2), Rational(3)};
+    o.restitution = {Rational(1, 2), Rational(1)};
+    const Model derived(*derive_sequential(o).law);
+    const PairKernel inelastic(derived, true);
+    std::size_t psd = 0;
+    for (std::size_t i = 0; i < derived.pieces().size(); ++i)
+        for (std::size_t j = 0; j < derived.pieces().size(); ++j) {
+            const auto method = inelastic.decide(i, j, scratch);
+            psd += method && *method != CopositivityMethod::nonnegative_entries ? 1 : 0;
+        }
+    CHECK(psd > 0); // the kernel's PSD and PSD + N routes are taken
 }
 
 TEST_CASE("integer kernels: fraction-free PSD and determinant signs equal GMP's on random integer matrices",
@@ -280,16 +309,22 @@ TEST_CASE("symmetries: negative controls are refuted with witnesses, and then no
         require_sound(m, r);
     }
     SECTION("a compact law with a wrong generator: expanded all the same, checked without reduction") {
+        // The reversal with P' = I: an isometry, so the law expands (r fixes the sorted cone and
+        // generates nothing new), but Q_sorted J != I Q_sorted: refuted, and nothing is reduced.
         Law law = cradle_law(4, CradleListing::representatives, true);
-        law.symmetries.front().P_prime = Rational(2) * Matrix::identity(3);
+        law.symmetries.back().P_prime = Matrix::identity(3);
         const Model m(law);
+        REQUIRE(m.pieces().size() == 24);
         const VerifyReport r = verify(m);
         REQUIRE(r.at("symmetries").verdict == Verdict::refuted);
-        CHECK(r.at("symmetries").counterexample["matrix"] == "P_prime");
-        CHECK(r.at("P2").verdict == Verdict::refuted); // generated pieces double the energy
-        CHECK(r.at("nonexpansive").verdict == Verdict::refuted);
+        CHECK(r.at("symmetries").counterexample.contains("image_piece"));
+        CHECK(r.at("nonexpansive").verdict == Verdict::proved);
+        CHECK(r.at("nonexpansive").checks == 24 * 24);
         CHECK(r.at("nonexpansive").method.find("by the symmetries") == std::string::npos);
         require_sound(m, r);
+        // A compact law whose generator is not an isometry is refused before generating.
+        law.symmetries.front().P_prime = Rational(2) * Matrix::identity(3);
+        CHECK_THROWS_WITH(Model(law), Catch::Contains("$.symmetries[0].P_prime: not an H-isometry"));
     }
     SECTION("valid symmetries of an expansive law: the reduced check still refutes it") {
         Law law = cradle_law(4, CradleListing::representatives, true);
@@ -326,12 +361,24 @@ TEST_CASE("symmetries: law files are validated with paths, and compact laws are 
     CHECK(error_of(head + R"("pieces_listed": "orbit-representatives"})") ==
           "law.json: $.pieces_listed: orbit representatives need \"symmetries\"");
     CHECK(error_of(head + R"("pieces_listed": "some"})").find("$.pieces_listed: expected") != std::string::npos);
-    // A rotation of infinite order (3/5, 4/5 in an orthonormal frame) generates pieces without end:
-    // stopped at the limit, with the option named.
-    const std::string rot = R"({"format": "impactcert-law/1", "name": "x", "masses": ["1","1"],
+    // A reflection (order 2) generates one piece.
+    const std::string flip = R"({"format": "impactcert-law/1", "name": "x", "masses": ["1","1"],
         "pieces": [{"name": "I", "Q": [["1"]]}], "symmetries": [{"name": "s", "P": [["-1"]], "P_prime": [["-1"]]}],
         "pieces_listed": "orbit-representatives"})";
-    CHECK(Model(parse_law_text(rot, "law.json")).pieces().size() == 2);
+    CHECK(Model(parse_law_text(flip, "law.json")).pieces().size() == 2);
+    // A rotation of infinite order (3/5, 4/5; W = I and unit masses make H = I) would generate
+    // pieces without end: stopped quickly by the depth of the search, one line, its path.
+    const std::string rotation = R"({"format": "impactcert-law/1", "name": "x", "masses": ["1","1"],
+        "contacts": {"W": [["1","0"],["0","1"]]},
+        "pieces": [{"name": "I", "Q": [["1","0"],["0","1"]], "rays": [["1","0"],["0","1"]]}],
+        "symmetries": [{"name": "s", "P": [["3/5","-4/5"],["4/5","3/5"]], "P_prime": [["3/5","-4/5"],["4/5","3/5"]]}],
+        "pieces_listed": "orbit-representatives"})";
+    CHECK(error_of(rotation) ==
+          "law.json: $.symmetries: generated piece name longer than 4096 characters (a symmetry of infinite order?)");
+    // A shear is no isometry: generating from it is refused before anything is generated.
+    std::string shear = rotation;
+    shear.replace(shear.find(R"("P": [["3/5","-4/5"],["4/5","3/5"]])"), 35, R"("P": [["1","1"],["0","1"]])");
+    CHECK(error_of(shear) == "law.json: $.symmetries[0].P: not an H-isometry (P^T H P != H): a compact law's symmetries must be");
     Law grow = cradle_law(5, CradleListing::representatives, true);
     CHECK_THROWS_WITH(Model(grow, 100), Catch::Contains("--max-pieces"));
     // The n = 8 law is a small file.
@@ -381,6 +428,14 @@ TEST_CASE("symmetries: the checker holds reduced certificates to the reduced lis
     const Model m(cradle_law(4, CradleListing::representatives, true));
     const Json cert = make_certificate(m, verify(m));
     REQUIRE(check(cert).status == impactcert_check::kVerified);
+    {
+        // The checker's --max-pieces: expanding beyond it is undecided, with the option named.
+        impactcert_check::detail::Limits few;
+        few.max_pieces = 10;
+        const auto outcome = impactcert_check::check_text(cert.dump(), few);
+        CHECK(outcome.status == impactcert_check::kUndecided);
+        CHECK(outcome.message.find("--max-pieces") != std::string::npos);
+    }
     auto index_of = [&](const std::string& id) {
         for (std::size_t k = 0; k < cert["obligations"].size(); ++k)
             if (cert["obligations"][k]["id"] == id)

@@ -126,6 +126,15 @@ Law read_law(const Json& j, const std::string& path, std::size_t max_pieces) {
                 "expected \"all\" or \"orbit-representatives\"");
         if (listed == "orbit-representatives") {
             require(!law.symmetries.empty(), at(path, "pieces_listed"), "orbit representatives need symmetries");
+            // The prover's input rules: a compact law's symmetries are H-isometries, and
+            // generated names stay within 4,096 characters.
+            for (std::size_t g = 0; g < law.symmetries.size(); ++g) {
+                const Symmetry& sym = law.symmetries[g];
+                const std::string sp = at(at(path, "symmetries"), g);
+                require(mul(mul(tr(sym.P), law.H), sym.P) == law.H, at(sp, "P"), "not an H-isometry in a compact law");
+                require(mul(mul(tr(sym.P_prime), law.H), sym.P_prime) == law.H, at(sp, "P_prime"),
+                        "not an H-isometry in a compact law");
+            }
             std::map<std::vector<std::size_t>, std::size_t> by_rays;
             auto key = [&](const std::vector<Vec>& rays) {
                 std::vector<std::size_t> ids;
@@ -150,6 +159,8 @@ Law read_law(const Json& j, const std::string& path, std::size_t max_pieces) {
                         undecided("--max-pieces", at(path, "symmetries"),
                                   "the symmetries generate more than " + std::to_string(max_pieces) + " pieces");
                     image.name = law.pieces[p].name + "." + sym.name;
+                    require(image.name.size() <= 4096, at(path, "symmetries"),
+                            "generated piece name longer than 4096 characters");
                     require(law.piece_index.emplace(image.name, law.pieces.size()).second, at(path, "symmetries"),
                             "generated piece name \"" + image.name + "\" is taken");
                     image.Q_ = mul(mul(sym.P_prime, law.pieces[p].Q_), sym.P_inv);

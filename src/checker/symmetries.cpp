@@ -177,9 +177,14 @@ bool Checker::symmetries_evidence(const Json& data, const std::string& dp) {
     // Every symmetry before the first failing one, in order, each exactly as recomputed.
     require(l.size() == s.evidence.size(), at(dp, "symmetries"),
             s.hold ? "is incomplete" : "must list the symmetries before the first that fails, and only those");
-    for (std::size_t g = 0; g < l.size(); ++g)
-        require(l[g] == s.evidence[g], at(at(dp, "symmetries"), g),
-                "is not the symmetry's P^T H P, P'^T H P' and permutation of the pieces");
+    for (std::size_t g = 0; g < l.size(); ++g) {
+        // Indices are JSON integers ("1.0" compares equal to 1 in JSON, but is malformed here).
+        const std::string gp = at(at(dp, "symmetries"), g);
+        if (l[g].is_object() && l[g].contains("permutation") && l[g].at("permutation").is_array())
+            for (std::size_t k = 0; k < l[g].at("permutation").size(); ++k)
+                natural(l[g].at("permutation")[k], at(at(gp, "permutation"), k));
+        require(l[g] == s.evidence[g], gp, "is not the symmetry's P^T H P, P'^T H P' and permutation of the pieces");
+    }
     if (s.hold) {
         std::vector<std::string> names;
         for (auto p : s.representatives)
