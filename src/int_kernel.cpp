@@ -10,13 +10,6 @@
 
 namespace impactcert::intk {
 
-namespace {
-
-__extension__ typedef __int128 i128; // GCC and Clang: exact products of two int64
-
-// Symmetric range: -2^63 is excluded, so that every value has a magnitude (gcd, negation).
-bool fits(i128 x) { return x > std::numeric_limits<i64>::min() && x <= std::numeric_limits<i64>::max(); }
-
 std::optional<i64> to_i64(mpz_srcptr z) {
     if (!mpz_fits_slong_p(z) || mpz_cmp_si(z, std::numeric_limits<long>::min()) == 0)
         return std::nullopt;
@@ -24,7 +17,6 @@ std::optional<i64> to_i64(mpz_srcptr z) {
     return static_cast<i64>(mpz_get_si(z));
 }
 
-} // namespace
 
 std::optional<IntMatrix> to_int(const Matrix& m) {
     IntMatrix out;

@@ -10,12 +10,20 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <gmp.h>
 #include <optional>
 #include <vector>
 
 namespace impactcert::intk {
 
 using i64 = std::int64_t;
+__extension__ typedef __int128 i128; // GCC and Clang: exact products of two int64
+
+// Whether x is an int64 of the symmetric range (-2^63 excluded: every value has a magnitude).
+inline bool fits(i128 x) { return x > -static_cast<i128>(INT64_MAX) - 1 && x <= INT64_MAX; }
+
+// A GMP integer as int64 of the symmetric range, when it fits.
+std::optional<i64> to_i64(mpz_srcptr z);
 
 struct IntMatrix {
     std::size_t rows = 0, cols = 0;

@@ -2,27 +2,20 @@
 // __int128 with overflow checks to decide.
 #include "pair_kernel.hpp"
 
+#include "int_kernel.hpp"
+
 #include <gmp.h>
 
-#include <limits>
 #include <stdexcept>
 
 namespace impactcert {
 
 namespace {
 
-using i64 = std::int64_t;
-__extension__ typedef __int128 i128; // GCC and Clang: exact products of two int64
-
-bool fits(i128 x) { return x >= std::numeric_limits<i64>::min() && x <= std::numeric_limits<i64>::max(); }
-
-// A GMP integer as int64, when it fits.
-std::optional<i64> to_i64(mpz_srcptr z) {
-    if (!mpz_fits_slong_p(z))
-        return std::nullopt;
-    static_assert(sizeof(long) == sizeof(i64), "long is 64 bits on the supported platforms");
-    return static_cast<i64>(mpz_get_si(z));
-}
+using intk::fits;
+using intk::i128;
+using intk::i64;
+using intk::to_i64;
 
 // Positive integer multiples of the columns of two matrices with the same number of columns:
 // column k of both is multiplied by the least positive rational making both integral and
@@ -135,32 +128,13 @@ std::optional<bool> int_psd(std::vector<i64>& a, std::size_t n) {
 PairKernel::PairKernel(const Model& m, bool enabled) : c_(m.contacts()), enabled_(enabled) {
     if (!enabled_)
         return;
-    const Matrix& H = m.H();
-    // d H, d the least common denominator of H's entries.
-    std::vector<i64> Hs(c_ * c_);
-    {
-        mpz_t d, t;
-        mpz_inits(d, t, nullptr);
-        mpz_set_ui(d, 1);
-        for (std::size_t r = 0; r < c_; ++r)
-            for (std::size_t k = 0; k < c_; ++k)
-                mpz_lcm(d, d, mpq_denref(H(r, k).mpq()));
-        bool ok = true;
-        for (std::size_t r = 0; r < c_ && ok; ++r)
-            for (std::size_t k = 0; k < c_ && ok; ++k) {
-                mpz_divexact(t, d, mpq_denref(H(r, k).mpq()));
-                mpz_mul(t, t, mpq_numref(H(r, k).mpq()));
-                const auto v = to_i64(t);
-                ok = v.has_value();
-                if (ok)
-                    Hs[r * c_ + k] = *v;
-            }
-        mpz_clears(d, t, nullptr);
-        if (!ok) {
-            enabled_ = false;
-            return;
-        }
+    // d H, d the least common denominator of H's entries (a positive scale: Lemma K1).
+    const auto H_int = intk::to_int(m.H());
+    if (!H_int) {
+        enabled_ = false;
+        return;
     }
+    const std::vector<i64>& Hs = H_int->a;
     pieces_.resize(m.pieces().size());
     for (std::size_t p = 0; p < m.pieces().size(); ++p) {
         const Piece& piece = m.pieces()[p];

@@ -27,6 +27,8 @@ namespace {
 
 Model load(const std::string& relative) { return Model(load_law_file(source_path(relative))); }
 
+using test::require_sound;
+
 impactcert_check::Outcome check(const Json& cert) { return impactcert_check::check_text(cert.dump()); }
 
 // The law as a function: primitive ray set (sorted) -> Q.
@@ -55,15 +57,6 @@ void require_same(const VerifyReport& a, const VerifyReport& b) {
         CHECK(x.limit == y.limit);
         CHECK(x.data == y.data);
     }
-}
-
-void require_sound(const Model& m, const VerifyReport& r) {
-    for (const auto& o : r.obligations)
-        if (o.verdict == Verdict::refuted)
-            test::revalidate(m, o);
-    const auto outcome = check(make_certificate(m, r));
-    INFO(outcome.message);
-    REQUIRE(outcome.status == impactcert_check::kVerified);
 }
 
 Limits with(bool kernels, bool evidence, unsigned jobs = 1) {

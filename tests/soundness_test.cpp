@@ -24,6 +24,8 @@ using impactcert::test::source_path;
 
 namespace {
 
+using test::require_sound;
+
 Model load(const std::string& relative) { return Model(load_law_file(source_path(relative))); }
 
 Json certificate_of(const Model& m, const Limits& limits = {}) {
@@ -45,15 +47,6 @@ std::size_t index_of(const Json& cert, const std::string& id) {
     throw std::logic_error("no obligation " + id);
 }
 
-// Every refuted obligation's witness re-checked independently; every certificate verified.
-void require_sound(const Model& m, const VerifyReport& r) {
-    for (const auto& o : r.obligations)
-        if (o.verdict == Verdict::refuted)
-            test::revalidate(m, o);
-    const auto outcome = check(make_certificate(m, r));
-    INFO(outcome.message);
-    REQUIRE(outcome.status == impactcert_check::kVerified);
-}
 
 Vector random_point(std::mt19937_64& rng, std::size_t c) {
     Vector x(c);

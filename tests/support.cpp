@@ -1,5 +1,8 @@
 #include "support.hpp"
 
+#include "certificate.hpp"
+#include "impactcert_check.hpp"
+
 #include <catch2/catch.hpp>
 
 #include <algorithm>
@@ -305,6 +308,15 @@ void revalidate(const Model& m, const ObligationResult& r) {
     } else {
         FAIL("no re-validation for obligation " << r.id);
     }
+}
+
+void require_sound(const Model& m, const VerifyReport& r) {
+    for (const auto& o : r.obligations)
+        if (o.verdict == Verdict::refuted)
+            revalidate(m, o);
+    const auto outcome = impactcert_check::check_text(make_certificate(m, r).dump());
+    INFO(outcome.message);
+    REQUIRE(outcome.status == impactcert_check::kVerified);
 }
 
 CliRun run_cli(const std::string& args, const std::string& stdin_text) {

@@ -28,6 +28,10 @@ Law sorting_law(std::size_t n);
 
 void revalidate(const Model& model, const ObligationResult& result);
 
+// Every refuted obligation's witness re-validated, and the certificate of `report` verified by
+// impactcert-check's library; REQUIREs on failure.
+void require_sound(const Model& model, const VerifyReport& report);
+
 struct CliRun {
     int status = -1;
     std::string out; // stdout
