@@ -3,22 +3,15 @@
 // Exit status: 0 success / every claim proved; 1 a claim refuted; 2 bad input or usage.
 // Every error is one line on stderr: "impactcert: <place>: <reason>".
 #include "certificate.hpp"
-#include "cradle.hpp"
-#include "derive.hpp"
-#include "float_eval.hpp"
-#include "fuzz.hpp"
+#include "cli/common.hpp"
 #include "law_json.hpp"
-#include "obligations.hpp"
-#include "paper_law.hpp"
 #include "report.hpp"
 #include "smt.hpp"
 #include "sweep.hpp"
 #include "verdict_output.hpp"
 
 #include <CLI/CLI.hpp>
-#include <impactcert/float_law.hpp>
 
-#include <dlfcn.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -38,46 +31,7 @@
 namespace impactcert {
 namespace {
 
-constexpr int kExitProved = 0;
-constexpr int kExitRefuted = 1;
-constexpr int kExitBadInput = 2;
-
-Model load_model(const std::string& law_path, std::size_t max_pieces = Limits{}.max_pieces) {
-    return law_path.empty() ? Model(paper_law(), max_pieces) : load_model_file(law_path, max_pieces);
-}
-
-constexpr int kExitUndecided = 3;
-constexpr int kExitInternal = 4;
-
-// Progress on a terminal for runs over a second: one line on stderr, rewritten in place.
-class TerminalProgress {
-  public:
-    TerminalProgress() : enabled_(isatty(2) != 0), start_(std::chrono::steady_clock::now()) {}
-    ~TerminalProgress() {
-        if (shown_)
-            std::fprintf(stderr, "\r\033[K");
-    }
-    TerminalProgress(const TerminalProgress&) = delete;
-    TerminalProgress& operator=(const TerminalProgress&) = delete;
-    Progress callback() {
-        if (!enabled_)
-            return {};
-        return [this](const std::string& id, const std::string& status) {
-            const auto now = std::chrono::steady_clock::now();
-            if (now - start_ < std::chrono::seconds(1) || now - last_ < std::chrono::milliseconds(200))
-                return;
-            last_ = now;
-            shown_ = true;
-            std::fprintf(stderr, "\r\033[Kimpactcert: %s %s", id.c_str(), status.c_str());
-            std::fflush(stderr);
-        };
-    }
-
-  private:
-    bool enabled_;
-    bool shown_ = false;
-    std::chrono::steady_clock::time_point start_, last_{};
-};
+using namespace cli;
 
 VerifyReport verify_with_progress(const Model& model, const Limits& limits) {
     TerminalProgress progress;
@@ -129,14 +83,6 @@ int run_certify(const std::string& law_path, const std::string& out_path, const 
     return report.exit_status();
 }
 
-void write_file(const std::string& path, const std::string& text) {
-    std::ofstream out(path, std::ios::binary);
-    out << text;
-    out.close();
-    if (!out)
-        throw InputError(path + ": cannot write");
-}
-
 int run_report(const std::string& law_path, const std::string& dir, const Limits& limits) {
     const Model model = load_model(law_path, limits.max_pieces);
     const VerifyReport report = verify_with_progress(model, limits);
@@ -148,96 +94,6 @@ int run_report(const std::string& law_path, const std::string& dir, const Limits
     write_file(dir + "/report.html", report_html(model, report));
     std::cout << dir << "/report.md\n" << dir << "/report.html\n";
     return kExitProved; // a report is written whatever the verdict
-}
-
-// A comma-separated list of command-line numbers ("1,m,1" has no names here: see sweep).
-std::vector<Rational> number_list(const std::string& option, const std::string& text) {
-    std::vector<Rational> out;
-    std::size_t start = 0;
-    while (true) {
-        const std::size_t comma = text.find(',', start);
-        const std::string item = text.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
-        std::string why;
-        const auto x = parse_cli_number(item, &why);
-        if (!x)
-            throw InputError(option + ": \"" + item + "\" is not a number" + (why.empty() ? "" : " (" + why + ")"));
-        out.push_back(*x);
-        if (comma == std::string::npos)
-            return out;
-        start = comma + 1;
-    }
-}
-
-struct DeriveArgs {
-    std::string masses, restitution = "1", rule = "most-negative", out;
-    std::size_t max_impacts = 100;
-};
-
-int run_derive_sequential(const DeriveArgs& a) {
-    DeriveOptions o;
-    o.masses = number_list("--masses", a.masses);
-    o.restitution = number_list("--restitution", a.restitution);
-    if (o.restitution.size() == 1 && o.masses.size() > 2)
-        o.restitution.assign(o.masses.size() - 1, o.restitution[0]);
-    o.rule = parse_rule(a.rule);
-    o.max_impacts = a.max_impacts;
-    const DeriveResult r = derive_sequential(o);
-    if (r.not_finite) {
-        std::cerr << "impactcert: derive: no finite law: gamma- = " << to_string(*r.not_finite) << " needs more than "
-                  << o.max_impacts << " impacts (word " << r.word << "...)\n";
-        return kExitRefuted;
-    }
-    // The canonical law, with the derivation's description after the name.
-    const Json canonical = law_to_json(*r.law);
-    Json law;
-    for (auto it = canonical.begin(); it != canonical.end(); ++it) {
-        law[it.key()] = it.value();
-        if (it.key() == "name")
-            law["description"] = r.law->description;
-    }
-    const std::string text = law.dump(2) + "\n";
-    if (a.out.empty()) {
-        std::cout << text;
-    } else {
-        write_file(a.out, text);
-        std::cerr << "impactcert: wrote " << a.out << " (" << r.law->pieces.size() << " pieces, " << r.regions
-                  << " regions, longest word " << r.max_word << ")\n";
-    }
-    return kExitProved;
-}
-
-struct CradleArgs {
-    std::size_t balls = 0;
-    std::string pieces = "representatives", out;
-    bool no_symmetries = false;
-};
-
-int run_derive_cradle(const CradleArgs& a) {
-    if (a.pieces != "representatives" && a.pieces != "all")
-        throw InputError("--pieces: expected representatives or all, got \"" + a.pieces + "\"");
-    if (a.pieces == "all" && a.balls > 8)
-        throw InputError("--pieces all: at most 8 balls (40,320 listed pieces); larger laws are written compactly");
-    const Law law = cradle_law(a.balls, a.pieces == "all" ? CradleListing::all : CradleListing::representatives,
-                               !a.no_symmetries);
-    std::size_t cones = 1; // n! (not generated here: verify and certify expand the law)
-    for (std::size_t k = 2; k <= a.balls; ++k)
-        cones *= k;
-    const Json canonical = law_to_json(law);
-    Json out;
-    for (auto it = canonical.begin(); it != canonical.end(); ++it) {
-        out[it.key()] = it.value();
-        if (it.key() == "name")
-            out["description"] = law.description;
-    }
-    const std::string text = out.dump(2) + "\n";
-    if (a.out.empty()) {
-        std::cout << text;
-    } else {
-        write_file(a.out, text);
-        std::cerr << "impactcert: wrote " << a.out << " (" << law.pieces.size() << " pieces listed, " << cones
-                  << " in all, " << law.symmetries.size() << " symmetries)\n";
-    }
-    return kExitProved;
 }
 
 struct SweepArgs {
@@ -297,436 +153,6 @@ int run_smt(const std::string& law_path, const std::string& dir) {
     return kExitProved;
 }
 
-// Splits on white space and commas; parentheses and brackets are decoration.
-std::vector<std::string> tokens_of(const std::string& text) {
-    std::vector<std::string> out;
-    std::string cur;
-    for (char ch : text) {
-        if (ch == ' ' || ch == '\t' || ch == ',' || ch == '(' || ch == ')' || ch == '[' ||
-            ch == ']' || ch == '\r' || ch == '\n') {
-            if (!cur.empty())
-                out.push_back(cur);
-            cur.clear();
-        } else {
-            cur += ch;
-        }
-    }
-    if (!cur.empty())
-        out.push_back(cur);
-    return out;
-}
-
-std::string line_of(const Vector& v) {
-    std::string s;
-    for (std::size_t i = 0; i < v.size(); ++i)
-        s += (i ? " " : "") + to_string(v[i]);
-    return s;
-}
-
-// One point: c contact velocities, or n ball velocities with --velocities.
-std::string evaluate_point(const Model& model, const Vector& x, bool velocities, const std::string& where) {
-    const Vector gamma = velocities ? model.contact_velocities(x) : x;
-    const auto values = model.values_at(gamma);
-    if (values.empty())
-        throw InputError(where + ": gamma- = " + to_string(gamma) + " lies in no cone of law " +
-                         model.law().name);
-    std::string out;
-    for (std::size_t k = 0; k < values.size(); ++k) {
-        const Vector shown = velocities ? model.post_impact_velocities(x, gamma, values[k]) : values[k];
-        out += (k ? " | " : "") + line_of(shown);
-    }
-    return out;
-}
-
-// Finite doubles from text: decimals correctly rounded (strtod), hex floats exactly.
-double parse_double(const std::string& text, const std::string& where) {
-    char* end = nullptr;
-    errno = 0;
-    const double d = std::strtod(text.c_str(), &end);
-    if (text.empty() || end != text.c_str() + text.size())
-        throw InputError(where + ": " + text + ": not a number");
-    if (!std::isfinite(d))
-        throw InputError(where + ": " + text + ": not a finite double (NaN and infinities are outside the domain)");
-    return d;
-}
-
-struct FuzzArgs {
-    std::string law_path, impl_spec, impl_cmd, junit;
-    bool velocities = false, json = false;
-    bool impl_given = false, impl_cmd_given = false; // given, even as an empty string
-    std::optional<std::uint64_t> max_ulps;
-    std::optional<double> max_rel_error;
-    double timeout = 10;
-    fuzz::Options options;
-};
-
-// The implementation under test: --impl, --impl-cmd, or the built-in float law.
-std::unique_ptr<fuzz::Implementation> make_impl(const FuzzArgs& a, const Model& model, std::size_t dim) {
-    if (a.impl_given && a.impl_cmd_given)
-        throw InputError("--impl and --impl-cmd: give one implementation");
-    if (a.impl_given && a.impl_spec.empty())
-        throw InputError("--impl: empty (expected LIB.so:SYMBOL)");
-    if (a.impl_cmd_given && a.impl_cmd.empty())
-        throw InputError("--impl-cmd: empty command");
-    if (!(a.timeout > 0 && std::isfinite(a.timeout)))
-        throw InputError("--impl-timeout: must be a finite number of seconds > 0");
-    if (!a.impl_spec.empty())
-        return fuzz::load_symbol(a.impl_spec, dim, dim);
-    if (!a.impl_cmd.empty())
-        return fuzz::command(a.impl_cmd, dim, dim, a.timeout);
-    if (a.law_path.empty())
-        return fuzz::builtin_paper(a.velocities);
-    if (a.velocities)
-        throw InputError("--velocities --law: the built-in float law takes contact velocities; test an "
-                         "implementation in ball velocities with --impl or --impl-cmd");
-    return fuzz::builtin_float_law(model);
-}
-
-// What `verify` proves of the law decides what the fuzzer may check (and whether one piece per
-// point is enough: a continuous tiling).
-struct LawFacts {
-    bool continuous_tiling = false;
-    fuzz::Properties properties;
-};
-
-LawFacts law_facts(const Model& model) {
-    static const std::vector<std::string> ids = {"fan", "P1", "kinematic", "energetic", "nonexpansive-lemma"};
-    const VerifyReport report = verify(model, Limits{}, {}, &ids);
-    auto proved = [&](const char* id) { return report.at(id).verdict == Verdict::proved; };
-    LawFacts f;
-    f.continuous_tiling = proved("fan") && proved("P1");
-    f.properties.nonnegative = proved("kinematic");
-    f.properties.energy = proved("energetic");
-    f.properties.nonexpansive = proved("nonexpansive-lemma");
-    return f;
-}
-
-std::vector<double> parse_doubles(const std::vector<std::string>& toks) {
-    std::vector<double> x;
-    for (const auto& t : toks)
-        x.push_back(parse_double(t, "input"));
-    return x;
-}
-
-int run_eval_float(const FuzzArgs& a, const std::vector<std::vector<std::string>>& points) {
-    if (a.impl_given || a.impl_cmd_given) {
-        // An implementation against the exact law, point by point (the fuzzer's replays).
-        const Model model = load_model(a.law_path);
-        const LawFacts facts = law_facts(model);
-        const fuzz::LawReference reference(model, a.velocities, facts.continuous_tiling);
-        auto impl = make_impl(a, model, reference.in_dim());
-        for (const auto& toks : points) {
-            const auto x = parse_doubles(toks);
-            std::printf("%s", fuzz::explain(reference, impl.get(), x.data()).c_str());
-        }
-        return kExitProved;
-    }
-    if (!a.law_path.empty()) {
-        // Any law file: the general float evaluator, with its error bound.
-        if (a.velocities)
-            throw InputError("--float --law --velocities: the built-in float law takes contact velocities");
-        const Model model = load_model(a.law_path);
-        const FloatLaw law(model);
-        for (const auto& toks : points) {
-            const auto x = parse_doubles(toks);
-            const auto r = law.eval(x);
-            if (!r.ok)
-                throw InputError("input: " + r.error);
-            std::string line, bound;
-            for (std::size_t i = 0; i < r.value.size(); ++i) {
-                line += (i ? " " : "") + fuzz::hex(r.value[i]);
-                bound += " " + fuzz::hex(r.bound[i]);
-            }
-            std::printf("%s  # piece %s, |error| <=%s%s%s\n", line.c_str(), model.pieces()[r.piece].name.c_str(),
-                        bound.c_str(), r.exact_fallback ? ", classified exactly" : "",
-                        r.exact_output ? ", computed exactly" : "");
-        }
-        return kExitProved;
-    }
-    for (const auto& toks : points) {
-        auto x = parse_doubles(toks);
-        if (a.velocities) {
-            fp::sort_velocities(x.data());
-            std::printf("%a %a %a\n", x[0], x[1], x[2]);
-            continue;
-        }
-        double law[2];
-        fp::S(x[0], x[1], law);
-        std::printf("%a %a\n", law[0], law[1]);
-    }
-    return kExitProved;
-}
-
-std::string count_text(std::uint64_t n) {
-    char buf[32];
-    if (n >= 1000000)
-        std::snprintf(buf, sizeof buf, "%.1fM", static_cast<double>(n) / 1e6);
-    else
-        std::snprintf(buf, sizeof buf, "%llu", static_cast<unsigned long long>(n));
-    return buf;
-}
-
-std::string fuzz_junit(const fuzz::Summary& sum, const std::string& target) {
-    struct Case {
-        const char* name;
-        std::uint64_t count;
-    };
-    const Case cases[] = {{"accuracy", sum.inaccurate - sum.non_finite},
-                          {"classification", sum.misclassified},
-                          {"non-finite outputs", sum.non_finite},
-                          {"negative contact velocities", sum.negative},
-                          {"energy", sum.energy},
-                          {"non-expansivity", sum.nonexpansive},
-                          {"implementation failures", sum.crashed + sum.hung + sum.malformed + sum.refused}};
-    std::size_t failures = 0;
-    for (const auto& c : cases)
-        failures += c.count ? 1 : 0;
-    std::string x = "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<testsuites>\n";
-    x += "  <testsuite name=\"impactcert fuzz: " + xml_escape(target) + "\" tests=\"" + std::to_string(std::size(cases)) +
-         "\" failures=\"" + std::to_string(failures) + "\">\n";
-    for (const auto& c : cases) {
-        x += "    <testcase classname=\"impactcert.fuzz\" name=\"" + std::string(c.name) + "\"";
-        if (!c.count) {
-            x += "/>\n";
-            continue;
-        }
-        std::string first;
-        for (const auto& v : sum.examples)
-            if (first.empty())
-                first = v.what + "; replay: " + v.replay;
-        x += ">\n      <failure message=\"" + std::to_string(c.count) + " violation(s) in " + std::to_string(sum.samples) +
-             " samples\">" + xml_escape(first) + "</failure>\n    </testcase>\n";
-    }
-    return x + "  </testsuite>\n</testsuites>\n";
-}
-
-int run_fuzz(FuzzArgs a) {
-    if (!(a.options.seconds >= 0 && std::isfinite(a.options.seconds)))
-        throw InputError("--seconds: must be a finite number >= 0");
-    if (!a.junit.empty() && !std::ofstream(a.junit)) // before the run, not after it
-        throw InputError("--junit " + a.junit + ": cannot write");
-    const Model model = load_model(a.law_path);
-    if (a.max_ulps && a.max_rel_error)
-        throw InputError("--max-ulps and --max-rel-error: give one tolerance");
-    if (a.max_rel_error && !(*a.max_rel_error >= 0 && std::isfinite(*a.max_rel_error)))
-        throw InputError("--max-rel-error: must be a finite number >= 0");
-    const LawFacts facts = law_facts(model);
-    const fuzz::LawReference reference(model, a.velocities, facts.continuous_tiling);
-    const auto impl = make_impl(a, model, reference.in_dim());
-    fuzz::Options& options = a.options;
-    if (a.max_rel_error) {
-        options.tolerance = fuzz::Tolerance::relative;
-        options.max_rel_error = *a.max_rel_error;
-    } else if (a.max_ulps) {
-        options.tolerance = fuzz::Tolerance::ulps;
-        options.max_ulps = *a.max_ulps;
-    } else {
-        options.tolerance = impl->states_bound() ? fuzz::Tolerance::stated_bound : fuzz::Tolerance::ulps;
-    }
-    options.replay_prefix = "impactcert eval --float";
-    if (!a.law_path.empty())
-        options.replay_prefix += " --law " + fuzz::shell_quote(a.law_path);
-    if (a.velocities)
-        options.replay_prefix += " --velocities";
-    const bool tty = !a.json && isatty(STDERR_FILENO);
-    const auto start = std::chrono::steady_clock::now();
-    auto progress = [&](std::uint64_t done) {
-        if (!tty)
-            return;
-        const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-        double frac = options.samples ? static_cast<double>(done) / static_cast<double>(options.samples) : 1.0;
-        if (options.seconds > 0)
-            frac = std::max(frac, secs / options.seconds);
-        frac = std::min(frac, 1.0);
-        const int width = 30, filled = static_cast<int>(frac * width);
-        std::fprintf(stderr, "\r[%s%s] %3.0f%% %s samples, %.2f M/s ", std::string(static_cast<std::size_t>(filled), '#').c_str(),
-                     std::string(static_cast<std::size_t>(width - filled), '.').c_str(), frac * 100, count_text(done).c_str(),
-                     secs > 0 ? static_cast<double>(done) / secs / 1e6 : 0.0);
-    };
-    const fuzz::Summary sum = fuzz::run(options, reference, *impl, facts.properties, progress);
-    if (tty)
-        std::fprintf(stderr, "\r\033[K");
-    const double rate = sum.seconds > 0 ? static_cast<double>(sum.samples) / sum.seconds : 0;
-    const std::string target = impl->describe();
-    const std::string space = a.velocities ? "ball velocities" : "contact velocities";
-    const std::string tolerance =
-        options.tolerance == fuzz::Tolerance::relative ? "--max-rel-error " + [&] {
-            char buf[32];
-            std::snprintf(buf, sizeof buf, "%.3g", options.max_rel_error);
-            return std::string(buf);
-        }()
-        : options.tolerance == fuzz::Tolerance::ulps   ? "--max-ulps " + std::to_string(options.max_ulps)
-                                                       : "the implementation's stated bound";
-    auto hexes = [](const std::vector<double>& v) {
-        Json j = Json::array();
-        for (double x : v)
-            j.push_back(fuzz::hex(x));
-        return j;
-    };
-    if (!a.junit.empty()) {
-        std::ofstream f(a.junit);
-        f << fuzz_junit(sum, target);
-        if (!f)
-            throw InputError("--junit " + a.junit + ": cannot write");
-    }
-    if (a.json) {
-        Json j;
-        j["format"] = "impactcert-fuzz/1";
-        j["law"] = model.law().name;
-        j["space"] = space;
-        j["implementation"] = target;
-        j["tolerance"] = tolerance;
-        j["seed"] = options.seed;
-        j["jobs"] = options.jobs;
-        j["samples"] = sum.samples;
-        j["pairs"] = sum.pairs;
-        j["seconds"] = sum.seconds;
-        j["samples_per_second"] = rate;
-        j["reference_through_gmp"] = sum.slow;
-        j["outside_every_cone"] = sum.outside;
-        j["max_error_ulps"] = sum.max_ulps;
-        j["max_relative_error"] = sum.max_rel_error;
-        j["checked_properties"] = {{"nonnegative", facts.properties.nonnegative}, {"energy", facts.properties.energy},
-                                   {"nonexpansive", facts.properties.nonexpansive}};
-        j["violations"] = {{"outside_tolerance", sum.inaccurate}, {"classification", sum.misclassified},
-                           {"non_finite", sum.non_finite}, {"negative_output", sum.negative},
-                           {"energy", sum.energy}, {"nonexpansive", sum.nonexpansive},
-                           {"crashed", sum.crashed}, {"hung", sum.hung}, {"malformed", sum.malformed},
-                           {"refused", sum.refused}};
-        Json examples = Json::array();
-        for (const auto& v : sum.examples) {
-            Json e = {{"index", v.index}, {"what", v.what}, {"generator", v.kind}, {"input", hexes(v.input)}};
-            if (!v.input_b.empty())
-                e["input_b"] = hexes(v.input_b);
-            e["output"] = hexes(v.output);
-            e["expected"] = hexes(v.expected);
-            e["replay"] = v.replay;
-            examples.push_back(e);
-        }
-        j["examples"] = examples;
-        j["verdict"] = sum.violations() ? "violations" : "no violation";
-        std::cout << j.dump(2) << "\n";
-    } else {
-        auto u = [](std::uint64_t x) { return static_cast<unsigned long long>(x); };
-        std::string ulps;
-        for (auto e : sum.max_ulps)
-            ulps += (ulps.empty() ? "" : ", ") + std::to_string(e);
-        std::printf("impactcert fuzz: %s vs the exact law %s, in %s (seed %llu, %u job%s)\n", target.c_str(),
-                    model.law().name.c_str(), space.c_str(), u(options.seed), options.jobs, options.jobs == 1 ? "" : "s");
-        std::printf("  tolerance                      %s\n", tolerance.c_str());
-        std::printf("  samples                        %llu (%llu close pairs; %llu reference points through GMP)\n",
-                    u(sum.samples), u(sum.pairs), u(sum.slow));
-        std::printf("  time                           %.2f s (%.2f M samples/s, %.2f M/s per job)\n", sum.seconds,
-                    rate / 1e6, rate / 1e6 / std::max(1u, options.jobs));
-        std::printf("  max error                      %s ulp per component; %.3g relative (normwise)\n", ulps.c_str(),
-                    sum.max_rel_error);
-        std::printf("  outside the tolerance          %llu (classification: %llu, non-finite: %llu)\n", u(sum.inaccurate),
-                    u(sum.misclassified), u(sum.non_finite));
-        std::printf("  negative contact velocities    %llu%s\n", u(sum.negative), facts.properties.nonnegative ? "" : " (not checked: not proved for this law)");
-        std::printf("  energy increases               %llu%s\n", u(sum.energy), facts.properties.energy ? "" : " (not checked: not proved for this law)");
-        std::printf("  non-expansivity violations     %llu%s\n", u(sum.nonexpansive), facts.properties.nonexpansive ? "" : " (not checked: not proved for this law)");
-        std::printf("  implementation failures        %llu crashed, %llu hung, %llu malformed, %llu refused\n",
-                    u(sum.crashed), u(sum.hung), u(sum.malformed), u(sum.refused));
-        if (sum.outside)
-            std::printf("  points in no cone (skipped)    %llu\n", u(sum.outside));
-        for (const auto& v : sum.examples) {
-            std::string in, out, ex;
-            for (double x : v.input)
-                in += " " + fuzz::hex(x);
-            if (!v.input_b.empty())
-                in += " |";
-            for (double x : v.input_b)
-                in += " " + fuzz::hex(x);
-            for (double x : v.output)
-                out += " " + fuzz::hex(x);
-            for (double x : v.expected)
-                ex += " " + fuzz::hex(x);
-            std::printf("  violation at sample %llu (%s): %s\n    input%s -> output%s, exact%s\n    replay: %s\n",
-                        u(v.index), v.kind.c_str(), v.what.c_str(), in.c_str(), out.empty() ? " (none)" : out.c_str(),
-                        ex.empty() ? " (none)" : ex.c_str(), v.replay.c_str());
-        }
-        std::printf("verdict: %s\n", sum.violations() ? "violations found" : "no violation");
-    }
-    return sum.violations() ? kExitRefuted : kExitProved;
-}
-
-int run_eval(const std::string& law_path, bool velocities, const std::vector<std::string>& args, bool as_float,
-             FuzzArgs float_args) {
-    if ((float_args.impl_given || float_args.impl_cmd_given) && !as_float)
-        throw InputError("--impl and --impl-cmd need --float");
-    if (as_float) {
-        float_args.law_path = law_path;
-        float_args.velocities = velocities;
-        const Model dims = load_model(law_path);
-        const std::size_t dim = velocities ? dims.balls() : dims.contacts();
-        std::vector<std::vector<std::string>> points;
-        std::vector<std::string> toks;
-        for (const auto& a : args)
-            for (auto& t : tokens_of(a))
-                toks.push_back(t);
-        if (args.empty()) {
-            std::string line;
-            for (std::size_t lineno = 1; std::getline(std::cin, line); ++lineno) {
-                const auto lt = tokens_of(line);
-                if (lt.empty() || lt.front().front() == '#')
-                    continue;
-                if (lt.size() != dim)
-                    throw InputError("stdin:" + std::to_string(lineno) + ": expected " + std::to_string(dim) +
-                                     " numbers, got " + std::to_string(lt.size()));
-                points.push_back(lt);
-            }
-        } else {
-            if (toks.empty() || toks.size() % dim != 0)
-                throw InputError("arguments: expected a multiple of " + std::to_string(dim) + " numbers, got " +
-                                 std::to_string(toks.size()));
-            for (std::size_t i = 0; i < toks.size(); i += dim)
-                points.emplace_back(toks.begin() + static_cast<std::ptrdiff_t>(i),
-                                    toks.begin() + static_cast<std::ptrdiff_t>(i + dim));
-        }
-        return run_eval_float(float_args, points);
-    }
-    const Model model = load_model(law_path);
-    const std::size_t dim = velocities ? model.balls() : model.contacts();
-    auto read_point = [&](const std::vector<std::string>& toks, std::size_t first, const std::string& where) {
-        Vector x;
-        for (std::size_t i = first; i < first + dim; ++i) {
-            std::string why;
-            auto r = parse_cli_number(toks[i], &why);
-            if (!r)
-                throw InputError(where + ": " + toks[i] + ": " + why);
-            x.push_back(*r);
-        }
-        return x;
-    };
-    if (!args.empty()) {
-        std::vector<std::string> toks;
-        for (const auto& a : args)
-            for (auto& t : tokens_of(a))
-                toks.push_back(t);
-        if (toks.empty() || toks.size() % dim != 0)
-            throw InputError("arguments: expected a multiple of " + std::to_string(dim) + " numbers (" +
-                             (velocities ? "ball" : "contact") + " velocities), got " +
-                             std::to_string(toks.size()));
-        for (std::size_t first = 0; first < toks.size(); first += dim)
-            std::cout << evaluate_point(model, read_point(toks, first, "arguments"), velocities,
-                                        "arguments")
-                      << "\n";
-        return kExitProved;
-    }
-    std::string line;
-    for (std::size_t lineno = 1; std::getline(std::cin, line); ++lineno) {
-        const auto toks = tokens_of(line);
-        if (toks.empty() || toks.front().front() == '#')
-            continue;
-        const std::string where = "stdin:" + std::to_string(lineno);
-        if (toks.size() != dim)
-            throw InputError(where + ": expected " + std::to_string(dim) + " numbers, got " +
-                             std::to_string(toks.size()));
-        std::cout << evaluate_point(model, read_point(toks, 0, where), velocities, where) << "\n";
-    }
-    return kExitProved;
-}
-
 } // namespace
 } // namespace impactcert
 
@@ -770,16 +196,32 @@ int main(int argc, char** argv) {
     eval_cmd->add_option("--impl", eval_float_args.impl_spec, "with --float: run LIB.so:SYMBOL and show its output against the correctly rounded exact value");
     eval_cmd->add_option("--impl-cmd", eval_float_args.impl_cmd, "with --float: the same for a command (see fuzz --impl-cmd)");
     eval_cmd->add_option("--impl-timeout", eval_float_args.timeout, "seconds to wait for --impl-cmd's answer")->check(CLI::PositiveNumber);
+    eval_cmd->add_flag("--pieces", eval_float_args.pieces, "also name the piece(s) each point lies in (for derived laws: the word)");
+    eval_cmd->add_option("--masses", eval_float_args.system.masses, "with --float and --impl/--impl-cmd, no --law: check the output's consistency with this chain");
+    eval_cmd->add_option("--walls", eval_float_args.system.walls, "with --masses: fixed walls")->capture_default_str();
+    eval_cmd->add_option("--system", eval_float_args.system.system_path, "with --float and --impl/--impl-cmd: check consistency with this system");
+    eval_cmd->add_option("--max-rel-error", eval_float_args.max_rel_error, "consistency: the relative tolerance (as fuzz)");
+    eval_cmd->add_option("--float-law", eval_float_args.float_law, "consistency: the implementation is impactcert's float law of this file");
+    eval_cmd->add_flag("--pair", eval_float_args.pair, "consistency: the two points are a pair (non-expansivity, continuity)");
     eval_cmd->add_option("points", eval_args, "numbers: rationals (-3/4), decimals (0.1, 2.5e-3), hex floats (0x1.8p-3)");
 
     auto* derive_cmd = app.add_subcommand("derive", "derive an impact law from the mechanics (SPEC section 7)");
     derive_cmd->require_subcommand(1);
-    auto* sequential_cmd = derive_cmd->add_subcommand("sequential", "the sequential impact law of a chain; exit 0 law written, 1 no finite law (with a witness), 2 bad input");
-    sequential_cmd->add_option("--masses", derive_args.masses, "ball masses M1,M2,... (rationals, > 0)")->required();
-    sequential_cmd->add_option("--restitution", derive_args.restitution, "E for every contact, or E1,...,E(n-1), each in [0, 1]")->capture_default_str();
+    DeriveArgs newton_args, poisson_args;
+    auto* sequential_cmd = derive_cmd->add_subcommand("sequential", "the sequential impact law of a system (a chain by default); exit 0 law written, 1 no finite law (with a witness), 2 bad input");
+    auto* newton_cmd = derive_cmd->add_subcommand("newton", "the Newton-type simultaneous impact law (an LCP), exactly; exit 0 law written, 2 bad input");
+    auto* poisson_cmd = derive_cmd->add_subcommand("poisson", "the Poisson-type simultaneous impact law (compression and expansion LCPs), exactly; exit 0 law written, 2 bad input");
+    for (auto [cmd, args] : {std::pair{sequential_cmd, &derive_args}, std::pair{newton_cmd, &newton_args}, std::pair{poisson_cmd, &poisson_args}}) {
+        cmd->add_option("--masses", args->system.masses, "a chain: ball masses M1,M2,... (rationals, > 0)");
+        cmd->add_option("--walls", args->system.walls, "with --masses: fixed walls, none, left, right or both")->capture_default_str();
+        cmd->add_option("--system", args->system.system_path, "a system file (impactcert-system/1, or a law file's head): M or masses, and W");
+        cmd->add_option("--restitution", args->restitution, "E for every contact, or one per contact, each in [0, 1]")->capture_default_str();
+        cmd->add_option("--outcomes-from", args->outcomes_from, "declare the outcomes of this law file (e.g. the observed ones of proofs/newton3/law.json) instead of the simulated ones");
+        cmd->add_option("-o,--output", args->out, "law file to write (default: standard output)");
+    }
     sequential_cmd->add_option("--rule", derive_args.rule, "which approaching contact impacts first: most-negative, left-first or right-first")->capture_default_str();
     sequential_cmd->add_option("--max-impacts", derive_args.max_impacts, "longest impact sequence allowed")->capture_default_str();
-    sequential_cmd->add_option("-o,--output", derive_args.out, "law file to write (default: standard output)");
+    newton_cmd->add_option("--restitution-on", newton_args.restitution_on, "all (the classical inequality law) or approaching (restitution only where gamma-_k < 0, as physics engines do)")->capture_default_str();
 
     CradleArgs cradle_args;
     auto* cradle_cmd = derive_cmd->add_subcommand("cradle", "the N-ball equal-mass elastic law (S = sort) with its symmetries declared; exit 0 law written, 2 bad input");
@@ -834,6 +276,12 @@ int main(int argc, char** argv) {
     }, "allowed error per component in ulps of the correctly rounded value (default: 0, or the built-in float law's stated bound with --law)");
     fuzz_cmd->add_option("--max-rel-error", fuzz_args.max_rel_error, "allowed normwise error |y - S(x)| <= R |x| in the law's metric (H; M for --velocities)");
     fuzz_cmd->add_option("--keep", fuzz_options.keep, "violations kept as examples")->check(CLI::Range(std::size_t{0}, std::size_t{1000000}))->capture_default_str();
+    fuzz_cmd->add_option("--masses", fuzz_args.system.masses, "without --law: check the implementation's consistency with this chain (ball masses)");
+    fuzz_cmd->add_option("--walls", fuzz_args.system.walls, "with --masses: fixed walls, none, left, right or both")->capture_default_str();
+    fuzz_cmd->add_option("--system", fuzz_args.system.system_path, "without --law: check consistency with this system (impactcert-system/1 or a law file)");
+    fuzz_cmd->add_option("--float-law", fuzz_args.float_law, "consistency: test impactcert's own float implementation of this law file (contact velocities)");
+    fuzz_cmd->add_option("--require", fuzz_args.require, "consistency: also check nonexpansive and/or continuity on close pairs (comma-separated)");
+    fuzz_cmd->add_option("--range", fuzz_args.range, "consistency: input components 0 or of magnitude in LO..HI (default 1e-3..1e3)");
     fuzz_cmd->add_flag("--json", fuzz_args.json, "print the summary as impactcert-fuzz/1 JSON");
     fuzz_cmd->add_option("--junit", fuzz_args.junit, "also write a JUnit XML report to this file");
 
@@ -865,6 +313,10 @@ int main(int argc, char** argv) {
             return run_smt(law_path, out_path);
         if (sequential_cmd->parsed())
             return run_derive_sequential(derive_args);
+        if (newton_cmd->parsed())
+            return run_derive_classical(newton_args, false);
+        if (poisson_cmd->parsed())
+            return run_derive_classical(poisson_args, true);
         if (cradle_cmd->parsed())
             return run_derive_cradle(cradle_args);
         if (sweep_cmd->parsed()) {

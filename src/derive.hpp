@@ -1,7 +1,7 @@
 // derive.hpp -- impact laws derived from the mechanics (SPEC section 7).
 //
-// Contract: derive_sequential(options) computes, exactly, the sequential impact law of a chain of
-// n balls: starting from gamma-, while a contact approaches apply the two-ball impact at the
+// Contract: derive_sequential(options) computes, exactly, the sequential impact law of a system
+// (a chain of n balls, with walls, or any system of section 8): starting from gamma-, while a contact approaches apply the two-ball impact at the
 // contact the rule picks, Q^(k)(e_k) = I - (1+e_k) G e_k e_k^T / G_kk. The map is linear on
 // each region where the word (the contacts in order of application) is fixed; every region is a
 // polyhedral cone, the conjunction of the sign conditions met along the word. The regions are
@@ -17,6 +17,7 @@
 #pragma once
 
 #include "law.hpp"
+#include "system.hpp"
 
 #include <optional>
 #include <string>
@@ -26,11 +27,12 @@ namespace impactcert {
 
 enum class ImpactRule { most_negative, left_first, right_first };
 
-struct DeriveOptions {
-    std::vector<Rational> masses;      // n >= 2, all > 0
-    std::vector<Rational> restitution; // one per contact (c = n-1), each in [0, 1]
+// The system (a chain by its masses, or any system: system.hpp), then the process.
+struct DeriveOptions : System {
+    std::vector<Rational> restitution; // one per contact, each in [0, 1]
     ImpactRule rule = ImpactRule::most_negative;
     std::size_t max_impacts = 100;     // longest word allowed
+    std::vector<OutcomeDecl> outcomes_override; // non-empty: declare these instead of the simulated ones
 };
 
 struct DeriveResult {
@@ -45,19 +47,48 @@ DeriveResult derive_sequential(const DeriveOptions& options);
 
 // The contacts the sequential process applies at gamma- (exact simulation on contact velocities
 // with G), at most `limit` of them; the second value is true when it stopped (gamma >= 0).
-std::pair<std::vector<std::size_t>, bool> sequential_word(const std::vector<Rational>& masses,
+std::pair<std::vector<std::size_t>, bool> sequential_word(const System& system,
                                                           const std::vector<Rational>& restitution,
                                                           ImpactRule rule, const Vector& gamma,
                                                           std::size_t limit);
 
-// The independent simulation in ball velocities: two-ball collision formulas with the masses,
-// the same rule on the contact velocities u_{k+1} - u_k. Nothing when it needs more than
-// `limit` impacts.
+// The independent simulation in ball velocities: for a chain given by its masses, the two-ball
+// collision formulas (momentum kept, relative velocity reversed with factor e); for any other
+// system, the impulse of contact k applied through M^-1 and W's column k (never G or Q^(k)).
+// The same rule on the contact velocities W^T u. Nothing when it needs more than `limit` impacts.
+std::optional<Vector> simulate_balls(const System& system, const std::vector<Rational>& restitution,
+                                     ImpactRule rule, Vector u, std::size_t limit);
 std::optional<Vector> simulate_balls(const std::vector<Rational>& masses,
                                      const std::vector<Rational>& restitution, ImpactRule rule,
                                      Vector u, std::size_t limit);
 
 ImpactRule parse_rule(const std::string& text); // InputError on an unknown rule
 const char* to_string(ImpactRule rule);
+
+// ---- The classical simultaneous laws (SPEC section 8), derive_classical.cpp.
+
+enum class RestitutionOn { all, approaching };
+RestitutionOn parse_restitution_on(const std::string& text); // InputError naming --restitution-on
+
+struct ClassicalOptions : System {
+    std::vector<Rational> restitution; // one per contact, each in [0, 1]
+    RestitutionOn on = RestitutionOn::all; // Newton only
+    std::vector<OutcomeDecl> outcomes_override;
+};
+
+inline constexpr std::size_t kMaxClassicalContacts = 8;
+
+// Pieces named by active sets: Newton "free" (no impulse), "J13" (contacts 1 and 3 carry an
+// impulse), with --restitution-on approaching "J13/e1" (restitution applied at contact 1 only,
+// where J13 alone means at all of J); Poisson "C13.E3" (compression set, expansion set).
+Law derive_newton(const ClassicalOptions& options);
+Law derive_poisson(const ClassicalOptions& options);
+
+// Independent solutions in ball velocities: the LCPs solved by enumerating active sets over the
+// rationals (M (u+ - u-) = W_J Lambda_J, W_J^T u+ = -E rho_J, Lambda_J >= 0, the rest
+// non-negative). G positive definite: exactly one solution, whatever active set finds it.
+Vector simulate_newton(const Mechanics& m, const std::vector<Rational>& restitution, RestitutionOn on,
+                       const Vector& u_minus);
+Vector simulate_poisson(const Mechanics& m, const std::vector<Rational>& restitution, const Vector& u_minus);
 
 } // namespace impactcert

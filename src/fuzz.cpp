@@ -302,7 +302,7 @@ struct Metric {
         const Model& model = ref.model();
         for (std::size_t i = 0; i < m; ++i)
             for (std::size_t j = 0; j < m; ++j) {
-                const Rational q = ref.velocities() ? (i == j ? model.law().masses[i] : Rational(0)) : model.H()(i, j);
+                const Rational q = ref.velocities() ? model.M()(i, j) : model.H()(i, j);
                 exact(i, j) = q;
                 h.push_back(nearest_double(q));
                 habs.push_back(std::fabs(h.back()));

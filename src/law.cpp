@@ -19,16 +19,6 @@ std::string idx(const std::string& base, std::size_t i) {
 
 std::string in_quotes(const std::string& s) { return "\"" + s + "\""; }
 
-Matrix chain_W(std::size_t n) {
-    // Contact k sits between balls k and k+1: g_k = q_{k+1} - q_k - 2R.
-    Matrix W(n, n - 1);
-    for (std::size_t k = 0; k + 1 < n; ++k) {
-        W(k, k) = -1;
-        W(k + 1, k) = 1;
-    }
-    return W;
-}
-
 void check_square(const Matrix& m, std::size_t c, const std::string& path) {
     if (m.rows() != c || m.cols() != c)
         input_error(path, "expected a " + std::to_string(c) + "x" + std::to_string(c) +
@@ -61,35 +51,16 @@ Model::Model(Law law, std::size_t max_pieces) : law_(std::move(law)) {
     if (law_.name.empty())
         input_error("$.name", "empty law name");
 
-    // Masses and contacts.
-    masses_ = law_.masses;
-    const std::size_t n = masses_.size();
-    if (n == 0)
-        input_error("$.masses", "no balls");
-    for (std::size_t i = 0; i < n; ++i)
-        if (sign_of(masses_[i]) != Sign::positive)
-            input_error(idx("$.masses", i), "mass must be positive, got " + to_string(masses_[i]));
-    if (law_.W) {
-        if (law_.W->rows() != n)
-            input_error("$.contacts.W", "expected " + std::to_string(n) + " rows (one per ball), got " +
-                                            std::to_string(law_.W->rows()));
-        if (law_.W->cols() == 0)
-            input_error("$.contacts.W", "no contacts");
-        W_ = *law_.W;
-    } else {
-        if (n < 2)
-            input_error("$.masses", "a chain needs at least two balls");
-        W_ = chain_W(n);
+    // Masses and contacts (system.hpp: the same rules as a system file).
+    {
+        Mechanics mech = make_mechanics(law_.masses, law_.M, law_.W);
+        M_ = std::move(mech.M);
+        M_inv_ = std::move(mech.M_inv);
+        W_ = std::move(mech.W);
+        G_ = std::move(mech.G);
+        H_ = std::move(mech.H);
     }
-    const std::size_t c = W_.cols();
-    M_inv_ = Matrix(n, n);
-    for (std::size_t i = 0; i < n; ++i)
-        M_inv_(i, i) = Rational(1) / masses_[i];
-    G_ = transpose(W_) * M_inv_ * W_;
-    auto H = inverse(G_);
-    if (!H)
-        input_error("$.contacts", "the columns of W are linearly dependent (G = W^T M^-1 W is singular)");
-    H_ = *H;
+    const std::size_t n = M_.rows(), c = W_.cols();
 
     // Pieces.
     if (law_.pieces.empty())

@@ -12,6 +12,7 @@
 #include "errors.hpp"
 #include "limits.hpp"
 #include "matrix.hpp"
+#include "system.hpp"
 
 #include <array>
 #include <map>
@@ -62,7 +63,8 @@ struct SymmetryDecl {
 struct Law {
     std::string name;
     std::string description;               // free text (note/description), informational
-    std::vector<Rational> masses;          // n > 0
+    std::vector<Rational> masses;          // n > 0 (diagonal M), or empty when M is given
+    std::optional<Matrix> M;               // symmetric positive definite mass matrix (SPEC section 8)
     std::optional<Matrix> W;               // n x c; absent: "chain"
     std::vector<PieceDecl> pieces;
     std::vector<IdentityDecl> identities;
@@ -107,10 +109,12 @@ class Model {
     explicit Model(Law law, std::size_t max_pieces = Limits{}.max_pieces);
 
     const Law& law() const { return law_; }
-    std::size_t balls() const { return masses_.size(); } // n
+    std::size_t balls() const { return M_.rows(); }      // n
     std::size_t contacts() const { return W_.cols(); }   // c
 
+    const Matrix& M() const { return M_; }
     const Matrix& M_inv() const { return M_inv_; }
+    System system() const { return System{law_.name, law_.masses, law_.M, law_.W}; }
     const Matrix& W() const { return W_; }
     const Matrix& G() const { return G_; }
     const Matrix& H() const { return H_; }
@@ -145,8 +149,7 @@ class Model {
 
   private:
     Law law_;
-    std::vector<Rational> masses_;
-    Matrix M_inv_, W_, G_, H_;
+    Matrix M_, M_inv_, W_, G_, H_;
     std::vector<Piece> pieces_;
     std::vector<Vector> rays_;
     std::vector<Matrix> P_inv_;

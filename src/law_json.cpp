@@ -203,11 +203,31 @@ template <class F> void for_each_element(const Json& j, const std::string& path,
         f(j[i], path + "[" + std::to_string(i) + "]");
 }
 
+// The head shared by law and system files: "masses" or "M" (exactly one), "contacts".
+void read_head(const Json& doc, std::vector<Rational>& masses, std::optional<Matrix>& M, std::optional<Matrix>& W) {
+    if (doc.contains("masses") == doc.contains("M"))
+        input_error("$", "needs exactly one of \"masses\" (a diagonal mass matrix) and \"M\" (a full one)");
+    if (doc.contains("masses"))
+        masses = get_vector(doc["masses"], "$.masses");
+    else
+        M = get_matrix(doc["M"], "$.M");
+    if (doc.contains("contacts")) {
+        const Json& c = doc["contacts"];
+        if (c.is_string()) {
+            if (c.get<std::string>() != "chain")
+                input_error("$.contacts", "expected \"chain\" or {\"W\": [...]}, got " + c.dump());
+        } else {
+            expect_object(c, "$.contacts", {"W"}, {"W"});
+            W = get_matrix(c["W"], "$.contacts.W");
+        }
+    }
+}
+
 Law parse_document(const Json& doc) {
     expect_object(doc, "$",
-                  {"format", "name", "masses", "contacts", "pieces", "identities", "single_impacts",
+                  {"format", "name", "masses", "M", "contacts", "pieces", "identities", "single_impacts",
                    "outcomes", "claims", "symmetries", "pieces_listed"},
-                  {"format", "name", "masses", "pieces"});
+                  {"format", "name", "pieces"});
     const std::string format = get_string(doc["format"], "$.format");
     if (format != kLawFormat)
         input_error("$.format", "expected " + in_quotes(kLawFormat) + ", got " + in_quotes(format));
@@ -217,18 +237,7 @@ Law parse_document(const Json& doc) {
         law.description = doc["description"].get<std::string>();
     else if (doc.contains("note"))
         law.description = doc["note"].get<std::string>();
-    law.masses = get_vector(doc["masses"], "$.masses");
-
-    if (doc.contains("contacts")) {
-        const Json& c = doc["contacts"];
-        if (c.is_string()) {
-            if (c.get<std::string>() != "chain")
-                input_error("$.contacts", "expected \"chain\" or {\"W\": [...]}, got " + c.dump());
-        } else {
-            expect_object(c, "$.contacts", {"W"}, {"W"});
-            law.W = get_matrix(c["W"], "$.contacts.W");
-        }
-    }
+    read_head(doc, law.masses, law.M, law.W);
 
     for_each_element(doc["pieces"], "$.pieces", [&](const Json& p, const std::string& path) {
         expect_object(p, path, {"name", "Q", "rays"}, {"name", "Q"});
@@ -337,6 +346,38 @@ std::string read_law_text(const std::string& path) {
 
 } // namespace
 
+System parse_system_text(const std::string& text, const std::string& origin) {
+    try {
+        const Json doc = parse_syntax(text);
+        if (!doc.is_object())
+            input_error("$", std::string("expected an object, got ") + doc.type_name());
+        if (!doc.contains("format") || !doc["format"].is_string())
+            input_error("$.format", "expected \"" + std::string(kSystemFormat) + "\" or \"" + kLawFormat + "\"");
+        const std::string format = doc["format"].get<std::string>();
+        if (format == kLawFormat) {
+            // A law file names a system: its head, by the law's own rules (the law is validated whole).
+            const Law law = parse_document(doc);
+            Model(law, Limits{}.max_pieces);
+            return System{law.name, law.masses, law.M, law.W};
+        }
+        if (format != kSystemFormat)
+            input_error("$.format", "expected " + in_quotes(kSystemFormat) + " or " + in_quotes(kLawFormat) + ", got " +
+                                        in_quotes(format));
+        expect_object(doc, "$", {"format", "name", "masses", "M", "contacts"}, {"format", "name"});
+        System s;
+        s.name = get_string(doc["name"], "$.name");
+        if (s.name.empty())
+            input_error("$.name", "empty system name");
+        read_head(doc, s.masses, s.M, s.W);
+        make_mechanics(s); // validated
+        return s;
+    } catch (const InputError& e) {
+        throw InputError(origin + ": " + e.what());
+    }
+}
+
+System load_system_file(const std::string& path) { return parse_system_text(read_law_text(path), path); }
+
 Law load_law_file(const std::string& path, std::size_t max_pieces) {
     return parse_law_text(read_law_text(path), path, max_pieces);
 }
@@ -367,7 +408,10 @@ nlohmann::ordered_json law_to_json(const Law& law) {
     OJson out;
     out["format"] = kLawFormat;
     out["name"] = law.name;
-    out["masses"] = vec(law.masses);
+    if (law.M)
+        out["M"] = mat(*law.M);
+    else
+        out["masses"] = vec(law.masses);
     if (law.W)
         out["contacts"] = OJson{{"W", mat(*law.W)}};
     else

@@ -164,7 +164,7 @@ TEST_CASE("derive: e = 0 has no finite law; the witness needs more impacts than 
     const DeriveResult r = derive_sequential(o);
     REQUIRE_FALSE(r.law);
     REQUIRE(r.not_finite);
-    const auto [word, finished] = sequential_word(o.masses, o.restitution, o.rule, *r.not_finite, 20);
+    const auto [word, finished] = sequential_word(o, o.restitution, o.rule, *r.not_finite, 20);
     CHECK_FALSE(finished);
     CHECK(word.size() == 20);
     CHECK(r.word.size() == 21);

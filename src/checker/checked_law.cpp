@@ -29,15 +29,38 @@ Law read_law(const Json& j, const std::string& path, std::size_t max_pieces) {
     Law law;
     law.json = j;
     // The prover's input rules (SPEC section 4): a law it rejects is never verified.
-    expect_keys(j, path, {"format", "name", "masses", "contacts", "pieces"},
-                {"identities", "single_impacts", "outcomes", "claims", "symmetries", "pieces_listed"});
+    expect_keys(j, path, {"format", "name", "contacts", "pieces"},
+                {"masses", "M", "identities", "single_impacts", "outcomes", "claims", "symmetries", "pieces_listed"});
     require(field(j, path, "format") == "impactcert-law/1", at(path, "format"), "is not \"impactcert-law/1\"");
     require(!str(field(j, path, "name"), at(path, "name")).empty(), at(path, "name"), "empty law name");
-    law.masses = vec(field(j, path, "masses"), at(path, "masses"));
-    law.n = law.masses.size();
-    require(law.n >= 1, at(path, "masses"), "no balls");
-    for (std::size_t i = 0; i < law.n; ++i)
-        require(sgn(law.masses[i]) > 0, at(at(path, "masses"), i), "mass must be positive");
+    // The mass matrix: diagonal ("masses") or symmetric positive definite ("M"), exactly one.
+    require(j.contains("masses") != j.contains("M"), path, "needs exactly one of \"masses\" and \"M\"");
+    Mat M;
+    if (j.contains("masses")) {
+        law.masses = vec(field(j, path, "masses"), at(path, "masses"));
+        law.n = law.masses.size();
+        require(law.n >= 1, at(path, "masses"), "no balls");
+        for (std::size_t i = 0; i < law.n; ++i)
+            require(sgn(law.masses[i]) > 0, at(at(path, "masses"), i), "mass must be positive");
+        M = zeros(law.n, law.n);
+        for (std::size_t i = 0; i < law.n; ++i)
+            M[i][i] = law.masses[i];
+    } else {
+        M = mat(field(j, path, "M"), at(path, "M"));
+        law.n = M.size();
+        require(M[0].size() == law.n, at(path, "M"), "not square");
+        for (std::size_t i = 0; i < law.n; ++i)
+            for (std::size_t k = 0; k < i; ++k)
+                require(M[i][k] == M[k][i], at(at(at(path, "M"), i), k), "M is not symmetric");
+        // Positive definite iff every leading principal minor is positive (Sylvester).
+        for (std::size_t r = 1; r <= law.n; ++r) {
+            Mat lead = zeros(r, r);
+            for (std::size_t i = 0; i < r; ++i)
+                for (std::size_t k = 0; k < r; ++k)
+                    lead[i][k] = M[i][k];
+            require(sgn(det(lead)) > 0, at(path, "M"), "not positive definite");
+        }
+    }
     const Json& contacts = field(j, path, "contacts");
     if (contacts.is_string() && contacts == "chain") {
         require(law.n >= 2, at(path, "masses"), "a chain needs two balls");
@@ -52,9 +75,7 @@ Law read_law(const Json& j, const std::string& path, std::size_t max_pieces) {
         require(law.W.size() == law.n, at(at(path, "contacts"), "W"), "needs one row per ball");
     }
     law.c = law.W[0].size();
-    law.M_inv = zeros(law.n, law.n);
-    for (std::size_t i = 0; i < law.n; ++i)
-        law.M_inv[i][i] = 1 / law.masses[i];
+    require(invert(M, law.M_inv), at(path, "M"), "M is singular");
     law.G = mul(mul(tr(law.W), law.M_inv), law.W);
     require(invert(law.G, law.H), at(path, "contacts"), "G is singular");
     const Json& pieces = field(j, path, "pieces");

@@ -1,0 +1,340 @@
+// cli/consistency.cpp -- `impactcert fuzz --masses ... | --system F` with no --law: the consistency
+// of a black-box impact map (consistency.hpp), and `eval --float` replays of its findings.
+#include "cli/common.hpp"
+
+#include "consistency.hpp"
+#include "json.hpp"
+#include "verdict_output.hpp"
+
+#include <unistd.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <memory>
+
+namespace impactcert::cli {
+
+namespace {
+
+struct Setup {
+    System system;
+    Mechanics mech;
+    std::unique_ptr<Model> law; // --float-law: the law whose float implementation is tested
+    std::unique_ptr<fuzz::Implementation> impl;
+    double R = 1e-9;
+};
+
+// The shortest decimal that reads back as x.
+std::string shortest(double x) {
+    char buf[40];
+    for (int precision = 1; precision <= 17; ++precision) {
+        std::snprintf(buf, sizeof buf, "%.*g", precision, x);
+        if (std::strtod(buf, nullptr) == x)
+            break;
+    }
+    return buf;
+}
+
+Setup setup(const FuzzArgs& a) {
+    Setup s{system_from(a.system), {}, nullptr, nullptr, 1e-9};
+    s.mech = make_mechanics(s.system);
+    if (a.max_ulps)
+        throw InputError("--max-ulps: consistency fuzzing has no exact law to count ulps against; give --max-rel-error");
+    if (a.max_rel_error) {
+        if (!(*a.max_rel_error >= 0 && std::isfinite(*a.max_rel_error)))
+            throw InputError("--max-rel-error: must be a finite number >= 0");
+        s.R = *a.max_rel_error;
+    }
+    if (a.impl_given && a.impl_cmd_given)
+        throw InputError("--impl and --impl-cmd: give one implementation");
+    if (!(a.timeout > 0 && std::isfinite(a.timeout)))
+        throw InputError("--impl-timeout: must be a finite number of seconds > 0");
+    const std::size_t dim = a.velocities ? s.mech.balls() : s.mech.contacts();
+    if (dim > fuzz::kMaxDim)
+        throw InputError("fuzz: at most " + std::to_string(fuzz::kMaxDim) + " input components, the system has " +
+                         std::to_string(dim));
+    if (!a.float_law.empty()) {
+        if (a.impl_given || a.impl_cmd_given)
+            throw InputError("--float-law and --impl/--impl-cmd: give one implementation");
+        if (a.velocities)
+            throw InputError("--float-law: impactcert's float law takes contact velocities (drop --velocities)");
+        s.law = std::make_unique<Model>(load_model(a.float_law));
+        if (s.law->M() != s.mech.M || s.law->W() != s.mech.W)
+            throw InputError("--float-law " + a.float_law + ": the law's system (M, W) is not the one given");
+        s.impl = fuzz::builtin_float_law(*s.law);
+    } else if (a.impl_given && !a.impl_spec.empty())
+        s.impl = fuzz::load_symbol(a.impl_spec, dim, dim);
+    else if (a.impl_cmd_given && !a.impl_cmd.empty())
+        s.impl = fuzz::command(a.impl_cmd, dim, dim, a.timeout);
+    else
+        throw InputError("--impl, --impl-cmd or --float-law: consistency fuzzing needs an implementation (there is no built-in one "
+                         "for a system without a law)");
+    return s;
+}
+
+std::string num(double x) {
+    char buf[40];
+    std::snprintf(buf, sizeof buf, "%.17g", x);
+    return buf;
+}
+
+std::string decimals(const std::vector<double>& v) {
+    std::string s;
+    for (double x : v)
+        s += (s.empty() ? "" : " ") + num(x);
+    return s;
+}
+
+std::string finding_text(const fuzz::Finding& f) {
+    std::string s = "      input  " + decimals(f.input);
+    if (!f.input_b.empty())
+        s += "  |  " + decimals(f.input_b);
+    s += "\n      output " + decimals(f.output);
+    if (!f.output_b.empty())
+        s += "  |  " + decimals(f.output_b);
+    return s + "\n";
+}
+
+Json finding_json(const fuzz::Finding& f) {
+    auto hexes = [](const std::vector<double>& v) {
+        Json j = Json::array();
+        for (double x : v)
+            j.push_back(fuzz::hex(x));
+        return j;
+    };
+    Json e = {{"index", f.index}, {"what", fuzz::property_id(f.property)}, {"detail", f.detail}, {"input", hexes(f.input)}};
+    if (!f.input_b.empty())
+        e["input_b"] = hexes(f.input_b);
+    e["output"] = hexes(f.output);
+    if (!f.output_b.empty())
+        e["output_b"] = hexes(f.output_b);
+    e["replay"] = f.replay;
+    return e;
+}
+
+std::string junit(const fuzz::ConsistencySummary& sum, const std::string& target, const bool* checked) {
+    std::size_t failures = 0, cases = 0;
+    std::string body;
+    auto add = [&](const std::string& name, std::uint64_t count, const std::string& message) {
+        ++cases;
+        body += "    <testcase classname=\"impactcert.consistency\" name=\"" + xml_escape(name) + "\"";
+        if (!count) {
+            body += "/>\n";
+            return;
+        }
+        ++failures;
+        body += ">\n      <failure message=\"" + std::to_string(count) + " violation(s) in " + std::to_string(sum.samples) +
+                " samples\">" + xml_escape(message) + "</failure>\n    </testcase>\n";
+    };
+    for (std::size_t p = 0; p < fuzz::kProperties; ++p) {
+        if (!checked[p])
+            continue;
+        const auto& slot = sum.properties[p];
+        add(fuzz::property_title(static_cast<fuzz::Property>(p)), slot.count,
+            slot.worst ? slot.worst->detail + "; replay: " + slot.worst->replay : "");
+    }
+    add("implementation failures", sum.crashed + sum.hung + sum.malformed + sum.refused, "");
+    return "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<testsuites>\n  <testsuite name=\"impactcert fuzz (consistency): " +
+           xml_escape(target) + "\" tests=\"" + std::to_string(cases) + "\" failures=\"" + std::to_string(failures) +
+           "\">\n" + body + "  </testsuite>\n</testsuites>\n";
+}
+
+} // namespace
+
+int run_consistency_fuzz(const FuzzArgs& a) {
+    if (!(a.options.seconds >= 0 && std::isfinite(a.options.seconds)))
+        throw InputError("--seconds: must be a finite number >= 0");
+    fuzz::ConsistencyOptions o;
+    for (const auto& item : tokens_of(a.require)) {
+        if (item == "nonexpansive")
+            o.nonexpansive = true;
+        else if (item == "continuity")
+            o.continuity = true;
+        else if (item != "kinematic" && item != "kinetic" && item != "momentum" && item != "energy")
+            throw InputError("--require: unknown property \"" + item +
+                             "\" (nonexpansive, continuity; kinematic, kinetic, momentum and energy are always checked)");
+    }
+    if (!a.range.empty())
+        std::tie(o.range_lo, o.range_hi) = fuzz::parse_range(a.range);
+    if (!a.junit.empty())
+        write_file(a.junit, ""); // writable before the run, not after it
+    Setup s = setup(a);
+    o.seed = a.options.seed;
+    o.samples = a.options.samples;
+    o.seconds = a.options.seconds;
+    o.jobs = a.options.jobs;
+    o.keep = a.options.keep;
+    o.max_rel_error = s.R;
+    o.velocities = a.velocities;
+    const std::string rbuf = shortest(s.R);
+    o.replay_prefix = "impactcert eval --float " + system_flags(a.system) + (a.velocities ? " --velocities " : " ") +
+                      (s.law ? "--float-law " + fuzz::shell_quote(a.float_law) : s.impl->replay_flags()) +
+                      " --max-rel-error " + rbuf + " --";
+    const bool tty = !a.json && isatty(STDERR_FILENO);
+    const auto start = std::chrono::steady_clock::now();
+    auto progress = [&](std::uint64_t done) {
+        if (!tty)
+            return;
+        const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        std::fprintf(stderr, "\r\033[Kimpactcert: fuzz %llu/%llu samples, %.0f/s", static_cast<unsigned long long>(done),
+                     static_cast<unsigned long long>(o.samples), secs > 0 ? static_cast<double>(done) / secs : 0.0);
+    };
+    const fuzz::ConsistencySummary sum = fuzz::run_consistency(s.mech, o, *s.impl, progress);
+    if (tty)
+        std::fprintf(stderr, "\r\033[K");
+    bool checked[fuzz::kProperties] = {};
+    for (auto p : {fuzz::Property::kinematic, fuzz::Property::kinetic, fuzz::Property::energy, fuzz::Property::non_finite})
+        checked[static_cast<std::size_t>(p)] = true;
+    checked[static_cast<std::size_t>(fuzz::Property::momentum)] = a.velocities;
+    checked[static_cast<std::size_t>(fuzz::Property::nonexpansive)] = o.nonexpansive;
+    checked[static_cast<std::size_t>(fuzz::Property::continuity)] = o.continuity;
+    const std::string target = s.impl->describe();
+    const std::string space = a.velocities ? "ball velocities" : "contact velocities";
+    const double rate = sum.seconds > 0 ? static_cast<double>(sum.samples) / sum.seconds : 0;
+    char range[96];
+    std::snprintf(range, sizeof range, "%.6g..%.6g", o.range_lo, o.range_hi);
+    if (!a.junit.empty())
+        write_file(a.junit, junit(sum, target, checked));
+    if (a.json) {
+        Json j;
+        j["format"] = "impactcert-fuzz/1";
+        j["mode"] = "consistency";
+        j["system"] = s.system.name;
+        j["space"] = space;
+        j["implementation"] = target;
+        j["tolerance"] = std::string("--max-rel-error ") + rbuf;
+        j["range"] = range;
+        j["seed"] = o.seed;
+        j["jobs"] = o.jobs;
+        j["samples"] = sum.samples;
+        j["pairs"] = sum.pairs;
+        j["skipped_not_approaching"] = sum.skipped;
+        j["seconds"] = sum.seconds;
+        j["samples_per_second"] = rate;
+        Json props = Json::object(), violations = Json::object(), worst = Json::object();
+        for (std::size_t p = 0; p < fuzz::kProperties; ++p) {
+            const char* id = fuzz::property_id(static_cast<fuzz::Property>(p));
+            props[id] = checked[p];
+            violations[id] = sum.properties[p].count;
+            if (sum.properties[p].worst)
+                worst[id] = finding_json(*sum.properties[p].worst);
+        }
+        violations["crashed"] = sum.crashed;
+        violations["hung"] = sum.hung;
+        violations["malformed"] = sum.malformed;
+        violations["refused"] = sum.refused;
+        j["checked_properties"] = props;
+        j["violations"] = violations;
+        j["worst"] = worst;
+        Json examples = Json::array();
+        for (const auto& f : sum.examples)
+            examples.push_back(finding_json(f));
+        j["examples"] = examples;
+        j["verdict"] = sum.violations() ? "violations" : "no violation";
+        write_stdout(j.dump(2) + "\n");
+        return sum.violations() ? kExitRefuted : kExitProved;
+    }
+    std::string out;
+    auto line = [&](const std::string& text) { out += text + "\n"; };
+    line("impactcert fuzz: " + target + ": consistency with " + s.system.name + " (" + describe_system(s.system) +
+         "), in " + space + " (seed " + std::to_string(o.seed) + ", " + std::to_string(o.jobs) + " job" +
+         (o.jobs == 1 ? "" : "s") + ")");
+    line(std::string("  tolerance      --max-rel-error ") + rbuf + " (proofs/README.md, \"Consistency of black-box impact maps\")");
+    line(std::string("  inputs         components 0 or of magnitude in ") + range + " (--range), some contact approaching");
+    char buf[160];
+    std::snprintf(buf, sizeof buf, "  samples        %llu (%llu pairs) in %.2f s, %.0f samples/s",
+                  static_cast<unsigned long long>(sum.samples), static_cast<unsigned long long>(sum.pairs), sum.seconds, rate);
+    line(buf);
+    std::vector<std::string> found;
+    for (std::size_t p = 0; p < fuzz::kProperties; ++p) {
+        const auto prop = static_cast<fuzz::Property>(p);
+        const auto& slot = sum.properties[p];
+        std::string head = "  " + std::string(fuzz::property_title(prop)) + ": ";
+        if (!checked[p]) {
+            if (prop == fuzz::Property::momentum)
+                line(head + "not checked (contact velocities carry no momentum; use --velocities)");
+            else if (prop == fuzz::Property::nonexpansive || prop == fuzz::Property::continuity)
+                line(head + "not requested (--require " + fuzz::property_id(prop) + ")");
+            continue;
+        }
+        if (!slot.count) {
+            line(head + "none");
+            continue;
+        }
+        found.push_back(std::string(fuzz::property_id(prop)) + " " + std::to_string(slot.count));
+        line(head + std::to_string(slot.count) + " sample" + (slot.count == 1 ? "" : "s") + ", worst (sample " +
+             std::to_string(slot.worst->index) + "): " + slot.worst->detail);
+        out += finding_text(*slot.worst);
+        line("      replay: " + slot.worst->replay);
+    }
+    std::snprintf(buf, sizeof buf, "  implementation failures: %llu crashed, %llu hung, %llu malformed, %llu refused",
+                  static_cast<unsigned long long>(sum.crashed), static_cast<unsigned long long>(sum.hung),
+                  static_cast<unsigned long long>(sum.malformed), static_cast<unsigned long long>(sum.refused));
+    line(buf);
+    std::string verdict = sum.violations() ? "violations found" : "no violation";
+    if (!found.empty()) {
+        verdict += " (";
+        for (std::size_t i = 0; i < found.size(); ++i)
+            verdict += (i ? ", " : "") + found[i];
+        verdict += ")";
+    }
+    line("verdict: " + verdict);
+    write_stdout(out);
+    return sum.violations() ? kExitRefuted : kExitProved;
+}
+
+int run_consistency_eval(const FuzzArgs& a, const std::vector<std::vector<std::string>>& points) {
+    Setup s = setup(a);
+    const fuzz::ConsistencyChecker checker(s.mech, a.velocities, s.R);
+    const std::size_t d = checker.dim();
+    std::vector<std::vector<double>> xs;
+    for (const auto& toks : points) {
+        std::vector<double> x;
+        for (const auto& t : toks)
+            x.push_back(parse_double(t, "input"));
+        xs.push_back(x);
+    }
+    if (a.pair && xs.size() != 2)
+        throw InputError("--pair: expected two points, got " + std::to_string(xs.size()));
+    std::vector<double> in, out;
+    for (const auto& x : xs)
+        in.insert(in.end(), x.begin(), x.end());
+    out.assign(in.size(), 0.0);
+    std::vector<fuzz::ImplStatus> status(xs.size(), fuzz::ImplStatus::ok);
+    s.impl->eval(in.data(), out.data(), nullptr, xs.size(), status.data());
+    std::string text;
+    bool violated = false;
+    for (std::size_t i = 0; i < xs.size(); ++i) {
+        text += "input  " + decimals(xs[i]) + "\n";
+        if (status[i] != fuzz::ImplStatus::ok) {
+            text += "  the implementation failed on this input\n";
+            violated = true;
+            continue;
+        }
+        text += "output " + decimals(std::vector<double>(out.begin() + static_cast<std::ptrdiff_t>(i * d),
+                                                         out.begin() + static_cast<std::ptrdiff_t>((i + 1) * d))) + "\n";
+        if (!checker.approaching(&in[i * d]))
+            text += "  (no contact approaches at this input)\n";
+        const auto findings = checker.check(&in[i * d], &out[i * d]);
+        for (const auto& f : findings)
+            text += "  " + std::string(fuzz::property_title(f.property)) + ": " + f.detail + "\n";
+        if (findings.empty())
+            text += "  consistent within the tolerance (kinematic, kinetic" + std::string(a.velocities ? ", momentum" : "") +
+                    ", energy)\n";
+        violated = violated || !findings.empty();
+    }
+    if (a.pair && status[0] == fuzz::ImplStatus::ok && status[1] == fuzz::ImplStatus::ok) {
+        const auto findings = checker.check_pair(&in[0], &out[0], &in[d], &out[d], true, true);
+        for (const auto& f : findings)
+            text += "pair: " + std::string(fuzz::property_title(f.property)) + ": " + f.detail + "\n";
+        if (findings.empty())
+            text += "pair: non-expansive and continuous within the tolerance\n";
+        violated = violated || !findings.empty();
+    }
+    write_stdout(text);
+    return violated ? kExitRefuted : kExitProved;
+}
+
+} // namespace impactcert::cli

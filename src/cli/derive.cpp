@@ -1,0 +1,101 @@
+// cli/derive.cpp -- `impactcert derive sequential | newton | poisson | cradle`.
+#include "cli/common.hpp"
+
+#include "cradle.hpp"
+#include "json.hpp"
+#include "law_json.hpp"
+
+#include <iostream>
+
+namespace impactcert::cli {
+
+namespace {
+
+// The canonical law, with the derivation's description after the name.
+std::string law_text(const Law& law) {
+    const Json canonical = law_to_json(law);
+    Json out;
+    for (auto it = canonical.begin(); it != canonical.end(); ++it) {
+        out[it.key()] = it.value();
+        if (it.key() == "name")
+            out["description"] = law.description;
+    }
+    return out.dump(2) + "\n";
+}
+
+void emit(const std::string& out_path, const std::string& text, const std::string& summary) {
+    if (out_path.empty()) {
+        write_stdout(text);
+        return;
+    }
+    write_file(out_path, text);
+    std::cerr << "impactcert: wrote " << out_path << " (" << summary << ")\n";
+}
+
+std::vector<OutcomeDecl> outcomes_from(const std::string& path, std::size_t balls) {
+    if (path.empty())
+        return {};
+    const Law source = load_law_file(path);
+    if (source.outcomes.empty())
+        throw InputError("--outcomes-from " + path + ": the law declares no outcomes");
+    for (const auto& o : source.outcomes)
+        if (o.u_minus.size() != balls)
+            throw InputError("--outcomes-from " + path + ": outcome \"" + o.name + "\" has " +
+                             std::to_string(o.u_minus.size()) + " ball velocities, the system " + std::to_string(balls));
+    return source.outcomes;
+}
+
+} // namespace
+
+int run_derive_sequential(const DeriveArgs& a) {
+    DeriveOptions o;
+    static_cast<System&>(o) = system_from(a.system);
+    const Mechanics mech = make_mechanics(o);
+    o.restitution = restitution_list(a.restitution, mech.contacts());
+    o.rule = parse_rule(a.rule);
+    o.max_impacts = a.max_impacts;
+    o.outcomes_override = outcomes_from(a.outcomes_from, mech.balls());
+    const DeriveResult r = derive_sequential(o);
+    if (r.not_finite) {
+        std::cerr << "impactcert: derive: no finite law: gamma- = " << to_string(*r.not_finite) << " needs more than "
+                  << o.max_impacts << " impacts (word " << r.word << "...)\n";
+        return kExitRefuted;
+    }
+    emit(a.out, law_text(*r.law),
+         std::to_string(r.law->pieces.size()) + " pieces, " + std::to_string(r.regions) + " regions, longest word " +
+             std::to_string(r.max_word));
+    return kExitProved;
+}
+
+int run_derive_classical(const DeriveArgs& a, bool poisson) {
+    ClassicalOptions o;
+    static_cast<System&>(o) = system_from(a.system);
+    const Mechanics mech = make_mechanics(o);
+    o.restitution = restitution_list(a.restitution, mech.contacts());
+    o.on = parse_restitution_on(a.restitution_on);
+    if (poisson && o.on != RestitutionOn::all)
+        throw InputError("--restitution-on: the Poisson-type law has no such choice (its expansion phase acts only "
+                         "where compression did)");
+    o.outcomes_override = outcomes_from(a.outcomes_from, mech.balls());
+    const Law law = poisson ? derive_poisson(o) : derive_newton(o);
+    emit(a.out, law_text(law), std::to_string(law.pieces.size()) + " pieces");
+    return kExitProved;
+}
+
+int run_derive_cradle(const CradleArgs& a) {
+    if (a.pieces != "representatives" && a.pieces != "all")
+        throw InputError("--pieces: expected representatives or all, got \"" + a.pieces + "\"");
+    if (a.pieces == "all" && a.balls > 8)
+        throw InputError("--pieces all: at most 8 balls (40,320 listed pieces); larger laws are written compactly");
+    const Law law = cradle_law(a.balls, a.pieces == "all" ? CradleListing::all : CradleListing::representatives,
+                               !a.no_symmetries);
+    std::size_t cones = 1; // n! (not generated here: verify and certify expand the law)
+    for (std::size_t k = 2; k <= a.balls; ++k)
+        cones *= k;
+    emit(a.out, law_text(law),
+         std::to_string(law.pieces.size()) + " pieces listed, " + std::to_string(cones) + " in all, " +
+             std::to_string(law.symmetries.size()) + " symmetries");
+    return kExitProved;
+}
+
+} // namespace impactcert::cli

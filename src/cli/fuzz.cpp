@@ -1,0 +1,433 @@
+// cli/fuzz.cpp -- `impactcert fuzz` and `impactcert eval` against a law (cli/consistency.cpp: the
+// consistency of a black-box map against a system alone).
+#include "cli/common.hpp"
+
+#include "float_eval.hpp"
+#include "json.hpp"
+#include "verdict_output.hpp"
+
+#include <impactcert/float_law.hpp>
+
+#include <unistd.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <memory>
+
+namespace impactcert::cli {
+
+namespace {
+
+// One point: c contact velocities, or n ball velocities with --velocities.
+std::string evaluate_point(const Model& model, const Vector& x, bool velocities, const std::string& where,
+                           bool show_pieces = false) {
+    const Vector gamma = velocities ? model.contact_velocities(x) : x;
+    const auto values = model.values_at(gamma);
+    if (values.empty())
+        throw InputError(where + ": gamma- = " + to_string(gamma) + " lies in no cone of law " +
+                         model.law().name);
+    std::string out;
+    for (std::size_t k = 0; k < values.size(); ++k) {
+        const Vector shown = velocities ? model.post_impact_velocities(x, gamma, values[k]) : values[k];
+        out += (k ? " | " : "") + line_of(shown);
+    }
+    if (show_pieces) {
+        // Which piece (for a derived law: which word) the point lies in; several on a boundary.
+        std::string names;
+        for (auto p : model.pieces_containing(gamma))
+            names += (names.empty() ? "" : ", ") + model.pieces()[p].name;
+        out += "  # " + std::string(model.pieces_containing(gamma).size() > 1 ? "pieces " : "piece ") + names;
+    }
+    return out;
+}
+
+// The implementation under test: --impl, --impl-cmd, or the built-in float law.
+std::unique_ptr<fuzz::Implementation> make_impl(const FuzzArgs& a, const Model& model, std::size_t dim) {
+    if (a.impl_given && a.impl_cmd_given)
+        throw InputError("--impl and --impl-cmd: give one implementation");
+    if (a.impl_given && a.impl_spec.empty())
+        throw InputError("--impl: empty (expected LIB.so:SYMBOL)");
+    if (a.impl_cmd_given && a.impl_cmd.empty())
+        throw InputError("--impl-cmd: empty command");
+    if (!(a.timeout > 0 && std::isfinite(a.timeout)))
+        throw InputError("--impl-timeout: must be a finite number of seconds > 0");
+    if (!a.impl_spec.empty())
+        return fuzz::load_symbol(a.impl_spec, dim, dim);
+    if (!a.impl_cmd.empty())
+        return fuzz::command(a.impl_cmd, dim, dim, a.timeout);
+    if (a.law_path.empty())
+        return fuzz::builtin_paper(a.velocities);
+    if (a.velocities)
+        throw InputError("--velocities --law: the built-in float law takes contact velocities; test an "
+                         "implementation in ball velocities with --impl or --impl-cmd");
+    return fuzz::builtin_float_law(model);
+}
+
+// What `verify` proves of the law decides what the fuzzer may check (and whether one piece per
+// point is enough: a continuous tiling).
+struct LawFacts {
+    bool continuous_tiling = false;
+    fuzz::Properties properties;
+};
+
+LawFacts law_facts(const Model& model) {
+    static const std::vector<std::string> ids = {"fan", "P1", "kinematic", "energetic", "nonexpansive-lemma"};
+    const VerifyReport report = verify(model, Limits{}, {}, &ids);
+    auto proved = [&](const char* id) { return report.at(id).verdict == Verdict::proved; };
+    LawFacts f;
+    f.continuous_tiling = proved("fan") && proved("P1");
+    f.properties.nonnegative = proved("kinematic");
+    f.properties.energy = proved("energetic");
+    f.properties.nonexpansive = proved("nonexpansive-lemma");
+    return f;
+}
+
+std::vector<double> parse_doubles(const std::vector<std::string>& toks) {
+    std::vector<double> x;
+    for (const auto& t : toks)
+        x.push_back(parse_double(t, "input"));
+    return x;
+}
+
+int run_eval_float(const FuzzArgs& a, const std::vector<std::vector<std::string>>& points) {
+    if (a.impl_given || a.impl_cmd_given) {
+        // An implementation against the exact law, point by point (the fuzzer's replays).
+        const Model model = load_model(a.law_path);
+        const LawFacts facts = law_facts(model);
+        const fuzz::LawReference reference(model, a.velocities, facts.continuous_tiling);
+        auto impl = make_impl(a, model, reference.in_dim());
+        for (const auto& toks : points) {
+            const auto x = parse_doubles(toks);
+            std::printf("%s", fuzz::explain(reference, impl.get(), x.data()).c_str());
+        }
+        return kExitProved;
+    }
+    if (!a.law_path.empty()) {
+        // Any law file: the general float evaluator, with its error bound.
+        if (a.velocities)
+            throw InputError("--float --law --velocities: the built-in float law takes contact velocities");
+        const Model model = load_model(a.law_path);
+        const FloatLaw law(model);
+        for (const auto& toks : points) {
+            const auto x = parse_doubles(toks);
+            const auto r = law.eval(x);
+            if (!r.ok)
+                throw InputError("input: " + r.error);
+            std::string line, bound;
+            for (std::size_t i = 0; i < r.value.size(); ++i) {
+                line += (i ? " " : "") + fuzz::hex(r.value[i]);
+                bound += " " + fuzz::hex(r.bound[i]);
+            }
+            std::printf("%s  # piece %s, |error| <=%s%s%s\n", line.c_str(), model.pieces()[r.piece].name.c_str(),
+                        bound.c_str(), r.exact_fallback ? ", classified exactly" : "",
+                        r.exact_output ? ", computed exactly" : "");
+        }
+        return kExitProved;
+    }
+    for (const auto& toks : points) {
+        auto x = parse_doubles(toks);
+        if (a.velocities) {
+            fp::sort_velocities(x.data());
+            std::printf("%a %a %a\n", x[0], x[1], x[2]);
+            continue;
+        }
+        double law[2];
+        fp::S(x[0], x[1], law);
+        std::printf("%a %a\n", law[0], law[1]);
+    }
+    return kExitProved;
+}
+
+std::string count_text(std::uint64_t n) {
+    char buf[32];
+    if (n >= 1000000)
+        std::snprintf(buf, sizeof buf, "%.1fM", static_cast<double>(n) / 1e6);
+    else
+        std::snprintf(buf, sizeof buf, "%llu", static_cast<unsigned long long>(n));
+    return buf;
+}
+
+std::string fuzz_junit(const fuzz::Summary& sum, const std::string& target) {
+    struct Case {
+        const char* name;
+        std::uint64_t count;
+    };
+    const Case cases[] = {{"accuracy", sum.inaccurate - sum.non_finite},
+                          {"classification", sum.misclassified},
+                          {"non-finite outputs", sum.non_finite},
+                          {"negative contact velocities", sum.negative},
+                          {"energy", sum.energy},
+                          {"non-expansivity", sum.nonexpansive},
+                          {"implementation failures", sum.crashed + sum.hung + sum.malformed + sum.refused}};
+    std::size_t failures = 0;
+    for (const auto& c : cases)
+        failures += c.count ? 1 : 0;
+    std::string x = "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<testsuites>\n";
+    x += "  <testsuite name=\"impactcert fuzz: " + xml_escape(target) + "\" tests=\"" + std::to_string(std::size(cases)) +
+         "\" failures=\"" + std::to_string(failures) + "\">\n";
+    for (const auto& c : cases) {
+        x += "    <testcase classname=\"impactcert.fuzz\" name=\"" + std::string(c.name) + "\"";
+        if (!c.count) {
+            x += "/>\n";
+            continue;
+        }
+        std::string first;
+        for (const auto& v : sum.examples)
+            if (first.empty())
+                first = v.what + "; replay: " + v.replay;
+        x += ">\n      <failure message=\"" + std::to_string(c.count) + " violation(s) in " + std::to_string(sum.samples) +
+             " samples\">" + xml_escape(first) + "</failure>\n    </testcase>\n";
+    }
+    return x + "  </testsuite>\n</testsuites>\n";
+}
+
+} // namespace
+
+int run_fuzz(FuzzArgs a) {
+    if (!(a.options.seconds >= 0 && std::isfinite(a.options.seconds)))
+        throw InputError("--seconds: must be a finite number >= 0");
+    if (a.law_path.empty() && a.system.given())
+        return run_consistency_fuzz(a);
+    if (a.system.given())
+        throw InputError("--law and --masses/--system: a law names its own system (without --law the implementation "
+                         "is checked for consistency with the system alone)");
+    if (!a.range.empty() || !a.require.empty())
+        throw InputError(std::string(a.range.empty() ? "--require" : "--range") +
+                         ": consistency fuzzing only (give --masses or --system, no --law)");
+    if (!a.junit.empty() && !std::ofstream(a.junit)) // before the run, not after it
+        throw InputError("--junit " + a.junit + ": cannot write");
+    const Model model = load_model(a.law_path);
+    if (a.max_ulps && a.max_rel_error)
+        throw InputError("--max-ulps and --max-rel-error: give one tolerance");
+    if (a.max_rel_error && !(*a.max_rel_error >= 0 && std::isfinite(*a.max_rel_error)))
+        throw InputError("--max-rel-error: must be a finite number >= 0");
+    const LawFacts facts = law_facts(model);
+    const fuzz::LawReference reference(model, a.velocities, facts.continuous_tiling);
+    const auto impl = make_impl(a, model, reference.in_dim());
+    fuzz::Options& options = a.options;
+    if (a.max_rel_error) {
+        options.tolerance = fuzz::Tolerance::relative;
+        options.max_rel_error = *a.max_rel_error;
+    } else if (a.max_ulps) {
+        options.tolerance = fuzz::Tolerance::ulps;
+        options.max_ulps = *a.max_ulps;
+    } else {
+        options.tolerance = impl->states_bound() ? fuzz::Tolerance::stated_bound : fuzz::Tolerance::ulps;
+    }
+    options.replay_prefix = "impactcert eval --float";
+    if (!a.law_path.empty())
+        options.replay_prefix += " --law " + fuzz::shell_quote(a.law_path);
+    if (a.velocities)
+        options.replay_prefix += " --velocities";
+    const bool tty = !a.json && isatty(STDERR_FILENO);
+    const auto start = std::chrono::steady_clock::now();
+    auto progress = [&](std::uint64_t done) {
+        if (!tty)
+            return;
+        const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        double frac = options.samples ? static_cast<double>(done) / static_cast<double>(options.samples) : 1.0;
+        if (options.seconds > 0)
+            frac = std::max(frac, secs / options.seconds);
+        frac = std::min(frac, 1.0);
+        const int width = 30, filled = static_cast<int>(frac * width);
+        std::fprintf(stderr, "\r[%s%s] %3.0f%% %s samples, %.2f M/s ", std::string(static_cast<std::size_t>(filled), '#').c_str(),
+                     std::string(static_cast<std::size_t>(width - filled), '.').c_str(), frac * 100, count_text(done).c_str(),
+                     secs > 0 ? static_cast<double>(done) / secs / 1e6 : 0.0);
+    };
+    const fuzz::Summary sum = fuzz::run(options, reference, *impl, facts.properties, progress);
+    if (tty)
+        std::fprintf(stderr, "\r\033[K");
+    const double rate = sum.seconds > 0 ? static_cast<double>(sum.samples) / sum.seconds : 0;
+    const std::string target = impl->describe();
+    const std::string space = a.velocities ? "ball velocities" : "contact velocities";
+    const std::string tolerance =
+        options.tolerance == fuzz::Tolerance::relative ? "--max-rel-error " + [&] {
+            char buf[32];
+            std::snprintf(buf, sizeof buf, "%.3g", options.max_rel_error);
+            return std::string(buf);
+        }()
+        : options.tolerance == fuzz::Tolerance::ulps   ? "--max-ulps " + std::to_string(options.max_ulps)
+                                                       : "the implementation's stated bound";
+    auto hexes = [](const std::vector<double>& v) {
+        Json j = Json::array();
+        for (double x : v)
+            j.push_back(fuzz::hex(x));
+        return j;
+    };
+    if (!a.junit.empty()) {
+        write_file(a.junit, fuzz_junit(sum, target));
+    }
+    if (a.json) {
+        Json j;
+        j["format"] = "impactcert-fuzz/1";
+        j["law"] = model.law().name;
+        j["space"] = space;
+        j["implementation"] = target;
+        j["tolerance"] = tolerance;
+        j["seed"] = options.seed;
+        j["jobs"] = options.jobs;
+        j["samples"] = sum.samples;
+        j["pairs"] = sum.pairs;
+        j["seconds"] = sum.seconds;
+        j["samples_per_second"] = rate;
+        j["reference_through_gmp"] = sum.slow;
+        j["outside_every_cone"] = sum.outside;
+        j["max_error_ulps"] = sum.max_ulps;
+        j["max_relative_error"] = sum.max_rel_error;
+        j["checked_properties"] = {{"nonnegative", facts.properties.nonnegative}, {"energy", facts.properties.energy},
+                                   {"nonexpansive", facts.properties.nonexpansive}};
+        j["violations"] = {{"outside_tolerance", sum.inaccurate}, {"classification", sum.misclassified},
+                           {"non_finite", sum.non_finite}, {"negative_output", sum.negative},
+                           {"energy", sum.energy}, {"nonexpansive", sum.nonexpansive},
+                           {"crashed", sum.crashed}, {"hung", sum.hung}, {"malformed", sum.malformed},
+                           {"refused", sum.refused}};
+        Json examples = Json::array();
+        for (const auto& v : sum.examples) {
+            Json e = {{"index", v.index}, {"what", v.what}, {"generator", v.kind}, {"input", hexes(v.input)}};
+            if (!v.input_b.empty())
+                e["input_b"] = hexes(v.input_b);
+            e["output"] = hexes(v.output);
+            e["expected"] = hexes(v.expected);
+            e["replay"] = v.replay;
+            examples.push_back(e);
+        }
+        j["examples"] = examples;
+        j["verdict"] = sum.violations() ? "violations" : "no violation";
+        std::cout << j.dump(2) << "\n";
+    } else {
+        auto u = [](std::uint64_t x) { return static_cast<unsigned long long>(x); };
+        std::string ulps;
+        for (auto e : sum.max_ulps)
+            ulps += (ulps.empty() ? "" : ", ") + std::to_string(e);
+        std::printf("impactcert fuzz: %s vs the exact law %s, in %s (seed %llu, %u job%s)\n", target.c_str(),
+                    model.law().name.c_str(), space.c_str(), u(options.seed), options.jobs, options.jobs == 1 ? "" : "s");
+        std::printf("  tolerance                      %s\n", tolerance.c_str());
+        std::printf("  samples                        %llu (%llu close pairs; %llu reference points through GMP)\n",
+                    u(sum.samples), u(sum.pairs), u(sum.slow));
+        std::printf("  time                           %.2f s (%.2f M samples/s, %.2f M/s per job)\n", sum.seconds,
+                    rate / 1e6, rate / 1e6 / std::max(1u, options.jobs));
+        std::printf("  max error                      %s ulp per component; %.3g relative (normwise)\n", ulps.c_str(),
+                    sum.max_rel_error);
+        std::printf("  outside the tolerance          %llu (classification: %llu, non-finite: %llu)\n", u(sum.inaccurate),
+                    u(sum.misclassified), u(sum.non_finite));
+        std::printf("  negative contact velocities    %llu%s\n", u(sum.negative), facts.properties.nonnegative ? "" : " (not checked: not proved for this law)");
+        std::printf("  energy increases               %llu%s\n", u(sum.energy), facts.properties.energy ? "" : " (not checked: not proved for this law)");
+        std::printf("  non-expansivity violations     %llu%s\n", u(sum.nonexpansive), facts.properties.nonexpansive ? "" : " (not checked: not proved for this law)");
+        std::printf("  implementation failures        %llu crashed, %llu hung, %llu malformed, %llu refused\n",
+                    u(sum.crashed), u(sum.hung), u(sum.malformed), u(sum.refused));
+        if (sum.outside)
+            std::printf("  points in no cone (skipped)    %llu\n", u(sum.outside));
+        for (const auto& v : sum.examples) {
+            std::string in, out, ex;
+            for (double x : v.input)
+                in += " " + fuzz::hex(x);
+            if (!v.input_b.empty())
+                in += " |";
+            for (double x : v.input_b)
+                in += " " + fuzz::hex(x);
+            for (double x : v.output)
+                out += " " + fuzz::hex(x);
+            for (double x : v.expected)
+                ex += " " + fuzz::hex(x);
+            std::printf("  violation at sample %llu (%s): %s\n    input%s -> output%s, exact%s\n    replay: %s\n",
+                        u(v.index), v.kind.c_str(), v.what.c_str(), in.c_str(), out.empty() ? " (none)" : out.c_str(),
+                        ex.empty() ? " (none)" : ex.c_str(), v.replay.c_str());
+        }
+        std::printf("verdict: %s\n", sum.violations() ? "violations found" : "no violation");
+    }
+    write_stdout("");
+    return sum.violations() ? kExitRefuted : kExitProved;
+}
+
+int run_eval(const std::string& law_path, bool velocities, const std::vector<std::string>& args, bool as_float,
+             FuzzArgs float_args) {
+    if ((float_args.impl_given || float_args.impl_cmd_given) && !as_float)
+        throw InputError("--impl and --impl-cmd need --float");
+    if (as_float) {
+        float_args.law_path = law_path;
+        float_args.velocities = velocities;
+        std::size_t dim = 0;
+        if (float_args.system.given()) {
+            if (!law_path.empty())
+                throw InputError("--law and --masses/--system: give one");
+            const Mechanics m = make_mechanics(system_from(float_args.system));
+            dim = velocities ? m.balls() : m.contacts();
+        } else {
+            const Model dims = load_model(law_path);
+            dim = velocities ? dims.balls() : dims.contacts();
+        }
+        std::vector<std::vector<std::string>> points;
+        std::vector<std::string> toks;
+        for (const auto& a : args)
+            for (auto& t : tokens_of(a))
+                toks.push_back(t);
+        if (args.empty()) {
+            std::string line;
+            for (std::size_t lineno = 1; std::getline(std::cin, line); ++lineno) {
+                const auto lt = tokens_of(line);
+                if (lt.empty() || lt.front().front() == '#')
+                    continue;
+                if (lt.size() != dim)
+                    throw InputError("stdin:" + std::to_string(lineno) + ": expected " + std::to_string(dim) +
+                                     " numbers, got " + std::to_string(lt.size()));
+                points.push_back(lt);
+            }
+        } else {
+            if (toks.empty() || toks.size() % dim != 0)
+                throw InputError("arguments: expected a multiple of " + std::to_string(dim) + " numbers, got " +
+                                 std::to_string(toks.size()));
+            for (std::size_t i = 0; i < toks.size(); i += dim)
+                points.emplace_back(toks.begin() + static_cast<std::ptrdiff_t>(i),
+                                    toks.begin() + static_cast<std::ptrdiff_t>(i + dim));
+        }
+        if (float_args.system.given())
+            return run_consistency_eval(float_args, points);
+        return run_eval_float(float_args, points);
+    }
+    const Model model = load_model(law_path);
+    const std::size_t dim = velocities ? model.balls() : model.contacts();
+    auto read_point = [&](const std::vector<std::string>& toks, std::size_t first, const std::string& where) {
+        Vector x;
+        for (std::size_t i = first; i < first + dim; ++i) {
+            std::string why;
+            auto r = parse_cli_number(toks[i], &why);
+            if (!r)
+                throw InputError(where + ": " + toks[i] + ": " + why);
+            x.push_back(*r);
+        }
+        return x;
+    };
+    if (!args.empty()) {
+        std::vector<std::string> toks;
+        for (const auto& a : args)
+            for (auto& t : tokens_of(a))
+                toks.push_back(t);
+        if (toks.empty() || toks.size() % dim != 0)
+            throw InputError("arguments: expected a multiple of " + std::to_string(dim) + " numbers (" +
+                             (velocities ? "ball" : "contact") + " velocities), got " +
+                             std::to_string(toks.size()));
+        for (std::size_t first = 0; first < toks.size(); first += dim)
+            std::cout << evaluate_point(model, read_point(toks, first, "arguments"), velocities,
+                                        "arguments", float_args.pieces)
+                      << "\n";
+        return kExitProved;
+    }
+    std::string line;
+    for (std::size_t lineno = 1; std::getline(std::cin, line); ++lineno) {
+        const auto toks = tokens_of(line);
+        if (toks.empty() || toks.front().front() == '#')
+            continue;
+        const std::string where = "stdin:" + std::to_string(lineno);
+        if (toks.size() != dim)
+            throw InputError(where + ": expected " + std::to_string(dim) + " numbers, got " +
+                             std::to_string(toks.size()));
+        std::cout << evaluate_point(model, read_point(toks, 0, where), velocities, where, float_args.pieces) << "\n";
+    }
+    return kExitProved;
+}
+
+
+} // namespace impactcert::cli

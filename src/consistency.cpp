@@ -1,0 +1,530 @@
+#include "consistency.hpp"
+
+#include "errors.hpp"
+
+#include <gmp.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cfenv>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <mutex>
+#include <thread>
+
+namespace impactcert::fuzz {
+
+const char* property_id(Property p) {
+    switch (p) {
+    case Property::kinematic: return "kinematic";
+    case Property::kinetic: return "kinetic";
+    case Property::momentum: return "momentum";
+    case Property::energy: return "energy";
+    case Property::nonexpansive: return "nonexpansive";
+    case Property::continuity: return "continuity";
+    case Property::non_finite: return "non_finite";
+    case Property::count: break;
+    }
+    return "?";
+}
+
+const char* property_title(Property p) {
+    switch (p) {
+    case Property::kinematic: return "negative contact velocity (kinematic)";
+    case Property::kinetic: return "pulling impulse (kinetic)";
+    case Property::momentum: return "change outside the range of M^-1 W (momentum)";
+    case Property::energy: return "energy gain";
+    case Property::nonexpansive: return "expansion of a pair (nonexpansive)";
+    case Property::continuity: return "jump between close inputs (continuity)";
+    case Property::non_finite: return "non-finite output";
+    case Property::count: break;
+    }
+    return "?";
+}
+
+std::uint64_t ConsistencySummary::violations() const {
+    std::uint64_t v = crashed + hung + malformed + refused;
+    for (const auto& p : properties)
+        v += p.count;
+    return v;
+}
+
+std::optional<Rational> exact_of(double x) {
+    if (!std::isfinite(x))
+        return std::nullopt;
+    Rational r;
+    mpq_set_d(r.mpq(), x); // exact: a finite double is a dyadic rational
+    return r;
+}
+
+std::pair<double, double> parse_range(const std::string& text) {
+    const auto dots = text.find("..");
+    if (dots == std::string::npos)
+        throw InputError("--range: expected LO..HI, got \"" + text + "\"");
+    auto number = [&](const std::string& s) {
+        char* end = nullptr;
+        const double d = std::strtod(s.c_str(), &end);
+        if (s.empty() || end != s.c_str() + s.size() || !std::isfinite(d))
+            throw InputError("--range: \"" + s + "\" is not a finite number");
+        return d;
+    };
+    const double lo = number(text.substr(0, dots)), hi = number(text.substr(dots + 2));
+    if (!(lo > 0 && lo <= hi))
+        throw InputError("--range: expected 0 < LO <= HI, got " + text);
+    if (hi > 1e150)
+        throw InputError("--range: HI above 1e150 (outputs' squares must stay far from overflow in any engine): " + text);
+    return {lo, hi};
+}
+
+namespace {
+
+std::uint64_t splitmix(std::uint64_t& state) {
+    std::uint64_t z = (state += 0x9E3779B97F4A7C15ULL);
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
+    return z ^ (z >> 31);
+}
+
+double unit(std::uint64_t& st) { return static_cast<double>(splitmix(st) >> 11) * 0x1p-53; }
+std::uint64_t below(std::uint64_t& st, std::uint64_t n) { return ((splitmix(st) >> 32) * n) >> 32; }
+
+// Log-uniform magnitude in [lo, hi].
+double magnitude(std::uint64_t& st, double lo, double hi) {
+    const double v = std::exp(std::log(lo) + unit(st) * (std::log(hi) - std::log(lo)));
+    return std::clamp(v, lo, hi);
+}
+
+// An upper bound u >= sqrt(x) (x >= 0), a rational within a relative 2^-60 of it.
+Rational sqrt_up(const Rational& x) {
+    if (sign_of(x) == Sign::zero)
+        return Rational(0);
+    // sqrt(p/q) = sqrt(p q 4^k) / (q 2^k); floor of the integer square root, plus one.
+    mpz_t num, den, t;
+    mpz_init(num);
+    mpz_init(den);
+    mpz_init(t);
+    mpz_mul(t, mpq_numref(x.mpq()), mpq_denref(x.mpq()));
+    mpz_mul_2exp(t, t, 128);
+    mpz_sqrt(num, t);
+    mpz_add_ui(num, num, 1);
+    mpz_mul_2exp(den, mpq_denref(x.mpq()), 64);
+    Rational r;
+    mpq_set_num(r.mpq(), num);
+    mpq_set_den(r.mpq(), den);
+    mpq_canonicalize(r.mpq());
+    mpz_clear(num);
+    mpz_clear(den);
+    mpz_clear(t);
+    return r;
+}
+
+double approx(const Rational& x) { return mpq_get_d(x.mpq()); }
+
+// Short text of an exact value: the rational when short, else a decimal approximation marked ~.
+std::string exact_text(const Rational& x) {
+    std::string s = to_string(x);
+    if (s.size() <= 40)
+        return s;
+    char buf[48];
+    std::snprintf(buf, sizeof buf, "~%.17g", approx(x));
+    return buf;
+}
+
+std::string percent(double f) {
+    char buf[48];
+    std::snprintf(buf, sizeof buf, "%+.3g%%", 100 * f);
+    return buf;
+}
+
+} // namespace
+
+ConsistencyChecker::ConsistencyChecker(const Mechanics& m, bool velocities, double max_rel_error)
+    : m_(m), velocities_(velocities), R_(max_rel_error) {}
+
+std::size_t ConsistencyChecker::dim() const { return velocities_ ? m_.balls() : m_.contacts(); }
+
+bool ConsistencyChecker::approaching(const double* x) const {
+    Vector v(dim());
+    for (std::size_t i = 0; i < v.size(); ++i) {
+        auto r = exact_of(x[i]);
+        if (!r)
+            return false;
+        v[i] = *r;
+    }
+    const Vector gamma = velocities_ ? transpose(m_.W) * v : v;
+    return std::any_of(gamma.begin(), gamma.end(), [](const Rational& g) { return sign_of(g) == Sign::negative; });
+}
+
+std::vector<Finding> ConsistencyChecker::check(const double* xd, const double* yd) const {
+    const std::size_t d = dim(), c = m_.contacts();
+    std::vector<Finding> out;
+    auto finding = [&](Property p, double score, std::string detail) {
+        Finding f;
+        f.property = p;
+        f.score = score;
+        f.detail = std::move(detail);
+        f.input.assign(xd, xd + d);
+        f.output.assign(yd, yd + d);
+        out.push_back(std::move(f));
+    };
+    Vector x(d), y(d);
+    for (std::size_t i = 0; i < d; ++i) {
+        x[i] = *exact_of(xd[i]); // inputs are finite by construction (the caller checks)
+        auto r = exact_of(yd[i]);
+        if (!r) {
+            finding(Property::non_finite, 1, "output component " + std::to_string(i + 1) + " is not finite");
+            return out;
+        }
+        y[i] = *r;
+    }
+    const Matrix& X = velocities_ ? m_.M : m_.H;
+    const Rational R = *exact_of(R_);
+    const Rational s2 = bilinear(x, X, x);
+    const Rational tol2 = R * R * s2;
+    const Vector gm = velocities_ ? transpose(m_.W) * x : x;
+    const Vector gp = velocities_ ? transpose(m_.W) * y : y;
+    const Vector lambda = m_.H * (gp - gm);
+    // kinematic: the worst contact
+    {
+        std::optional<std::size_t> worst;
+        Rational worst_score;
+        for (std::size_t k = 0; k < c; ++k) {
+            if (sign_of(gp[k]) != Sign::negative)
+                continue;
+            const Rational score = gp[k] * gp[k] / (m_.G(k, k) * s2);
+            if (gp[k] * gp[k] > tol2 * m_.G(k, k) && (!worst || score > worst_score)) {
+                worst = k;
+                worst_score = score;
+            }
+        }
+        if (worst)
+            finding(Property::kinematic, std::sqrt(approx(worst_score)),
+                    "gamma+_" + std::to_string(*worst + 1) + " = " + exact_text(gp[*worst]) + " < 0 (gamma-_" +
+                        std::to_string(*worst + 1) + " = " + exact_text(gm[*worst]) + ")");
+    }
+    // kinetic
+    {
+        std::optional<std::size_t> worst;
+        Rational worst_score;
+        for (std::size_t k = 0; k < c; ++k) {
+            if (sign_of(lambda[k]) != Sign::negative)
+                continue;
+            const Rational score = lambda[k] * lambda[k] / (m_.H(k, k) * s2);
+            if (lambda[k] * lambda[k] > tol2 * m_.H(k, k) && (!worst || score > worst_score)) {
+                worst = k;
+                worst_score = score;
+            }
+        }
+        if (worst)
+            finding(Property::kinetic, std::sqrt(approx(worst_score)),
+                    "Lambda_" + std::to_string(*worst + 1) + " = " + exact_text(lambda[*worst]) +
+                        " < 0: the contact pulls (Lambda = H (gamma+ - gamma-))");
+    }
+    // momentum: the part of the velocity change outside the range of M^-1 W
+    if (velocities_) {
+        const Vector r = (y - x) - m_.M_inv * (m_.W * lambda);
+        const Rational r2 = bilinear(r, m_.M, r);
+        if (r2 > tol2) {
+            std::string detail = "|r|_M^2 = " + exact_text(r2) + " with |u-|_M^2 = " + exact_text(s2) +
+                                 " (r = du - M^-1 W Lambda, not made of contact impulses)";
+            if (m_.diagonal) {
+                Rational pm, pp;
+                for (std::size_t i = 0; i < d; ++i) {
+                    pm += m_.M(i, i) * x[i];
+                    pp += m_.M(i, i) * y[i];
+                }
+                detail += "; total momentum p- = " + exact_text(pm) + ", p+ = " + exact_text(pp);
+            }
+            finding(Property::momentum, std::sqrt(approx(r2 / s2)), detail);
+        }
+    }
+    // energy
+    {
+        const Rational t2 = bilinear(y, X, y);
+        const Rational one_r = Rational(1) + R;
+        if (t2 > one_r * one_r * s2) {
+            const Rational half(1, 2);
+            const std::string what = velocities_ ? "T" : "T (contact part)";
+            finding(Property::energy, approx((t2 - s2) / s2),
+                    percent(approx((t2 - s2) / s2)) + ": " + what + "- = " + exact_text(half * s2) + ", " + what +
+                        "+ = " + exact_text(half * t2));
+        }
+    }
+    return out;
+}
+
+std::vector<Finding> ConsistencyChecker::check_pair(const double* ad, const double* yad, const double* bd,
+                                                    const double* ybd, bool nonexpansive, bool continuity) const {
+    const std::size_t d = dim();
+    std::vector<Finding> out;
+    Vector a(d), b(d), ya(d), yb(d);
+    for (std::size_t i = 0; i < d; ++i) {
+        auto p = exact_of(yad[i]), q = exact_of(ybd[i]);
+        if (!p || !q)
+            return out; // reported by check() of the points
+        a[i] = *exact_of(ad[i]);
+        b[i] = *exact_of(bd[i]);
+        ya[i] = *p;
+        yb[i] = *q;
+    }
+    const Matrix& X = velocities_ ? m_.M : m_.H;
+    const Rational R = *exact_of(R_);
+    const Vector dy = ya - yb, dx = a - b;
+    const Rational A = bilinear(dy, X, dy), B = bilinear(dx, X, dx);
+    // T >= R (|a| + |b|), rational; then |dy| > L |dx| + T  <=>  A - L^2 B - T^2 > 0 and
+    // (A - L^2 B - T^2)^2 > 4 T^2 L^2 B (both sides of the root comparison are non-negative).
+    const Rational T = R * (sqrt_up(bilinear(a, X, a)) + sqrt_up(bilinear(b, X, b)));
+    auto exceeds = [&](const Rational& L) {
+        const Rational lb = L * L * B;
+        const Rational gap = A - lb - T * T;
+        return sign_of(gap) == Sign::positive && gap * gap > Rational(4) * T * T * lb;
+    };
+    auto make = [&](Property p, const std::string& bound) {
+        Finding f;
+        f.property = p;
+        f.score = sign_of(B) == Sign::zero ? INFINITY : std::sqrt(approx(A / B));
+        char ratio[48];
+        std::snprintf(ratio, sizeof ratio, "%.6g", f.score);
+        f.detail = "|S(a) - S(b)|^2 = " + exact_text(A) + " > (" + bound + ")^2, |a - b|^2 = " + exact_text(B) +
+                   " (ratio " + ratio + ")";
+        f.input.assign(ad, ad + d);
+        f.input_b.assign(bd, bd + d);
+        f.output.assign(yad, yad + d);
+        f.output_b.assign(ybd, ybd + d);
+        out.push_back(std::move(f));
+    };
+    if (nonexpansive && exceeds(Rational(1)))
+        make(Property::nonexpansive, "|a - b| + R (|a| + |b|)");
+    if (continuity && exceeds(Rational(1024)))
+        make(Property::continuity, "1024 |a - b| + R (|a| + |b|)");
+    return out;
+}
+
+void consistency_sample(const Mechanics& m, const ConsistencyOptions& o, std::uint64_t index, double* a, double* b,
+                        bool& pair, bool& close) {
+    const std::size_t d = o.velocities ? m.balls() : m.contacts();
+    const ConsistencyChecker checker(m, o.velocities, 0);
+    std::uint64_t st = o.seed * 0x9E3779B97F4A7C15ULL ^ (index + 0x632BE59BD9B4E019ULL);
+    for (int attempt = 0;; ++attempt) {
+        const std::uint64_t kind = below(st, 4);
+        const double scale = magnitude(st, o.range_lo, o.range_hi);
+        for (std::size_t i = 0; i < d; ++i) {
+            double v = 0;
+            switch (kind) {
+            case 0: { // small integers times a power of two: the classical experiments and their ties, exactly
+                const int k = static_cast<int>(below(st, 7)) - 3;
+                double p2 = std::ldexp(1.0, std::ilogb(scale));
+                if (p2 < o.range_lo)
+                    p2 *= 2;
+                v = k * p2;
+                if (std::fabs(v) > o.range_hi)
+                    v = (k < 0 ? -1 : 1) * p2;
+                break;
+            }
+            case 1: // uniform at one scale
+                v = (2 * unit(st) - 1) * scale;
+                break;
+            case 2: // independent magnitudes over the whole range
+                v = (splitmix(st) & 1 ? 1 : -1) * magnitude(st, o.range_lo, o.range_hi);
+                break;
+            default: // zeros and repeated values (contacts at rest, balls moving together)
+                v = below(st, 3) == 0 ? 0 : (i > 0 && below(st, 2) == 0 ? a[i - 1] : (2 * unit(st) - 1) * scale);
+                break;
+            }
+            if (v != 0 && std::fabs(v) < o.range_lo)
+                v = 0;
+            a[i] = std::clamp(v, -o.range_hi, o.range_hi);
+        }
+        if (checker.approaching(a) || attempt == 1000)
+            break;
+    }
+    pair = o.nonexpansive || o.continuity;
+    close = false;
+    if (!pair)
+        return;
+    close = o.continuity && (!o.nonexpansive || below(st, 2) == 0);
+    const int exponent = close ? 20 + static_cast<int>(below(st, 20)) : 2 + static_cast<int>(below(st, 18));
+    double big = 0;
+    for (std::size_t i = 0; i < d; ++i)
+        big = std::max(big, std::fabs(a[i]));
+    for (std::size_t i = 0; i < d; ++i) {
+        const double delta = (2 * unit(st) - 1) * std::ldexp(big, -exponent);
+        double v = a[i] + delta;
+        if (v != 0 && std::fabs(v) < o.range_lo)
+            v = 0;
+        b[i] = std::clamp(v, -o.range_hi, o.range_hi);
+    }
+}
+
+namespace {
+
+std::string replay_text(const std::string& prefix, const Finding& f) {
+    std::string s = prefix;
+    if (!f.input_b.empty())
+        s += " --pair";
+    for (double x : f.input)
+        s += " " + hex(x);
+    for (double x : f.input_b)
+        s += " " + hex(x);
+    return s;
+}
+
+struct Partial {
+    ConsistencySummary sum;
+    std::vector<Finding> examples;
+};
+
+void record(Partial& p, Finding f, std::size_t keep) {
+    auto& slot = p.sum.properties[static_cast<std::size_t>(f.property)];
+    ++slot.count;
+    if (!slot.worst || f.score > slot.worst->score || (f.score == slot.worst->score && f.index < slot.worst->index))
+        slot.worst = f;
+    if (p.examples.size() < keep)
+        p.examples.push_back(std::move(f));
+}
+
+} // namespace
+
+ConsistencySummary run_consistency(const Mechanics& m, const ConsistencyOptions& o, const Implementation& impl,
+                                   const std::function<void(std::uint64_t)>& progress) {
+    const std::size_t d = o.velocities ? m.balls() : m.contacts();
+    if (d > kMaxDim)
+        throw InputError("fuzz: at most " + std::to_string(kMaxDim) + " input components, the system has " +
+                         std::to_string(d));
+    const ConsistencyChecker checker(m, o.velocities, o.max_rel_error);
+    const unsigned jobs = std::max(1u, o.jobs);
+    const std::size_t block = std::max<std::size_t>(1, impl.batch_samples());
+    const std::uint64_t blocks = (o.samples + block - 1) / block;
+    std::atomic<std::uint64_t> next{0}, done{0};
+    std::atomic<bool> stop{false};
+    std::vector<Partial> partials(jobs);
+    std::vector<std::unique_ptr<Implementation>> impls;
+    for (unsigned j = 0; j < jobs; ++j) {
+        impls.push_back(impl.clone());
+        impls.back()->set_stop_flag(&stop);
+    }
+    const auto start = std::chrono::steady_clock::now();
+    auto worker = [&](unsigned j) {
+        std::fesetround(FE_TONEAREST);
+        Partial& part = partials[j];
+        std::vector<double> in, out;
+        std::vector<ImplStatus> status;
+        std::vector<std::uint64_t> indices;
+        std::vector<char> has_pair;
+        while (!stop.load(std::memory_order_relaxed)) {
+            const std::uint64_t b = next.fetch_add(1);
+            if (b >= blocks)
+                break;
+            const std::uint64_t first = b * block, last = std::min<std::uint64_t>(o.samples, first + block);
+            in.clear();
+            indices.clear();
+            has_pair.clear();
+            std::vector<double> pa(d), pb(d);
+            for (std::uint64_t i = first; i < last; ++i) {
+                bool pair = false, close = false;
+                consistency_sample(m, o, i, pa.data(), pb.data(), pair, close);
+                if (!checker.approaching(pa.data())) {
+                    ++part.sum.skipped;
+                    continue;
+                }
+                indices.push_back(i);
+                has_pair.push_back(pair);
+                in.insert(in.end(), pa.begin(), pa.end());
+                if (pair)
+                    in.insert(in.end(), pb.begin(), pb.end());
+            }
+            const std::size_t points = in.size() / d;
+            out.assign(in.size(), 0.0);
+            status.assign(points, ImplStatus::ok);
+            if (points)
+                impls[j]->eval(in.data(), out.data(), nullptr, points, status.data());
+            std::size_t p = 0;
+            for (std::size_t s = 0; s < indices.size(); ++s) {
+                const std::size_t pa_i = p++;
+                const std::size_t pb_i = has_pair[s] ? p++ : pa_i;
+                auto failed = [&](std::size_t q) {
+                    switch (status[q]) {
+                    case ImplStatus::ok: return false;
+                    case ImplStatus::crashed: ++part.sum.crashed; break;
+                    case ImplStatus::hung: ++part.sum.hung; break;
+                    case ImplStatus::malformed: ++part.sum.malformed; break;
+                    case ImplStatus::refused: ++part.sum.refused; break;
+                    case ImplStatus::skipped: break;
+                    }
+                    return true;
+                };
+                if (status[pa_i] == ImplStatus::skipped)
+                    continue;
+                ++part.sum.samples;
+                if (failed(pa_i))
+                    continue;
+                for (auto& f : checker.check(&in[pa_i * d], &out[pa_i * d])) {
+                    f.index = indices[s];
+                    f.replay = replay_text(o.replay_prefix, f);
+                    record(part, std::move(f), o.keep);
+                }
+                if (!has_pair[s] || failed(pb_i))
+                    continue;
+                ++part.sum.pairs;
+                for (auto& f : checker.check_pair(&in[pa_i * d], &out[pa_i * d], &in[pb_i * d], &out[pb_i * d],
+                                                  o.nonexpansive, o.continuity)) {
+                    f.index = indices[s];
+                    f.replay = replay_text(o.replay_prefix, f);
+                    record(part, std::move(f), o.keep);
+                }
+            }
+            done.fetch_add(last - first);
+        }
+    };
+    std::vector<std::thread> threads;
+    for (unsigned j = 1; j < jobs; ++j)
+        threads.emplace_back(worker, j);
+    std::thread watcher([&] {
+        while (done.load() < o.samples && !stop.load()) {
+            std::this_thread::sleep_for(std::chrono::milliseconds(200));
+            const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+            if (o.seconds > 0 && secs >= o.seconds)
+                stop = true;
+            if (progress)
+                progress(done.load());
+            if (next.load() >= blocks)
+                break;
+        }
+    });
+    worker(0);
+    for (auto& t : threads)
+        t.join();
+    stop = true;
+    watcher.join();
+
+    ConsistencySummary sum;
+    sum.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    std::vector<Finding> examples;
+    for (auto& part : partials) {
+        sum.samples += part.sum.samples;
+        sum.pairs += part.sum.pairs;
+        sum.skipped += part.sum.skipped;
+        sum.crashed += part.sum.crashed;
+        sum.hung += part.sum.hung;
+        sum.malformed += part.sum.malformed;
+        sum.refused += part.sum.refused;
+        for (std::size_t p = 0; p < kProperties; ++p) {
+            auto& into = sum.properties[p];
+            const auto& from = part.sum.properties[p];
+            into.count += from.count;
+            if (from.worst && (!into.worst || from.worst->score > into.worst->score ||
+                               (from.worst->score == into.worst->score && from.worst->index < into.worst->index)))
+                into.worst = from.worst;
+        }
+        for (auto& f : part.examples)
+            examples.push_back(std::move(f));
+    }
+    std::stable_sort(examples.begin(), examples.end(), [](const Finding& a, const Finding& b) { return a.index < b.index; });
+    if (examples.size() > o.keep)
+        examples.resize(o.keep);
+    sum.examples = std::move(examples);
+    return sum;
+}
+
+} // namespace impactcert::fuzz

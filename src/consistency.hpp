@@ -1,0 +1,112 @@
+// consistency.hpp -- consistency of a black-box impact map (SPEC section 8): `fuzz` with a system
+// (--masses, --walls, --system) and no --law.
+//
+// Contract:
+//   - The implementation maps u- to u+ (velocities) or gamma- to gamma+ (contact velocities).
+//     Samples are a pure function of (seed, index); every input has at least one approaching
+//     contact (gamma-_k < 0, decided exactly) and components that are 0 or have a magnitude in
+//     [range_lo, range_hi].
+//   - Every property is decided exactly on the returned doubles (as rationals: a finite double
+//     is a dyadic rational; a non-finite output is its own violation), beyond the relative
+//     tolerance R of proofs/README.md ("Consistency of black-box impact maps"): with |.| the
+//     metric of the input space (M for ball velocities, H for contact velocities) and s = |x-|,
+//       kinematic   gamma+_k < 0 and (gamma+_k)^2 > R^2 G_kk s^2
+//       kinetic     Lambda_k < 0 and Lambda_k^2 > R^2 H_kk s^2, Lambda = H (gamma+ - gamma-)
+//       momentum    (velocities) r = du - M^-1 W Lambda, |r|_M^2 > R^2 s^2: a velocity change
+//                   outside the range of M^-1 W (lost or created momentum of a free chain)
+//       energy      |x+|^2 > (1 + R)^2 s^2
+//       nonexpansive (pairs, on request) |y_a - y_b| > |a - b| + R (|a| + |b|)
+//       continuity   (close pairs, on request) |y_a - y_b| > 1024 |a - b| + R (|a| + |b|)
+//     An output within R s of a consistent one never violates any of them (the README's lemma),
+//     so every violation reported is one of the map itself, reproduced exactly by its replay.
+//   - The summary has, per property, the count and the worst case (largest violation relative to
+//     the sample's scale) with exact figures and a replay command.
+#pragma once
+
+#include "fuzz_impl.hpp"
+#include "fuzz_reference.hpp"
+#include "system.hpp"
+
+#include <array>
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace impactcert::fuzz {
+
+enum class Property : std::size_t { kinematic, kinetic, momentum, energy, nonexpansive, continuity, non_finite, count };
+inline constexpr std::size_t kProperties = static_cast<std::size_t>(Property::count);
+const char* property_id(Property p);    // "kinematic", "kinetic", "momentum", "energy", ...
+const char* property_title(Property p); // "negative contact velocity", "energy gain", ...
+
+struct ConsistencyOptions {
+    std::uint64_t seed = 1;
+    std::uint64_t samples = 100000;
+    double seconds = 0; // > 0: stop after this long
+    unsigned jobs = 1;
+    double max_rel_error = 1e-9;
+    double range_lo = 1e-3, range_hi = 1e3;
+    bool velocities = true;
+    bool nonexpansive = false, continuity = false; // --require
+    std::size_t keep = 10;
+    std::string replay_prefix; // "impactcert eval --float --masses ... --impl-cmd ..."
+};
+
+struct Finding {
+    Property property = Property::energy;
+    std::uint64_t index = 0;
+    double score = 0;           // the violation relative to the scale (for ordering)
+    std::string detail;         // exact figures: "T- = 1, T+ = 4/3 (+33.3%)"
+    std::vector<double> input, input_b, output, output_b;
+    std::string replay;
+};
+
+struct PropertyCount {
+    std::uint64_t count = 0;
+    std::optional<Finding> worst;
+};
+
+struct ConsistencySummary {
+    std::uint64_t samples = 0, pairs = 0, skipped = 0;
+    double seconds = 0;
+    std::array<PropertyCount, kProperties> properties;
+    std::uint64_t crashed = 0, hung = 0, malformed = 0, refused = 0;
+    std::vector<Finding> examples; // the first `keep` by sample index
+    std::uint64_t violations() const;
+};
+
+// The exact checks of one sample (or pair), for the run and for replays.
+class ConsistencyChecker {
+  public:
+    ConsistencyChecker(const Mechanics& m, bool velocities, double max_rel_error);
+    std::size_t dim() const;
+    // Findings for one input/output (each property at most once).
+    std::vector<Finding> check(const double* x, const double* y) const;
+    // Findings for a pair (nonexpansive and/or continuity).
+    std::vector<Finding> check_pair(const double* a, const double* ya, const double* b, const double* yb,
+                                    bool nonexpansive, bool continuity) const;
+    // True when some contact approaches at x (exact).
+    bool approaching(const double* x) const;
+
+  private:
+    const Mechanics& m_;
+    bool velocities_;
+    double R_;
+};
+
+ConsistencySummary run_consistency(const Mechanics& m, const ConsistencyOptions& options, const Implementation& impl,
+                                   const std::function<void(std::uint64_t)>& progress);
+
+// The sample of (seed, index): a point, and for pairs its partner (options say which).
+void consistency_sample(const Mechanics& m, const ConsistencyOptions& options, std::uint64_t index, double* a,
+                        double* b, bool& pair, bool& close);
+
+// A finite double as an exact rational; nothing for NaN or an infinity.
+std::optional<Rational> exact_of(double x);
+
+// --range LO..HI: 0 < LO <= HI, finite (InputError naming --range).
+std::pair<double, double> parse_range(const std::string& text);
+
+} // namespace impactcert::fuzz

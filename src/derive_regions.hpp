@@ -1,0 +1,72 @@
+// derive_regions.hpp -- internal to the derivations (derive.cpp, derive_classical.cpp): from
+// polyhedral regions with one linear map each to the pieces of a law file.
+//
+// Contract:
+//   - A Region is a polyhedral cone (PPL, exact) with the matrix of the map on it, a sort key
+//     (the word of the sequential process, the active sets of a classical law) and a name.
+//   - add_region_pieces: regions with one matrix whose union is convex are merged (the first by
+//     key keeps its name); a region that is not pointed is cut by the orthants, then every part
+//     is triangulated (pulling triangulation of its extreme rays over its facets); a region of
+//     one simplicial cone keeps its name, parts are named NAME.1, NAME.2, ... Returns, per
+//     piece written, the region it came from (index into the sorted, merged list).
+//   - The PPL rounding guard must be held while any of this runs (PplScope).
+#pragma once
+
+#include "law.hpp"
+
+#define PPL_NO_AUTOMATIC_INITIALIZATION
+#include <ppl.hh>
+
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace impactcert::derive_detail {
+
+namespace PPL = Parma_Polyhedra_Library;
+
+struct Region {
+    PPL::C_Polyhedron cone;
+    Matrix M;                      // gamma+ = M gamma- on the region
+    std::vector<std::size_t> key;  // sort key (the word)
+    std::string name;
+};
+
+// PPL initialised once per process, and its rounding mode set while an instance lives.
+class PplScope {
+  public:
+    PplScope();
+    ~PplScope();
+    PplScope(const PplScope&) = delete;
+    PplScope& operator=(const PplScope&) = delete;
+};
+
+// The constraint a . x >= 0 (a != 0).
+PPL::Constraint nonneg(const Vector& a);
+// A region: the intersection of {a . x >= 0} for the given a (zero vectors are ignored).
+PPL::C_Polyhedron cone_of(std::size_t c, const std::vector<Vector>& constraints);
+bool full_dimensional(const PPL::C_Polyhedron& p, std::size_t c);
+// A point of the interior direction: the sum of the extreme rays.
+Vector interior_point(const PPL::C_Polyhedron& p, std::size_t c);
+
+struct WrittenPiece {
+    std::string name;
+    std::size_t region; // index into the merged regions
+};
+
+// Sorts by key, merges, triangulates; appends pieces to law.pieces. `regions` is replaced by
+// the merged list (indices of WrittenPiece::region refer to it).
+std::vector<WrittenPiece> add_region_pieces(std::vector<Region>& regions, std::size_t c, Law& law);
+
+// Shared by the derivations.
+std::string list_text(const std::vector<Rational>& xs); // "1,2,1/2"
+std::string system_text(const System& s);              // for descriptions
+// The classical experiments of a cradle (one ball in from the left, ...) in n ball velocities.
+std::vector<OutcomeDecl> classical_experiments(std::size_t n);
+// Declares `override_outcomes` when given, else the experiments whose simulated u+ every piece
+// containing gamma- reproduces (simulate: u- -> u+, or nothing).
+void declare_outcomes(Law& law, const std::vector<OutcomeDecl>& override_outcomes,
+                      const std::function<std::optional<Vector>(const Vector&)>& simulate);
+
+} // namespace impactcert::derive_detail
