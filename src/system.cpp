@@ -136,6 +136,9 @@ System chain_system(const std::vector<Rational>& masses, Walls walls) {
         if (sign_of(masses[i]) != Sign::positive)
             throw InputError("--masses: mass " + std::to_string(i + 1) + " must be positive, got " +
                              to_string(masses[i]));
+    if (left && right)
+        throw InputError("--walls both: " + std::to_string(n) + " ball(s) touching both walls have " + std::to_string(n + 1) +
+                         " contacts for " + std::to_string(n) + " velocities (a jammed chain: W has dependent columns)");
     s.name = "chain-" + std::to_string(n);
     if (walls == Walls::none)
         return s;

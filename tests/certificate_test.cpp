@@ -32,6 +32,9 @@ const std::vector<std::pair<std::string, std::string>> kCommitted = {
     {"proofs/cradle4/law.json", "proofs/cradle4/certificate.json"},
     {"proofs/controls/symmetry-wrong-reversal.json", "proofs/controls/symmetry-wrong-reversal.certificate.json"},
     {"proofs/controls/symmetric-expansive.json", "proofs/controls/symmetric-expansive.certificate.json"},
+    {"proofs/classical3/newton/law.json", "proofs/classical3/newton/certificate.json"},
+    {"proofs/classical3/newton-approaching/law.json", "proofs/classical3/newton-approaching/certificate.json"},
+    {"proofs/classical3/poisson/law.json", "proofs/classical3/poisson/certificate.json"},
 };
 
 std::string certify_text(const std::string& law_path) {

@@ -1,0 +1,258 @@
+// classical_test.cpp -- systems beyond chains (SPEC section 8), the classical Newton- and
+// Poisson-type laws derived exactly, and the sequential law on walls and planar disks, each
+// against a solution that shares nothing with the derivation: the LCPs solved in ball velocities
+// by enumerating active sets, and the sequential process simulated impulse by impulse through M
+// and W.
+#include "derive.hpp"
+#include "law_json.hpp"
+#include "obligations.hpp"
+#include "support.hpp"
+#include "system.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <sys/wait.h>
+
+#include <algorithm>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <random>
+
+using namespace impactcert;
+using impactcert::test::q;
+using impactcert::test::run_cli;
+using impactcert::test::source_path;
+
+namespace {
+
+Rational small_rational(std::mt19937_64& rng) {
+    // Small numerators and denominators: ties, zeros and boundaries come up often.
+    return Rational(static_cast<int>(rng() % 13) - 6, static_cast<int>(1 + rng() % 4));
+}
+
+Vector random_u(std::mt19937_64& rng, std::size_t n) {
+    Vector u(n);
+    for (auto& x : u)
+        x = small_rational(rng);
+    return u;
+}
+
+// Every value the law takes at gamma- = W^T u (several on a boundary) gives `expected`.
+void require_law_gives(const Model& m, const Vector& u, const Vector& expected) {
+    const Vector gamma = m.contact_velocities(u);
+    const auto values = m.values_at(gamma);
+    INFO("u- = " << to_string(u) << ", expected u+ = " << to_string(expected));
+    REQUIRE(!values.empty());
+    for (const auto& g : values)
+        REQUIRE(m.post_impact_velocities(u, gamma, g) == expected);
+}
+
+System planar_disks() {
+    // Three disks of masses 1, 2, 3 (two coordinates each): disk 1 touches disk 2 along (1, 0),
+    // disk 2 touches disk 3 along (3/5, 4/5); gamma = n . (v_j - v_i).
+    System s;
+    s.name = "three-disks";
+    s.masses = {q("1"), q("1"), q("2"), q("2"), q("3"), q("3")};
+    Matrix W(6, 2);
+    W(0, 0) = -1, W(2, 0) = 1;
+    W(2, 1) = q("-3/5"), W(3, 1) = q("-4/5"), W(4, 1) = q("3/5"), W(5, 1) = q("4/5");
+    s.W = W;
+    return s;
+}
+
+} // namespace
+
+TEST_CASE("derive newton and poisson agree with the LCP solved by active sets in ball velocities", "[classical]") {
+    struct Case {
+        const char* what;
+        System system;
+        std::vector<Rational> e;
+    };
+    const std::vector<Case> cases = {
+        {"3 equal balls, e = 1", chain_system({q("1"), q("1"), q("1")}, Walls::none), {q("1"), q("1")}},
+        {"3 balls 1,2,3, e = 1/2, 3/4", chain_system({q("1"), q("2"), q("3")}, Walls::none), {q("1/2"), q("3/4")}},
+        {"4 balls, e = 9/10", chain_system({q("2"), q("1"), q("3"), q("1")}, Walls::none), {q("9/10"), q("9/10"), q("9/10")}},
+        {"2 balls and a left wall, e = 1, 1/3", chain_system({q("1"), q("3")}, Walls::left), {q("1"), q("1/3")}},
+        {"3 balls and a right wall, e = 1", chain_system({q("1"), q("1"), q("1")}, Walls::right), {q("1"), q("1"), q("1")}},
+    };
+    std::mt19937_64 rng(20261124);
+    for (const auto& c : cases) {
+        const Mechanics mech = make_mechanics(c.system);
+        for (int kind = 0; kind < 3; ++kind) {
+            ClassicalOptions o;
+            static_cast<System&>(o) = c.system;
+            o.restitution = c.e;
+            o.on = kind == 1 ? RestitutionOn::approaching : RestitutionOn::all;
+            const Model m(kind == 2 ? derive_poisson(o) : derive_newton(o));
+            INFO(c.what << (kind == 0 ? ", newton" : kind == 1 ? ", newton approaching" : ", poisson"));
+            const int samples = mech.contacts() <= 3 ? 10000 / 3 + 1 : 1000;
+            for (int k = 0; k < samples; ++k) {
+                const Vector u = random_u(rng, mech.balls());
+                const Vector expected = kind == 2 ? simulate_poisson(mech, c.e, u) : simulate_newton(mech, c.e, o.on, u);
+                require_law_gives(m, u, expected);
+            }
+        }
+    }
+}
+
+TEST_CASE("the independent LCP solution satisfies the Newton law's conditions (negative control: a wrong e fails)", "[classical]") {
+    const Mechanics m = make_mechanics(chain_system({q("1"), q("1"), q("1")}, Walls::none));
+    const std::vector<Rational> e = {q("1"), q("1")};
+    // SPEC section 8: both classical laws give (1,0,0) -> (-1/3, 2/3, 2/3) for three equal elastic balls.
+    REQUIRE(simulate_newton(m, e, RestitutionOn::all, test::vec({"1", "0", "0"})) == test::vec({"-1/3", "2/3", "2/3"}));
+    REQUIRE(simulate_poisson(m, e, test::vec({"1", "0", "0"})) == test::vec({"-1/3", "2/3", "2/3"}));
+    // The engines' law: (0, 1, -1) -> (-2/3, -2/3, 4/3), T from 1 to 4/3.
+    const Vector up = simulate_newton(m, e, RestitutionOn::approaching, test::vec({"0", "1", "-1"}));
+    REQUIRE(up == test::vec({"-2/3", "-2/3", "4/3"}));
+    REQUIRE(m.energy2(up) == q("8/3"));
+    // A law derived with another restitution disagrees with the simulation somewhere.
+    ClassicalOptions o;
+    o.masses = {q("1"), q("1"), q("1")};
+    o.restitution = {q("1/2"), q("1/2")};
+    const Model wrong(derive_newton(o));
+    const Vector u = test::vec({"1", "0", "0"});
+    const Vector gamma = wrong.contact_velocities(u);
+    REQUIRE(wrong.post_impact_velocities(u, gamma, wrong.values_at(gamma).at(0)) != simulate_newton(m, e, RestitutionOn::all, u));
+}
+
+TEST_CASE("derive sequential on a wall system and on planar disks agrees with the impulse-by-impulse simulation", "[classical]") {
+    std::mt19937_64 rng(7);
+    const std::vector<std::pair<System, std::vector<Rational>>> cases = {
+        {chain_system({q("1"), q("2"), q("1")}, Walls::left), {q("1"), q("1/2"), q("1")}},
+        {chain_system({q("1"), q("1")}, Walls::right), {q("1/2"), q("1")}},
+        {planar_disks(), {q("1"), q("1/2")}},
+    };
+    for (const auto& [system, e] : cases) {
+        for (auto rule : {ImpactRule::most_negative, ImpactRule::left_first}) {
+            DeriveOptions o;
+            static_cast<System&>(o) = system;
+            o.restitution = e;
+            o.rule = rule;
+            o.max_impacts = 200;
+            const DeriveResult r = derive_sequential(o);
+            REQUIRE(r.law);
+            const Model m(*r.law);
+            INFO(system.name << ", " << to_string(rule));
+            for (int k = 0; k < 5000; ++k) {
+                const Vector u = random_u(rng, m.balls());
+                const auto sim = simulate_balls(system, e, rule, u, 10000);
+                REQUIRE(sim);
+                // The law may be discontinuous: the simulated u+ is one of its values.
+                const Vector gamma = m.contact_velocities(u);
+                bool found = false;
+                for (const auto& g : m.values_at(gamma))
+                    found = found || m.post_impact_velocities(u, gamma, g) == *sim;
+                INFO("u- = " << to_string(u) << ", simulated " << to_string(*sim));
+                REQUIRE(found);
+            }
+        }
+    }
+}
+
+TEST_CASE("the classical laws of three equal elastic balls: what each fails, with exact witnesses", "[classical]") {
+    struct Expect {
+        const char* dir;
+        std::vector<const char*> refuted, proved;
+    };
+    const std::vector<Expect> expected = {
+        {"newton", {"P3", "kinematic", "outcomes"}, {"fan", "P1", "P2", "kinetic", "energetic", "nonexpansive", "nonexpansive-lemma"}},
+        {"newton-approaching", {"P2", "P3", "energetic", "nonexpansive", "nonexpansive-lemma", "outcomes"},
+         {"fan", "P1", "kinematic", "kinetic"}},
+        {"poisson", {"P2", "P3", "outcomes"}, {"fan", "P1", "kinematic", "kinetic", "energetic", "nonexpansive", "nonexpansive-lemma"}},
+    };
+    for (const auto& x : expected) {
+        INFO(x.dir);
+        const std::string path = source_path(std::string("proofs/classical3/") + x.dir + "/law.json");
+        const Model committed = load_model_file(path);
+        // The committed law is what derive writes today.
+        ClassicalOptions o;
+        o.masses = {q("1"), q("1"), q("1")};
+        o.restitution = {q("1"), q("1")};
+        o.on = std::string(x.dir) == "newton-approaching" ? RestitutionOn::approaching : RestitutionOn::all;
+        o.outcomes_override = load_law_file(source_path("proofs/newton3/law.json")).outcomes;
+        const Law fresh = std::string(x.dir) == "poisson" ? derive_poisson(o) : derive_newton(o);
+        REQUIRE(law_to_json(fresh) == law_to_json(committed.law()));
+        const VerifyReport report = verify(committed);
+        for (const char* id : x.refuted)
+            CHECK(report.at(id).verdict == Verdict::refuted);
+        for (const char* id : x.proved)
+            CHECK(report.at(id).verdict == Verdict::proved);
+        test::require_sound(committed, report); // every witness re-checked, the certificate verified
+        // The classical outcome (1,0,0) -> (0,0,1) is missed: S gives (-1/3, 2/3, 2/3).
+        const Vector u = test::vec({"1", "0", "0"});
+        const Vector gamma = committed.contact_velocities(u);
+        for (const auto& g : committed.values_at(gamma))
+            REQUIRE(committed.post_impact_velocities(u, gamma, g) == test::vec({"-1/3", "2/3", "2/3"}));
+    }
+    // Second route for the two headline witnesses. Newton (all): a ray whose image has a negative
+    // component; approaching only: a gamma- whose energy grows.
+    const Model newton = load_model_file(source_path("proofs/classical3/newton/law.json"));
+    const auto kin = verify(newton).at("kinematic").counterexample;
+    const Vector ray = test::vec_of(kin["ray"]);
+    const Vector image = newton.pieces()[newton.piece_index(kin["piece"].get<std::string>())].Q * ray;
+    REQUIRE(std::any_of(image.begin(), image.end(), [](const Rational& v) { return sign_of(v) == Sign::negative; }));
+    const Model engines = load_model_file(source_path("proofs/classical3/newton-approaching/law.json"));
+    const auto en = verify(engines).at("energetic").counterexample;
+    const Vector g = test::vec_of(en["gamma"]);
+    bool gains = false;
+    for (const auto& v : engines.values_at(g))
+        gains = gains || engines.energy(v) > engines.energy(g);
+    REQUIRE(gains);
+}
+
+TEST_CASE("systems: files, full mass matrices, and bad systems (exit 2, one line)", "[classical][cli]") {
+    const std::string dir = "/tmp/impactcert-classical-test";
+    std::filesystem::create_directories(dir);
+    auto write = [&](const std::string& name, const std::string& text) {
+        std::ofstream(dir + "/" + name) << text;
+        return dir + "/" + name;
+    };
+    // A full SPD mass matrix: derive, verify, certify and check it.
+    const std::string full = write("full.json", R"({"format": "impactcert-system/1", "name": "coupled",
+        "M": [["2","1","0"],["1","2","0"],["0","0","1"]], "contacts": "chain"})");
+    auto run = run_cli("derive newton --system " + full + " -o " + dir + "/full-law.json");
+    REQUIRE(run.status == 0);
+    run = run_cli("certify --law " + dir + "/full-law.json -o " + dir + "/full.cert.json");
+    REQUIRE((run.status == 0 || run.status == 1));
+    const auto check = std::system(("'" + std::string(IMPACTCERT_CHECKER) + "' " + dir + "/full.cert.json >/dev/null 2>&1").c_str());
+    REQUIRE(WEXITSTATUS(check) == 0);
+    const Model coupled = load_model_file(dir + "/full-law.json");
+    REQUIRE(coupled.law().M);
+    REQUIRE(coupled.M() == *coupled.law().M);
+    // Bad systems.
+    const std::vector<std::pair<std::string, std::string>> bad = {
+        {R"({"format": "impactcert-system/1", "name": "s", "M": [["1","2"],["2","1"]]})", "$.M: not positive definite"},
+        {R"({"format": "impactcert-system/1", "name": "s", "M": [["1","1"],["0","1"]]})", "$.M[1][0]: M is not symmetric"},
+        {R"({"format": "impactcert-system/1", "name": "s", "masses": ["1","1"], "contacts": {"W": [["1","2"],["1","2"]]}})",
+         "$.contacts.W: W has rank 1 < 2 contacts"},
+        {R"({"format": "impactcert-system/1", "name": "s", "masses": ["1","1","1"], "contacts": {"W": [["1"],["1"]]}})",
+         "$.contacts.W: expected 3 rows"},
+        {R"({"format": "impactcert-system/1", "name": "s", "masses": ["1","1"], "M": [["1","0"],["0","1"]]})",
+         "exactly one of \"masses\""},
+        {R"({"format": "impactcert-system/1", "name": "s", "masses": ["1","-1"]})", "$.masses[1]: mass must be positive"},
+        {R"({"format": "impactcert-system/1", "name": "s", "masses": ["1","1"], "walls": "left"})", "walls"},
+    };
+    for (const auto& [text, message] : bad) {
+        const std::string path = write("bad.json", text);
+        for (const char* cmd : {"derive newton --system ", "derive sequential --system ", "derive poisson --system "}) {
+            run = run_cli(cmd + path);
+            INFO(cmd << text << " -> " << run.err);
+            REQUIRE(run.status == 2);
+            REQUIRE(run.err.find(message) != std::string::npos);
+            REQUIRE(std::count(run.err.begin(), run.err.end(), '\n') == 1);
+        }
+    }
+    run = run_cli("derive newton --masses 1,1 --walls sideways");
+    REQUIRE(run.status == 2);
+    run = run_cli("derive newton --masses 1,1 --walls both"); // jammed: 3 contacts, 2 velocities
+    REQUIRE(run.status == 2);
+    REQUIRE(run.err.find("jammed") != std::string::npos);
+    run = run_cli("derive poisson --masses 1,1,1 --restitution-on approaching");
+    REQUIRE(run.status == 2);
+    run = run_cli("derive newton --masses 1,1,1,1,1,1,1,1,1,1");
+    REQUIRE(run.status == 2);
+    REQUIRE(run.err.find("at most 8 contacts") != std::string::npos);
+    run = run_cli("derive newton --masses 1,1,1 --system " + full);
+    REQUIRE(run.status == 2);
+}

@@ -1,0 +1,217 @@
+// consistency_test.cpp -- consistency fuzzing of black-box impact maps (SPEC section 8): the exact
+// checks and their tolerance on hand-made data, then whole runs against drivers that are
+// consistent (the exact sort law, impactcert's own float laws) and drivers that break one
+// property each, and against real engines (Box2D where installed, a Python sequential-impulse
+// solver everywhere) that gain energy at e = 1 and not at e = 1/2. Every worst case is re-checked
+// from the JSON by a second route (the input and output as exact rationals) and replayed.
+#include "consistency.hpp"
+#include "json.hpp"
+#include "support.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <string>
+
+using namespace impactcert;
+using impactcert::test::q;
+using impactcert::test::run_cli;
+using impactcert::test::source_path;
+
+namespace {
+
+const Mechanics& three_balls() {
+    static const Mechanics m = make_mechanics(chain_system({q("1"), q("1"), q("1")}, Walls::none));
+    return m;
+}
+
+bool has(const std::vector<fuzz::Finding>& fs, fuzz::Property p) {
+    return std::any_of(fs.begin(), fs.end(), [&](const fuzz::Finding& f) { return f.property == p; });
+}
+
+std::string driver(const std::string& mode) {
+    return "--impl-cmd \"python3 '" + source_path("tests/impls/cradle_controls.py") + "' " + mode + "\"";
+}
+
+Json run_json(const std::string& args, int expected_status) {
+    const auto run = run_cli(args + " --json");
+    INFO(args << "\n" << run.err << run.out);
+    REQUIRE(run.status == expected_status);
+    return Json::parse(run.out);
+}
+
+Vector exact_vector(const Json& hexes) {
+    Vector v;
+    for (const auto& h : hexes) {
+        std::string why;
+        auto x = parse_cli_number(h.get<std::string>(), &why);
+        REQUIRE(x);
+        v.push_back(*x);
+    }
+    return v;
+}
+
+// The worst energy gain of a run, recomputed from its hex input and output: T+ > T-.
+void require_energy_gain_recomputed(const Json& j) {
+    const Json& w = j["worst"]["energy"];
+    const Vector u = exact_vector(w["input"]), up = exact_vector(w["output"]);
+    const Mechanics& m = three_balls();
+    REQUIRE(m.energy2(up) > m.energy2(u));
+    // Replaying it shows the same gain, exactly (exit 1: a violation).
+    std::string replay = w["replay"].get<std::string>();
+    REQUIRE(replay.rfind("impactcert ", 0) == 0);
+    const auto run = run_cli(replay.substr(std::string("impactcert ").size()));
+    INFO(replay << "\n" << run.out << run.err);
+    REQUIRE(run.status == 1);
+    REQUIRE(run.out.find("energy gain") != std::string::npos);
+}
+
+} // namespace
+
+TEST_CASE("consistency checks: exact findings on hand-made outputs, nothing within the tolerance", "[consistency]") {
+    const Mechanics& m = three_balls();
+    const fuzz::ConsistencyChecker exact(m, true, 0);
+    // The engines' answer at (0, 1, -1): (-2/3, -2/3, 4/3) gains a third of the energy.
+    const double x[3] = {0, 1, -1};
+    const double y[3] = {-2.0 / 3, -2.0 / 3, 4.0 / 3};
+    auto fs = exact.check(x, y);
+    REQUIRE(has(fs, fuzz::Property::energy));
+    REQUIRE(!has(fs, fuzz::Property::kinematic));
+    REQUIRE(!has(fs, fuzz::Property::kinetic));
+    // The doubles of -2/3 and 4/3 keep the total momentum exactly (4/3 rounds to twice 2/3's
+    // rounding): no momentum finding, even at R = 0.
+    REQUIRE(!has(fs, fuzz::Property::momentum));
+    const fuzz::ConsistencyChecker loose(m, true, 1e-15);
+    fs = loose.check(x, y);
+    REQUIRE(has(fs, fuzz::Property::energy));
+    const auto energy = *std::find_if(fs.begin(), fs.end(), [](const fuzz::Finding& f) { return f.property == fuzz::Property::energy; });
+    REQUIRE(energy.detail.find("T- = 1,") != std::string::npos);
+    REQUIRE(energy.score == Approx(1.0 / 3).epsilon(1e-12));
+    // The exact law: (1, 0, 0) -> (0, 0, 1); consistent at R = 0.
+    const double a[3] = {1, 0, 0}, sorted[3] = {0, 0, 1};
+    REQUIRE(exact.check(a, sorted).empty());
+    // Within R of it, nothing; ten times R beyond, energy and momentum (the README's lemma).
+    const double R = 1e-6;
+    const fuzz::ConsistencyChecker tol(m, true, R);
+    const double near_out[3] = {0, 0, 1 + 0.5 * R}, far_out[3] = {0, 0, 1 + 10 * R};
+    REQUIRE(tol.check(a, near_out).empty());
+    fs = tol.check(a, far_out);
+    REQUIRE(has(fs, fuzz::Property::energy));
+    REQUIRE(has(fs, fuzz::Property::momentum));
+    // Stuck: approaching balls pass through; pull: the impulses reversed.
+    const double stuck_in[3] = {0, 1, -1};
+    REQUIRE(has(exact.check(stuck_in, stuck_in), fuzz::Property::kinematic));
+    const double pulled[3] = {1, 2, -3};
+    fs = exact.check(stuck_in, pulled);
+    REQUIRE(has(fs, fuzz::Property::kinetic));
+    // A non-finite output is its own finding.
+    const double nan_out[3] = {0, std::nan(""), 1};
+    fs = exact.check(a, nan_out);
+    REQUIRE(fs.size() == 1);
+    REQUIRE(fs[0].property == fuzz::Property::non_finite);
+    // Pairs: a jump between close inputs is a continuity and a non-expansivity violation; equal
+    // outputs are neither; an output difference equal to the input difference is not an expansion.
+    const double b[3] = {1, 1e-9, 0};
+    const double jump_b[3] = {-1, 0, 2};
+    fs = exact.check_pair(a, sorted, b, jump_b, true, true);
+    REQUIRE(has(fs, fuzz::Property::continuity));
+    REQUIRE(has(fs, fuzz::Property::nonexpansive));
+    REQUIRE(exact.check_pair(a, sorted, b, sorted, true, true).empty());
+    const double shifted[3] = {0, 1e-9, 1};
+    REQUIRE(exact.check_pair(a, sorted, b, shifted, true, true).empty());
+}
+
+TEST_CASE("consistency fuzzing: a consistent map passes, each broken property is found", "[consistency][cli]") {
+    const std::string base = "fuzz --masses 1,1,1 --velocities --samples 3000 --jobs 2 ";
+    Json j = run_json(base + driver("sort") + " --max-rel-error 0 --require nonexpansive,continuity", 0);
+    REQUIRE(j["mode"] == "consistency");
+    REQUIRE(j["samples"].get<int>() == 3000);
+    REQUIRE(j["pairs"].get<int>() == 3000);
+    for (const auto& [id, count] : j["violations"].items())
+        REQUIRE(count.get<int>() == 0);
+    struct Broken {
+        const char* mode;
+        const char* property;
+        std::vector<const char*> clean;
+    };
+    for (const Broken& x : {Broken{"damped", "momentum", {"kinematic", "energy"}},
+                            Broken{"stuck", "kinematic", {"momentum", "energy"}},
+                            Broken{"pull", "kinetic", {"momentum"}}}) {
+        INFO(x.mode);
+        j = run_json(base + driver(x.mode) + " --max-rel-error 1e-9", 1);
+        REQUIRE(j["violations"][x.property].get<int>() > 0);
+        for (const char* clean : x.clean)
+            REQUIRE(j["violations"][clean].get<int>() == 0);
+        REQUIRE(j["worst"].contains(x.property));
+        REQUIRE(!j["examples"].empty());
+    }
+    // The same run twice, with one job and with two: the same counts and worst cases.
+    const std::string plain = "fuzz --masses 1,1,1 --velocities --samples 3000 ";
+    const Json one = run_json(plain + driver("damped") + " --jobs 1 --seed 5", 1);
+    const Json two = run_json(plain + driver("damped") + " --jobs 2 --seed 5", 1);
+    REQUIRE(one["violations"] == two["violations"]);
+    REQUIRE(one["worst"] == two["worst"]);
+}
+
+TEST_CASE("consistency fuzzing of impactcert's own float laws", "[consistency][cli]") {
+    const std::string dir = "/tmp/impactcert-consistency-test";
+    std::filesystem::create_directories(dir);
+    // The sequential law of three equal elastic balls (S = sort): consistent, non-expansive, continuous.
+    REQUIRE(run_cli("derive sequential --masses 1,1,1 -o " + dir + "/seq.json").status == 0);
+    Json j = run_json("fuzz --masses 1,1,1 --float-law " + dir + "/seq.json --samples 20000 --require nonexpansive,continuity", 0);
+    REQUIRE(j["violations"]["energy"].get<int>() == 0);
+    // The engines' law derived exactly gains energy; its float implementation shows it.
+    REQUIRE(run_cli("derive newton --restitution-on approaching --masses 1,1,1 -o " + dir + "/na.json").status == 0);
+    j = run_json("fuzz --masses 1,1,1 --float-law " + dir + "/na.json --samples 20000", 1);
+    REQUIRE(j["violations"]["energy"].get<int>() > 0);
+    REQUIRE(j["violations"]["kinematic"].get<int>() == 0);
+    REQUIRE(j["violations"]["kinetic"].get<int>() == 0);
+    // ... and the classical Newton law is not kinematic.
+    REQUIRE(run_cli("derive newton --masses 1,1,1 -o " + dir + "/n.json").status == 0);
+    j = run_json("fuzz --masses 1,1,1 --float-law " + dir + "/n.json --samples 20000", 1);
+    REQUIRE(j["violations"]["kinematic"].get<int>() > 0);
+    REQUIRE(j["violations"]["energy"].get<int>() == 0);
+}
+
+TEST_CASE("a sequential-impulse engine gains energy at e = 1 and not at e = 1/2", "[consistency][cli][engine]") {
+    std::vector<std::string> engines = {"python3 '" + source_path("examples/engines/newton_cradle.py") + "'"};
+#ifdef IMPACTCERT_BOX2D_DRIVER
+    engines.push_back(std::string("'") + IMPACTCERT_BOX2D_DRIVER + "'");
+#endif
+    for (const auto& engine : engines) {
+        INFO(engine);
+        // Box2D works in float: its rounding (about 1e-7 relative) is inside the tolerance;
+        // its speed clamp (120 m/s at 60 Hz) is outside the range.
+        const std::string base = "fuzz --masses 1,1,1 --velocities --samples 2000 --max-rel-error 1e-5 --range 1e-3..60 ";
+        Json j = run_json(base + "--impl-cmd \"" + engine + "\"", 1);
+        REQUIRE(j["violations"]["energy"].get<int>() > 0);
+        REQUIRE(j["violations"]["kinematic"].get<int>() == 0);
+        REQUIRE(j["violations"]["kinetic"].get<int>() == 0);
+        REQUIRE(j["violations"]["momentum"].get<int>() == 0);
+        // The worst gain is the engines' third: T from 1 to 4/3 at (0, 1, -1) and its multiples.
+        const double gain = std::stod(j["worst"]["energy"]["detail"].get<std::string>().substr(1));
+        REQUIRE(gain == Approx(33.3).margin(0.1));
+        require_energy_gain_recomputed(j);
+        j = run_json(base + "--impl-cmd \"" + engine + " --restitution 0.5\" --require nonexpansive", 0);
+        REQUIRE(j["violations"]["energy"].get<int>() == 0);
+    }
+}
+
+TEST_CASE("consistency fuzzing: bad input is one line and exit 2", "[consistency][cli]") {
+    const std::string sort = driver("sort");
+    for (const std::string& args : std::vector<std::string>{
+          "fuzz --masses 1,1,1 --velocities " + sort + " --range 0..1", "fuzz --masses 1,1,1 --velocities " + sort + " --range 5..1",
+          "fuzz --masses 1,1,1 --velocities " + sort + " --range 1..nan", "fuzz --masses 1,1,1 --velocities " + sort + " --require frobnicate",
+          "fuzz --masses 1,1,1 --velocities " + sort + " --max-ulps 3", "fuzz --masses 1,1,1 --velocities",
+          "fuzz --masses 1,1,1 --law " + source_path("proofs/newton3/law.json") + " " + sort,
+          "fuzz --masses 1,0,1 --velocities " + sort, "fuzz --range 1..2", "fuzz --masses 1,1,1 --walls up " + sort,
+          "fuzz --masses 1,1,1 --velocities --float-law " + source_path("proofs/newton3/law.json")}) {
+        const auto run = run_cli(args);
+        INFO(args << " -> " << run.err);
+        REQUIRE(run.status == 2);
+        REQUIRE(std::count(run.err.begin(), run.err.end(), '\n') == 1);
+    }
+}

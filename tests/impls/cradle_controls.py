@@ -1,0 +1,37 @@
+#!/usr/bin/env python3
+"""Impact maps of a 3-ball cradle (equal masses, ball velocities) for the consistency fuzzer's tests.
+
+Protocol of `impactcert fuzz --impl-cmd`: one line of doubles in (hex or decimal), one line out.
+Modes:
+  sort    u+ = sorted(u-): the exact elastic law of equal masses (sorting doubles is exact)
+  damped  u+ = 0.9 sorted(u-): momentum is lost (a change outside the range of M^-1 W)
+  stuck   u+ = u-: approaching balls pass through each other (negative contact velocity)
+  pull    u+ = 2 u- - sorted(u-): the impulses reversed (contacts pull)
+"""
+import sys
+
+
+def parse(token):
+    return float.fromhex(token) if "0x" in token.lower() else float(token)
+
+
+def main():
+    mode = sys.argv[1]
+    for line in sys.stdin:
+        u = [parse(t) for t in line.split()]
+        s = sorted(u)
+        if mode == "sort":
+            out = s
+        elif mode == "damped":
+            out = [0.9 * x for x in s]
+        elif mode == "stuck":
+            out = u
+        elif mode == "pull":
+            out = [2 * a - b for a, b in zip(u, s)]
+        else:
+            sys.exit("unknown mode " + mode)
+        sys.stdout.write(" ".join("%.17g" % x for x in out) + "\n")
+        sys.stdout.flush()
+
+
+main()
