@@ -4,8 +4,10 @@
 //     fuzzer (generators, implementation, exact reference, checks: fuzz::run with one job) and
 //     of a naive cross-check of the same samples and implementation (every point converted to
 //     GMP rationals, classified and evaluated exactly, rounded to nearest, compared in ulps);
-//   - the --impl-cmd protocol with the cheapest program (tests/impls/echo_impl.cpp), all cores.
+//   - the --impl-cmd protocol with the cheapest program (tests/impls/echo_impl.cpp), all cores;
+//   - consistency fuzzing (no law, 3 balls in ball velocities) through the same program.
 // Usage: impactcert_fuzz_bench SOURCE_DIR NEWTON4_IMPLS.so ECHO_PROGRAM
+#include "consistency.hpp"
 #include "fuzz.hpp"
 #include "law_json.hpp"
 #include "paper_law.hpp"
@@ -101,5 +103,22 @@ int main(int argc, char** argv) {
     std::printf("%-28s %8.3f M samples/s with %u jobs (%llu samples in %.2f s; goal >= 1 M/s)\n",
                 "--impl-cmd echo (newton4)", static_cast<double>(sum.samples) / t / 1e6, cores,
                 static_cast<unsigned long long>(sum.samples), t);
+    // Consistency fuzzing (no law) through the same program: sampling, the protocol and the exact
+    // checks of every answer (the echo answer u+ = u- breaks kinematic on every sample, so the
+    // report path is exercised too). Baseline: the line above, the protocol alone.
+    const Mechanics three = make_mechanics(chain_system({Rational(1), Rational(1), Rational(1)}, Walls::none));
+    fuzz::ConsistencyOptions c;
+    c.seed = 7;
+    c.samples = 200000;
+    c.jobs = cores;
+    c.keep = 1;
+    c.velocities = true;
+    const auto cstart = std::chrono::steady_clock::now();
+    const auto csum = fuzz::run_consistency(three, c, *echo, nullptr);
+    const double ct = seconds_since(cstart);
+    std::printf("%-28s %8.3f M samples/s with %u jobs (%llu samples in %.2f s, %llu kinematic findings; baseline: the line above)\n",
+                "consistency --impl-cmd echo", static_cast<double>(csum.samples) / ct / 1e6, cores,
+                static_cast<unsigned long long>(csum.samples), ct,
+                static_cast<unsigned long long>(csum.properties[static_cast<std::size_t>(fuzz::Property::kinematic)].count));
     return 0;
 }
