@@ -121,6 +121,13 @@ Rational sqrt_up(const Rational& x) {
 
 double approx(const Rational& x) { return mpq_get_d(x.mpq()); }
 
+// a / b as a double for ordering and display; b = 0 (an input at rest, in a replay) is infinite.
+double ratio(const Rational& a, const Rational& b) {
+    if (sign_of(b) == Sign::zero)
+        return sign_of(a) == Sign::zero ? 0.0 : INFINITY;
+    return approx(a / b);
+}
+
 // Short text of an exact value: the rational when short, else a decimal approximation marked ~.
 std::string exact_text(const Rational& x) {
     std::string s = to_string(x);
@@ -188,36 +195,36 @@ std::vector<Finding> ConsistencyChecker::check(const double* xd, const double* y
     // kinematic: the worst contact
     {
         std::optional<std::size_t> worst;
-        Rational worst_score;
+        double worst_score = 0;
         for (std::size_t k = 0; k < c; ++k) {
             if (sign_of(gp[k]) != Sign::negative)
                 continue;
-            const Rational score = gp[k] * gp[k] / (m_.G(k, k) * s2);
+            const double score = ratio(gp[k] * gp[k], m_.G(k, k) * s2);
             if (gp[k] * gp[k] > tol2 * m_.G(k, k) && (!worst || score > worst_score)) {
                 worst = k;
                 worst_score = score;
             }
         }
         if (worst)
-            finding(Property::kinematic, std::sqrt(approx(worst_score)),
+            finding(Property::kinematic, std::sqrt(worst_score),
                     "gamma+_" + std::to_string(*worst + 1) + " = " + exact_text(gp[*worst]) + " < 0 (gamma-_" +
                         std::to_string(*worst + 1) + " = " + exact_text(gm[*worst]) + ")");
     }
     // kinetic
     {
         std::optional<std::size_t> worst;
-        Rational worst_score;
+        double worst_score = 0;
         for (std::size_t k = 0; k < c; ++k) {
             if (sign_of(lambda[k]) != Sign::negative)
                 continue;
-            const Rational score = lambda[k] * lambda[k] / (m_.H(k, k) * s2);
+            const double score = ratio(lambda[k] * lambda[k], m_.H(k, k) * s2);
             if (lambda[k] * lambda[k] > tol2 * m_.H(k, k) && (!worst || score > worst_score)) {
                 worst = k;
                 worst_score = score;
             }
         }
         if (worst)
-            finding(Property::kinetic, std::sqrt(approx(worst_score)),
+            finding(Property::kinetic, std::sqrt(worst_score),
                     "Lambda_" + std::to_string(*worst + 1) + " = " + exact_text(lambda[*worst]) +
                         " < 0: the contact pulls (Lambda = H (gamma+ - gamma-))");
     }
@@ -236,7 +243,7 @@ std::vector<Finding> ConsistencyChecker::check(const double* xd, const double* y
                 }
                 detail += "; total momentum p- = " + exact_text(pm) + ", p+ = " + exact_text(pp);
             }
-            finding(Property::momentum, std::sqrt(approx(r2 / s2)), detail);
+            finding(Property::momentum, std::sqrt(ratio(r2, s2)), detail);
         }
     }
     // energy
@@ -246,8 +253,8 @@ std::vector<Finding> ConsistencyChecker::check(const double* xd, const double* y
         if (t2 > one_r * one_r * s2) {
             const Rational half(1, 2);
             const std::string what = velocities_ ? "T" : "T (contact part)";
-            finding(Property::energy, approx((t2 - s2) / s2),
-                    percent(approx((t2 - s2) / s2)) + ": " + what + "- = " + exact_text(half * s2) + ", " + what +
+            finding(Property::energy, ratio(t2 - s2, s2),
+                    percent(ratio(t2 - s2, s2)) + ": " + what + "- = " + exact_text(half * s2) + ", " + what +
                         "+ = " + exact_text(half * t2));
         }
     }
@@ -283,7 +290,7 @@ std::vector<Finding> ConsistencyChecker::check_pair(const double* ad, const doub
     auto make = [&](Property p, const std::string& bound) {
         Finding f;
         f.property = p;
-        f.score = sign_of(B) == Sign::zero ? INFINITY : std::sqrt(approx(A / B));
+        f.score = std::sqrt(ratio(A, B));
         char ratio[48];
         std::snprintf(ratio, sizeof ratio, "%.6g", f.score);
         f.detail = "|S(a) - S(b)|^2 = " + exact_text(A) + " > (" + bound + ")^2, |a - b|^2 = " + exact_text(B) +

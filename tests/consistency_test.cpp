@@ -107,6 +107,14 @@ TEST_CASE("consistency checks: exact findings on hand-made outputs, nothing with
     const double pulled[3] = {1, 2, -3};
     fs = exact.check(stuck_in, pulled);
     REQUIRE(has(fs, fuzz::Property::kinetic));
+    // An input at rest (only in replays: samples always approach) scales nothing: an output that
+    // moves gains energy, with an infinite relative score, and no division by zero.
+    const double rest[3] = {0, 0, 0}, moved[3] = {1, 0, 0};
+    fs = exact.check(rest, moved);
+    REQUIRE(has(fs, fuzz::Property::energy));
+    REQUIRE(std::isinf(fs.back().score));
+    REQUIRE(exact.check(rest, rest).empty());
+    REQUIRE(exact.check_pair(rest, rest, rest, moved, true, true).size() == 2);
     // A non-finite output is its own finding.
     const double nan_out[3] = {0, std::nan(""), 1};
     fs = exact.check(a, nan_out);
