@@ -17,6 +17,7 @@
 #include <cerrno>
 #include <chrono>
 #include <cmath>
+#include <functional>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -172,6 +173,14 @@ int main(int argc, char** argv) {
     SweepArgs sweep_args;
     sweep_args.jobs = std::max(1u, std::thread::hardware_concurrency());
 
+    // A short message for a number that must be positive (CLI11's own names the largest double).
+    const std::function<std::string(const std::string&)> positive = [](const std::string& text) -> std::string {
+        char* end = nullptr;
+        const double d = std::strtod(text.c_str(), &end);
+        if (text.empty() || *end != '\0' || !(d > 0) || !std::isfinite(d))
+            return "must be a finite number > 0, got " + text;
+        return {};
+    };
     auto* verify_cmd = app.add_subcommand("verify", "decide every proof obligation; exit 0 when every claim is proved, 1 when one is refuted, 2 on bad input");
     verify_cmd->add_option("--law", law_path, "law file (impactcert-law/1); default: the paper's 3-ball law");
     verify_cmd->add_flag("--json", json, "print the impactcert-verdict/1 JSON instead of the table");
@@ -195,7 +204,7 @@ int main(int argc, char** argv) {
     eval_cmd->add_flag("--float", as_float, "evaluate the float law in double (inputs read with strtod; output in hex, %a)");
     eval_cmd->add_option("--impl", eval_float_args.impl_spec, "with --float: run LIB.so:SYMBOL and show its output against the correctly rounded exact value");
     eval_cmd->add_option("--impl-cmd", eval_float_args.impl_cmd, "with --float: the same for a command (see fuzz --impl-cmd)");
-    eval_cmd->add_option("--impl-timeout", eval_float_args.timeout, "seconds to wait for --impl-cmd's answer")->check(CLI::PositiveNumber);
+    eval_cmd->add_option("--impl-timeout", eval_float_args.timeout, "seconds to wait for --impl-cmd's answer")->check(positive, "> 0");
     eval_cmd->add_flag("--pieces", eval_float_args.pieces, "also name the piece(s) each point lies in (for derived laws: the word)");
     eval_cmd->add_option("--masses", eval_float_args.system.masses, "with --float and --impl/--impl-cmd, no --law: check the output's consistency with this chain");
     eval_cmd->add_option("--walls", eval_float_args.system.walls, "with --masses: fixed walls")->capture_default_str();
@@ -259,14 +268,14 @@ int main(int argc, char** argv) {
             throw CLI::ValidationError("--seed", text + ": " + why);
         fuzz_options.seed = *seed;
     }, "seed, a decimal integer in [0, 2^64 - 1] (a run is a pure function of seed and sample index)");
-    fuzz_cmd->add_option("--samples", fuzz_options.samples, "number of samples")->check(CLI::PositiveNumber);
+    fuzz_cmd->add_option("--samples", fuzz_options.samples, "number of samples")->check(positive, "> 0");
     fuzz_cmd->add_option("--seconds", fuzz_options.seconds, "stop after this many seconds")->check(CLI::NonNegativeNumber);
     fuzz_cmd->add_option("--jobs", fuzz_options.jobs, "threads")->check(CLI::Range(1u, 256u));
     fuzz_cmd->add_option("--law", fuzz_args.law_path, "law file (impactcert-law/1); default: the paper's 3-ball law");
     fuzz_cmd->add_flag("--velocities", fuzz_args.velocities, "the implementation maps ball velocities u- to u+ (n doubles) instead of contact velocities");
     fuzz_cmd->add_option("--impl", fuzz_args.impl_spec, "LIB.so:SYMBOL, a C function void f(const double* in, double* out)");
     fuzz_cmd->add_option("--impl-cmd", fuzz_args.impl_cmd, "a command (any language) reading lines of hex doubles on stdin and writing one line of doubles per line");
-    fuzz_cmd->add_option("--impl-timeout", fuzz_args.timeout, "seconds without an answer from --impl-cmd before a point counts as hung")->check(CLI::PositiveNumber)->capture_default_str();
+    fuzz_cmd->add_option("--impl-timeout", fuzz_args.timeout, "seconds without an answer from --impl-cmd before a point counts as hung")->check(positive, "> 0")->capture_default_str();
     fuzz_cmd->add_option_function<std::string>("--max-ulps", [&](const std::string& text) {
         std::string why;
         const auto k = fuzz::parse_seed(text, &why); // the same grammar: a decimal integer in [0, 2^64 - 1]
@@ -302,36 +311,42 @@ int main(int argc, char** argv) {
     }
     limits.integer_kernels = !no_integer_kernels;
     limits.jobs = verify_jobs;
+    // Every command's standard output is flushed and checked before the exit status is final: a
+    // lost write (a full disk, /dev/full, a closed pipe) is exit 2, never a silent success.
+    auto finished = [](int status) {
+        write_stdout("");
+        return status;
+    };
     try {
         if (verify_cmd->parsed())
-            return run_verify(law_path, json, junit_path, limits);
+            return finished(run_verify(law_path, json, junit_path, limits));
         if (certify_cmd->parsed())
-            return run_certify(law_path, out_path, limits);
+            return finished(run_certify(law_path, out_path, limits));
         if (report_cmd->parsed())
-            return run_report(law_path, out_path, limits);
+            return finished(run_report(law_path, out_path, limits));
         if (smt_cmd->parsed())
-            return run_smt(law_path, out_path);
+            return finished(run_smt(law_path, out_path));
         if (sequential_cmd->parsed())
-            return run_derive_sequential(derive_args);
+            return finished(run_derive_sequential(derive_args));
         if (newton_cmd->parsed())
-            return run_derive_classical(newton_args, false);
+            return finished(run_derive_classical(newton_args, false));
         if (poisson_cmd->parsed())
-            return run_derive_classical(poisson_args, true);
+            return finished(run_derive_classical(poisson_args, true));
         if (cradle_cmd->parsed())
-            return run_derive_cradle(cradle_args);
+            return finished(run_derive_cradle(cradle_args));
         if (sweep_cmd->parsed()) {
             limits.jobs = 1; // sweep's --jobs are worker processes: one thread each
             limits.evidence = false;
-            return run_sweep_command(sweep_args, limits);
+            return finished(run_sweep_command(sweep_args, limits));
         }
         if (fuzz_cmd->parsed()) {
             fuzz_args.impl_given = fuzz_cmd->count("--impl") > 0;
             fuzz_args.impl_cmd_given = fuzz_cmd->count("--impl-cmd") > 0;
-            return run_fuzz(fuzz_args);
+            return finished(run_fuzz(fuzz_args));
         }
         eval_float_args.impl_given = eval_cmd->count("--impl") > 0;
         eval_float_args.impl_cmd_given = eval_cmd->count("--impl-cmd") > 0;
-        return run_eval(law_path, velocities, eval_args, as_float, eval_float_args);
+        return finished(run_eval(law_path, velocities, eval_args, as_float, eval_float_args));
     } catch (const InputError& e) {
         std::cerr << "impactcert: " << e.what() << "\n";
         return kExitBadInput;

@@ -367,9 +367,14 @@ void consistency_sample(const Mechanics& m, const ConsistencyOptions& o, std::ui
 namespace {
 
 std::string replay_text(const std::string& prefix, const Finding& f) {
+    // The prefix ends with "--" (so that negative numbers are points): --pair goes before it.
     std::string s = prefix;
-    if (!f.input_b.empty())
-        s += " --pair";
+    if (!f.input_b.empty()) {
+        if (s.size() >= 3 && s.compare(s.size() - 3, 3, " --") == 0)
+            s.insert(s.size() - 3, " --pair");
+        else
+            s += " --pair";
+    }
     for (double x : f.input)
         s += " " + hex(x);
     for (double x : f.input_b)

@@ -91,12 +91,16 @@ Matrix diagonal(const Vector& d) {
     return D;
 }
 
-Mechanics validated(const ClassicalOptions& o) {
+Mechanics validated(const ClassicalOptions& o, bool poisson) {
     const Mechanics m = make_mechanics(o);
     const std::size_t c = m.contacts();
-    if (c > kMaxClassicalContacts)
-        throw InputError("derive: at most " + std::to_string(kMaxClassicalContacts) + " contacts for the classical laws (" +
-                         std::to_string(c) + " given): their regions are enumerated over pairs of active sets");
+    const std::size_t limit = poisson ? kMaxPoissonContacts
+                              : o.on == RestitutionOn::approaching ? kMaxApproachingContacts
+                                                                   : kMaxNewtonContacts;
+    const std::string kind = poisson ? "the Poisson law" : o.on == RestitutionOn::approaching ? "the Newton law with restitution on approaching contacts" : "the Newton law";
+    if (c > limit)
+        throw InputError("derive: at most " + std::to_string(limit) + " contacts for " + kind + " (" + std::to_string(c) +
+                         " given): its regions are enumerated over active sets, 2^c or 4^c of them");
     if (o.restitution.size() != c)
         throw InputError("--restitution: expected one value or " + std::to_string(c) + " (one per contact), got " +
                          std::to_string(o.restitution.size()));
@@ -132,7 +136,7 @@ void declare_single_impacts(Law& law, const Matrix& G, const std::vector<Rationa
 } // namespace
 
 Law derive_newton(const ClassicalOptions& o) {
-    const Mechanics mech = validated(o);
+    const Mechanics mech = validated(o, false);
     const std::size_t c = mech.contacts();
     const PplScope ppl;
     const Matrix I = Matrix::identity(c);
@@ -191,7 +195,7 @@ Law derive_newton(const ClassicalOptions& o) {
 }
 
 Law derive_poisson(const ClassicalOptions& o) {
-    const Mechanics mech = validated(o);
+    const Mechanics mech = validated(o, true);
     const std::size_t c = mech.contacts();
     const PplScope ppl;
     const Matrix I = Matrix::identity(c);

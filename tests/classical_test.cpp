@@ -253,6 +253,9 @@ TEST_CASE("systems: files, full mass matrices, and bad systems (exit 2, one line
     run = run_cli("derive newton --masses 1,1,1,1,1,1,1,1,1,1");
     REQUIRE(run.status == 2);
     REQUIRE(run.err.find("at most 8 contacts") != std::string::npos);
+    run = run_cli("derive poisson --masses 1,1,1,1,1,1,1"); // c = 6: tens of thousands of cells
+    REQUIRE(run.status == 2);
+    REQUIRE(run.err.find("at most 5 contacts for the Poisson law") != std::string::npos);
     run = run_cli("derive newton --masses 1,1,1 --system " + full);
     REQUIRE(run.status == 2);
 }

@@ -177,6 +177,17 @@ TEST_CASE("consistency fuzzing of impactcert's own float laws", "[consistency][c
     REQUIRE(j["violations"]["energy"].get<int>() > 0);
     REQUIRE(j["violations"]["kinematic"].get<int>() == 0);
     REQUIRE(j["violations"]["kinetic"].get<int>() == 0);
+    // A discontinuous law (masses 1, 2, 3, e = 1/2): its float law jumps; the pair's replay
+    // reproduces the expansion exactly.
+    REQUIRE(run_cli("derive sequential --masses 1,2,3 --restitution 1/2 -o " + dir + "/jump.json").status == 0);
+    j = run_json("fuzz --masses 1,2,3 --float-law " + dir + "/jump.json --samples 5000 --require nonexpansive,continuity", 1);
+    REQUIRE(j["violations"]["nonexpansive"].get<int>() > 0);
+    const std::string pair_replay = j["worst"]["nonexpansive"]["replay"].get<std::string>();
+    REQUIRE(pair_replay.find(" --pair --max-rel-error") == std::string::npos);
+    const auto replayed = run_cli(pair_replay.substr(std::string("impactcert ").size()));
+    INFO(pair_replay << "\n" << replayed.out << replayed.err);
+    REQUIRE(replayed.status == 1);
+    REQUIRE(replayed.out.find("pair: expansion of a pair") != std::string::npos);
     // ... and the classical Newton law is not kinematic.
     REQUIRE(run_cli("derive newton --masses 1,1,1 -o " + dir + "/n.json").status == 0);
     j = run_json("fuzz --masses 1,1,1 --float-law " + dir + "/n.json --samples 20000", 1);
@@ -216,10 +227,27 @@ TEST_CASE("consistency fuzzing: bad input is one line and exit 2", "[consistency
           "fuzz --masses 1,1,1 --velocities " + sort + " --max-ulps 3", "fuzz --masses 1,1,1 --velocities",
           "fuzz --masses 1,1,1 --law " + source_path("proofs/newton3/law.json") + " " + sort,
           "fuzz --masses 1,0,1 --velocities " + sort, "fuzz --range 1..2", "fuzz --masses 1,1,1 --walls up " + sort,
-          "fuzz --masses 1,1,1 --velocities --float-law " + source_path("proofs/newton3/law.json")}) {
+          "fuzz --masses 1,1,1 --velocities --float-law " + source_path("proofs/newton3/law.json"),
+          "fuzz --masses 1,1,1 --velocities " + sort + " --samples 0", "eval --float --pieces 1 1",
+          "eval --masses 1,1,1 --pair 0 0 0 0 0 0"}) {
         const auto run = run_cli(args);
         INFO(args << " -> " << run.err);
         REQUIRE(run.status == 2);
         REQUIRE(std::count(run.err.begin(), run.err.end(), '\n') == 1);
+        REQUIRE(run.err.size() < 300);
+    }
+    // Nothing checked is undecided (exit 3), not a pass: a driver slower than --seconds.
+    const auto slow = run_cli("fuzz --masses 1,1,1 --velocities --impl-cmd \"python3 -c 'import time,sys; [time.sleep(0.5) or "
+                              "print(*sorted(map(float.fromhex, l.split())), flush=True) for l in sys.stdin]'\" --seconds 0.1 "
+                              "--samples 4 --jobs 1 --impl-timeout 0.05");
+    INFO(slow.out << slow.err);
+    REQUIRE(slow.status != 0);
+    // Lost output is an error, on every command that writes to standard output.
+    for (const std::string& cmd : {std::string("eval -1 -1"), std::string("eval --float -1 -1"), std::string("verify --json"),
+                                   "fuzz --masses 1,1,1 --velocities --samples 100 " + sort}) {
+        const auto full = run_cli(cmd + " >/dev/full");
+        INFO(cmd << " -> " << full.err);
+        REQUIRE(full.status == 2);
+        REQUIRE(full.err.find("cannot write") != std::string::npos);
     }
 }

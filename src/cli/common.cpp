@@ -11,6 +11,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
+#include <iostream>
 
 namespace impactcert::cli {
 
@@ -49,7 +50,8 @@ void write_file(const std::string& path, const std::string& text) {
 
 void write_stdout(const std::string& text) {
     std::fwrite(text.data(), 1, text.size(), stdout);
-    if (std::fflush(stdout) != 0 || std::ferror(stdout))
+    std::cout.flush(); // synchronised with stdio: its writes went to stdout's buffer
+    if (std::fflush(stdout) != 0 || std::ferror(stdout) || !std::cout)
         throw InputError(std::string("standard output: cannot write: ") + std::strerror(errno));
 }
 

@@ -184,6 +184,8 @@ int run_consistency_fuzz(const FuzzArgs& a) {
     const fuzz::ConsistencySummary sum = fuzz::run_consistency(s.mech, o, *s.impl, progress);
     if (tty)
         std::fprintf(stderr, "\r\033[K");
+    // Nothing checked is not a pass: a gate must not go green on an empty run.
+    const bool nothing = sum.samples == 0;
     bool checked[fuzz::kProperties] = {};
     for (auto p : {fuzz::Property::kinematic, fuzz::Property::kinetic, fuzz::Property::energy, fuzz::Property::non_finite})
         checked[static_cast<std::size_t>(p)] = true;
@@ -232,9 +234,9 @@ int run_consistency_fuzz(const FuzzArgs& a) {
         for (const auto& f : sum.examples)
             examples.push_back(finding_json(f));
         j["examples"] = examples;
-        j["verdict"] = sum.violations() ? "violations" : "no violation";
+        j["verdict"] = sum.violations() ? "violations" : nothing ? "undecided" : "no violation";
         write_stdout(j.dump(2) + "\n");
-        return sum.violations() ? kExitRefuted : kExitProved;
+        return sum.violations() ? kExitRefuted : nothing ? kExitUndecided : kExitProved;
     }
     std::string out;
     auto line = [&](const std::string& text) { out += text + "\n"; };
@@ -273,7 +275,9 @@ int run_consistency_fuzz(const FuzzArgs& a) {
                   static_cast<unsigned long long>(sum.crashed), static_cast<unsigned long long>(sum.hung),
                   static_cast<unsigned long long>(sum.malformed), static_cast<unsigned long long>(sum.refused));
     line(buf);
-    std::string verdict = sum.violations() ? "violations found" : "no violation";
+    std::string verdict = sum.violations() ? "violations found"
+                          : nothing ? "undecided: no sample was checked (--seconds ran out first; raise --seconds)"
+                                    : "no violation";
     if (!found.empty()) {
         verdict += " (";
         for (std::size_t i = 0; i < found.size(); ++i)
@@ -282,7 +286,7 @@ int run_consistency_fuzz(const FuzzArgs& a) {
     }
     line("verdict: " + verdict);
     write_stdout(out);
-    return sum.violations() ? kExitRefuted : kExitProved;
+    return sum.violations() ? kExitRefuted : nothing ? kExitUndecided : kExitProved;
 }
 
 int run_consistency_eval(const FuzzArgs& a, const std::vector<std::vector<std::string>>& points) {

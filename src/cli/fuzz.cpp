@@ -295,7 +295,7 @@ int run_fuzz(FuzzArgs a) {
             examples.push_back(e);
         }
         j["examples"] = examples;
-        j["verdict"] = sum.violations() ? "violations" : "no violation";
+        j["verdict"] = sum.violations() ? "violations" : sum.samples == 0 ? "undecided" : "no violation";
         std::cout << j.dump(2) << "\n";
     } else {
         auto u = [](std::uint64_t x) { return static_cast<unsigned long long>(x); };
@@ -336,16 +336,23 @@ int run_fuzz(FuzzArgs a) {
                         u(v.index), v.kind.c_str(), v.what.c_str(), in.c_str(), out.empty() ? " (none)" : out.c_str(),
                         ex.empty() ? " (none)" : ex.c_str(), v.replay.c_str());
         }
-        std::printf("verdict: %s\n", sum.violations() ? "violations found" : "no violation");
+        std::printf("verdict: %s\n", sum.violations() ? "violations found"
+                                      : sum.samples == 0 ? "undecided: no sample was checked (--seconds ran out first; raise --seconds)"
+                                                         : "no violation");
     }
     write_stdout("");
-    return sum.violations() ? kExitRefuted : kExitProved;
+    // Nothing checked is not a pass: a gate must not go green on an empty run.
+    return sum.violations() ? kExitRefuted : sum.samples == 0 ? kExitUndecided : kExitProved;
 }
 
 int run_eval(const std::string& law_path, bool velocities, const std::vector<std::string>& args, bool as_float,
              FuzzArgs float_args) {
     if ((float_args.impl_given || float_args.impl_cmd_given) && !as_float)
         throw InputError("--impl and --impl-cmd need --float");
+    if (float_args.pieces && as_float)
+        throw InputError("--pieces: exact evaluation only (--float already names the piece with --law)");
+    if ((float_args.system.given() || float_args.pair || !float_args.float_law.empty()) && !as_float)
+        throw InputError("--masses, --system, --pair and --float-law: consistency replays need --float");
     if (as_float) {
         float_args.law_path = law_path;
         float_args.velocities = velocities;
