@@ -1,6 +1,7 @@
 #include "consistency.hpp"
 
 #include "errors.hpp"
+#include "exact_double.hpp"
 
 #include <gmp.h>
 
@@ -50,13 +51,7 @@ std::uint64_t ConsistencySummary::violations() const {
     return v;
 }
 
-std::optional<Rational> exact_of(double x) {
-    if (!std::isfinite(x))
-        return std::nullopt;
-    Rational r;
-    mpq_set_d(r.mpq(), x); // exact: a finite double is a dyadic rational
-    return r;
-}
+std::optional<Rational> exact_of(double x) { return exact_of_double(x); }
 
 std::pair<double, double> parse_range(const std::string& text) {
     const auto dots = text.find("..");

@@ -1,5 +1,7 @@
 #include "float_eval.hpp"
 
+#include "exact_double.hpp"
+
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -76,7 +78,7 @@ double upper_double(const Rational& q) {
         return d;
     if (d == -INFINITY)
         return -std::numeric_limits<double>::max(); // q < -(2^1024 - 2^970)
-    return Rational(d) < q ? std::nextafter(d, INFINITY) : d;
+    return exact_double(d, "float law") < q ? std::nextafter(d, INFINITY) : d;
 }
 
 FloatLaw::FloatLaw(const Model& model) : model_(model), c_(model.contacts()) {
@@ -84,7 +86,7 @@ FloatLaw::FloatLaw(const Model& model) : model_(model), c_(model.contacts()) {
     auto convert = [](const Rational& x, std::vector<double>& to, std::vector<double>& err) {
         const double d = nearest_double(x);
         to.push_back(d);
-        err.push_back(std::isfinite(d) ? upper_double(abs_of(Rational(d) - x)) : INFINITY);
+        err.push_back(std::isfinite(d) ? upper_double(abs_of(exact_double(d, "float law") - x)) : INFINITY);
     };
     for (const auto& p : model.pieces()) {
         std::vector<double> r, r_err, q, q_err;
@@ -184,7 +186,7 @@ FloatLaw::Result FloatLaw::eval(const std::vector<double>& gamma) const {
                 r.bound.clear();
                 return r;
             }
-            y.bound = upper_double(abs_of(Rational(y.value) - v));
+            y.bound = upper_double(abs_of(exact_double(y.value, "float law") - v));
             r.exact_output = true;
         }
         r.value.push_back(y.value);

@@ -1,5 +1,7 @@
 #include "fuzz.hpp"
 
+#include "exact_double.hpp"
+
 #include "eft.hpp"
 #include "float_eval.hpp"
 #include "paper_law.hpp"
@@ -219,13 +221,20 @@ void Generator::make(std::uint64_t seed, std::uint64_t index, Sample& s) const {
                 s.b[j] = s.a[j] + step;
             }
         }
+    }
+    // Every input is finite, whatever the geometry (rays scaled by up to 2^950 overflow, and
+    // inf - inf is NaN): an overflowed component is clamped to the largest double, a NaN is 0,
+    // and the partner of a pair falls back on the (now finite) point. No non-finite double may
+    // reach the exact reference (exact_double.hpp).
+    for (std::size_t j = 0; j < m; ++j)
+        if (std::isnan(s.a[j]))
+            s.a[j] = 0;
+        else if (std::isinf(s.a[j]))
+            s.a[j] = std::copysign(std::numeric_limits<double>::max(), s.a[j]);
+    if (s.pair)
         for (std::size_t j = 0; j < m; ++j)
             if (!std::isfinite(s.b[j]))
                 s.b[j] = s.a[j];
-    }
-    for (std::size_t j = 0; j < m; ++j)
-        if (!std::isfinite(s.a[j]))
-            s.a[j] = std::copysign(std::numeric_limits<double>::max(), s.a[j]);
 }
 
 Sample make_paper_sample(std::uint64_t seed, std::uint64_t index) {
@@ -492,11 +501,11 @@ struct Worker {
         const Vector value = ref.exact_value(x, piece);
         Vector e, xr, a;
         for (std::size_t i = 0; i < mo; ++i) {
-            e.push_back(Rational(y[i]) - value[i]);
-            a.push_back(Rational(static_cast<double>(m) * 0x1p-1074));
+            e.push_back(exact_double(y[i], "fuzz") - value[i]);
+            a.push_back(exact_double(static_cast<double>(m) * 0x1p-1074, "fuzz"));
         }
         for (std::size_t j = 0; j < m; ++j)
-            xr.push_back(Rational(x[j]));
+            xr.push_back(exact_double(x[j], "fuzz"));
         Matrix habs_exact = metric.exact;
         for (std::size_t i = 0; i < mo; ++i)
             for (std::size_t j = 0; j < mo; ++j)
@@ -536,10 +545,10 @@ struct Worker {
                 continue;
             }
             const Vector value = ref.exact_value(x, piece);
-            Rational err = Rational(y[i]) - value[i];
+            Rational err = exact_double(y[i], "fuzz") - value[i];
             if (sign_of(err) == Sign::negative)
                 err = -err;
-            ok = err <= Rational(b[i]);
+            ok = err <= exact_double(b[i], "fuzz");
         }
         return ok;
     }
@@ -656,7 +665,7 @@ struct Worker {
                 for (std::size_t c = 0; c < W.cols() && !negative; ++c) {
                     Rational g = 0;
                     for (std::size_t i = 0; i < mo; ++i)
-                        g += W(i, c) * Rational(y[i]);
+                        g += W(i, c) * exact_double(y[i], "fuzz");
                     negative = sign_of(g) == Sign::negative;
                 }
             } else {

@@ -1,5 +1,7 @@
 #include "fuzz_reference.hpp"
 
+#include "exact_double.hpp"
+
 #include "float_eval.hpp" // nearest_double
 
 #include <gmp.h>
@@ -350,7 +352,7 @@ void LawReference::eval(const double* x, RefPoint& out, bool want_exact) const {
 bool LawReference::contains(std::size_t piece, const double* x) const {
     Vector xr;
     for (std::size_t j = 0; j < in_dim_; ++j)
-        xr.push_back(Rational(x[j]));
+        xr.push_back(exact_double(x[j], "fuzz reference"));
     const Vector s = facets_[piece] * xr;
     return std::all_of(s.begin(), s.end(), [](const Rational& t) { return sign_of(t) != Sign::negative; });
 }
@@ -358,7 +360,7 @@ bool LawReference::contains(std::size_t piece, const double* x) const {
 Vector LawReference::exact_value(const double* x, std::size_t piece) const {
     Vector xr;
     for (std::size_t j = 0; j < in_dim_; ++j)
-        xr.push_back(Rational(x[j]));
+        xr.push_back(exact_double(x[j], "fuzz reference"));
     return maps_[piece] * xr;
 }
 
@@ -390,7 +392,7 @@ void LawReference::eval_exact(const double* x, RefPoint& out) const {
     thread_local ExactScratch s;
     s.x.resize(in_dim_);
     for (std::size_t j = 0; j < in_dim_; ++j)
-        mpq_set_d(s.x[j].mpq(), x[j]); // exact: a finite double is a dyadic rational
+        set_exact(s.x[j].mpq(), x[j], "fuzz reference"); // exact: a finite double is a dyadic rational
     double y[kMaxDim];
     bool exact[kMaxDim];
     for (std::size_t p = 0; p < facets_.size(); ++p) {
@@ -405,7 +407,7 @@ void LawReference::eval_exact(const double* x, RefPoint& out) const {
         for (std::size_t i = 0; i < out_dim_; ++i) {
             exact_row(maps_[p], i, s);
             y[i] = nearest_double(s.acc);
-            exact[i] = std::isfinite(y[i]) && mpq_cmp(Rational(y[i]).mpq(), s.acc.mpq()) == 0;
+            exact[i] = std::isfinite(y[i]) && mpq_cmp(exact_double(y[i], "fuzz reference").mpq(), s.acc.mpq()) == 0;
         }
         keep_value(out, p, y, exact, out_dim_);
         if (continuous_)

@@ -1,0 +1,108 @@
+// reliability_test.cpp -- issue 18: no signal, no runaway, no lost write, on the inputs impactcert
+// itself produces. Each case is a reproduction of a defect found by review, named after it.
+#include "derive.hpp"
+#include "exact_double.hpp"
+#include "fuzz.hpp"
+#include "law_json.hpp"
+#include "obligations.hpp"
+#include "paper_law.hpp"
+#include "support.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+using namespace impactcert;
+using impactcert::test::q;
+using impactcert::test::run_cli;
+
+namespace {
+
+// The paper's law in the coordinates gamma' = D gamma, D = diag(d1, d2): W' = W D, Q' = D Q D^-1,
+// rays' = D rays. Every obligation still holds (H' = D^-1 H D^-1).
+Law scaled_paper(const Rational& d1, const Rational& d2) {
+    Law law = paper_law();
+    Matrix D(2, 2), Di(2, 2);
+    D(0, 0) = d1, D(1, 1) = d2;
+    Di(0, 0) = Rational(1) / d1, Di(1, 1) = Rational(1) / d2;
+    Matrix W(3, 2);
+    W(0, 0) = -1, W(1, 0) = 1, W(1, 1) = -1, W(2, 1) = 1;
+    law.W = W * D;
+    law.name = "paper-scaled";
+    for (auto& p : law.pieces) {
+        const Matrix Qi = *inverse(p.Q);
+        std::vector<Vector> rays;
+        for (std::size_t k = 0; k < 2; ++k)
+            rays.push_back(D * (p.rays ? (*p.rays)[k] : Qi.column(k)));
+        p.rays = rays;
+        p.Q = D * p.Q * Di;
+    }
+    return law;
+}
+
+Rational power_of_two(int e) {
+    Rational r(1);
+    const Rational two = e >= 0 ? Rational(2) : Rational(1, 2);
+    for (int i = 0; i < std::abs(e); ++i)
+        r *= two;
+    return r;
+}
+
+fuzz::Summary fuzz_float_law(const Model& model, std::uint64_t samples) {
+    const VerifyReport report = verify(model);
+    const bool continuous = report.at("fan").verdict == Verdict::proved && report.at("P1").verdict == Verdict::proved;
+    const fuzz::LawReference ref(model, false, continuous);
+    const auto impl = fuzz::builtin_float_law(model);
+    fuzz::Options o;
+    o.samples = samples;
+    o.jobs = 1;
+    o.tolerance = fuzz::Tolerance::stated_bound;
+    return fuzz::run(o, ref, *impl, fuzz::Properties{}, nullptr);
+}
+
+} // namespace
+
+TEST_CASE("defect 18.1 check: no non-finite double reaches an exact conversion", "[reliability]") {
+    REQUIRE(exact_of_double(0.5) == q("1/2"));
+    REQUIRE(!exact_of_double(INFINITY));
+    REQUIRE(!exact_of_double(std::nan("")));
+    REQUIRE_THROWS_AS(exact_double(-INFINITY, "test"), std::logic_error);
+}
+
+TEST_CASE("defect 18.1 fail: fuzz on derived laws with extreme masses ran into SIGFPE", "[reliability]") {
+    struct Case {
+        std::vector<const char*> masses;
+        const char* e;
+        ImpactRule rule;
+    };
+    for (const Case& c : {Case{{"1", "1", "100000000000000000000"}, "1", ImpactRule::most_negative},
+                          Case{{"1/1000000000000000000000000000000", "1", "1000000000000000000000000000000"}, "1", ImpactRule::most_negative},
+                          Case{{"1000000000000000000000000000000", "1", "1/1000000000000000000000000000000"}, "1/2", ImpactRule::most_negative},
+                          Case{{"1", "1000000000000000000000000000000", "1"}, "1", ImpactRule::left_first}}) {
+        DeriveOptions o;
+        for (auto m : c.masses)
+            o.masses.push_back(q(m));
+        o.restitution.assign(2, q(c.e));
+        o.rule = c.rule;
+        const DeriveResult r = derive_sequential(o);
+        REQUIRE(r.law);
+        const Model model(*r.law);
+        const fuzz::Summary sum = fuzz_float_law(model, 20000);
+        INFO(c.masses[0] << "," << c.masses[1] << "," << c.masses[2]);
+        REQUIRE(sum.samples == 20000);
+        REQUIRE(sum.inaccurate == 0); // the float law stays within its stated bound
+    }
+}
+
+TEST_CASE("defect 18.1 fail: the paper's law in scaled coordinates, proved and fuzzed cleanly", "[reliability]") {
+    for (const auto& [e1, e2] : std::vector<std::pair<int, int>>{{100, 0}, {60, -60}, {300, 0}, {-300, 0}, {512, -512}}) {
+        INFO("diag(2^" << e1 << ", 2^" << e2 << ")");
+        const Model model(scaled_paper(power_of_two(e1), power_of_two(e2)));
+        REQUIRE(verify(model).exit_status() == 0);
+        const fuzz::Summary sum = fuzz_float_law(model, 20000);
+        REQUIRE(sum.samples == 20000);
+        REQUIRE(sum.inaccurate == 0);
+    }
+}
