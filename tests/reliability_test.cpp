@@ -1,6 +1,7 @@
 // reliability_test.cpp -- issue 18: no signal, no runaway, no lost write, on the inputs impactcert
 // itself produces. Each case is a reproduction of a defect found by review, named after it.
 #include "derive.hpp"
+#include "impactcert_check.hpp"
 #include "exact_double.hpp"
 #include "fuzz.hpp"
 #include "law_json.hpp"
@@ -105,4 +106,35 @@ TEST_CASE("defect 18.1 fail: the paper's law in scaled coordinates, proved and f
         REQUIRE(sum.samples == 20000);
         REQUIRE(sum.inaccurate == 0);
     }
+}
+
+TEST_CASE("defect 18.6 fail: a certificate with a repeated key is malformed, wherever the key is", "[reliability]") {
+    const std::string text = test::read_file(test::source_path("proofs/newton3/certificate.json"));
+    REQUIRE(impactcert_check::check_text(text).status == impactcert_check::kVerified); // positive control
+    // The law's name twice (first-wins and last-wins readers would see different laws), a key
+    // repeated deep inside an obligation, and at the top level.
+    struct Mutation {
+        std::string after, insert, path;
+    };
+    for (const Mutation& m : {Mutation{"\"name\": \"newton3-sequential\"", ", \"name\": \"other\"", "$.law.name"},
+                              Mutation{"\"format\": \"impactcert-certificate/1\"", ", \"format\": \"impactcert-certificate/1\"", "$.format"}}) {
+        std::string mutated = text;
+        const auto at = mutated.find(m.after);
+        REQUIRE(at != std::string::npos);
+        mutated.insert(at + m.after.size(), m.insert);
+        const auto outcome = impactcert_check::check_text(mutated);
+        INFO(outcome.message);
+        REQUIRE(outcome.status == impactcert_check::kMalformed);
+        REQUIRE(outcome.message.find(m.path + ": duplicate key") != std::string::npos);
+    }
+    // A repeated key inside an array element: the path names the element.
+    std::string mutated = text;
+    const auto ray = mutated.find("\"rays\": [");
+    REQUIRE(ray != std::string::npos);
+    const auto piece_name = mutated.rfind("\"name\"", ray);
+    mutated.insert(piece_name, "\"name\": \"x\", ");
+    const auto outcome = impactcert_check::check_text(mutated);
+    INFO(outcome.message);
+    REQUIRE(outcome.status == impactcert_check::kMalformed);
+    REQUIRE(outcome.message.find("$.law.pieces[0].name: duplicate key \"name\"") != std::string::npos);
 }

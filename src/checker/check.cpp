@@ -10,6 +10,9 @@
 #include <unistd.h>
 #include <exception>
 #include <new>
+#include <set>
+#include <string>
+#include <vector>
 
 namespace impactcert_check {
 namespace detail {
@@ -164,6 +167,58 @@ std::size_t nesting_depth(const std::string& text) {
 // Status kUndecided (3, impactcert_check.hpp): a limit (the prover's, or --max-product-bits)
 // would be exceeded. The certificate may be right; raising the limit decides it.
 
+// The JSON text parsed with every object's keys checked for repeats: a repeated key would be
+// read by nlohmann as the last one and by another reader as the first, so the certified law (its
+// hash covers the re-serialised, last-wins object) would not be the one a reader sees.
+struct DuplicateKey {
+    std::string path, key;
+};
+
+Json parse_unique_keys(const std::string& text) {
+    struct Level {
+        bool object;
+        std::set<std::string> keys;
+        std::string key;   // object: the key being read
+        std::size_t next;  // array: the index of the next element
+    };
+    std::vector<Level> levels;
+    auto path = [&] {
+        std::string p = "$";
+        for (std::size_t i = 0; i + 1 < levels.size(); ++i)
+            p += levels[i].object ? "." + levels[i].key : "[" + std::to_string(levels[i].next - 1) + "]";
+        return p;
+    };
+    auto element = [&] {
+        if (!levels.empty() && !levels.back().object)
+            ++levels.back().next;
+    };
+    Json::parser_callback_t callback = [&](int, Json::parse_event_t event, Json& parsed) {
+        switch (event) {
+        case Json::parse_event_t::object_start:
+        case Json::parse_event_t::array_start:
+            element();
+            levels.push_back({event == Json::parse_event_t::object_start, {}, {}, 0});
+            break;
+        case Json::parse_event_t::object_end:
+        case Json::parse_event_t::array_end:
+            levels.pop_back();
+            break;
+        case Json::parse_event_t::key:
+            levels.back().key = parsed.get<std::string>();
+            if (!levels.back().keys.insert(levels.back().key).second) {
+                levels.push_back({false, {}, {}, 0});
+                throw DuplicateKey{path(), levels[levels.size() - 2].key};
+            }
+            break;
+        case Json::parse_event_t::value:
+            element();
+            break;
+        }
+        return true;
+    };
+    return Json::parse(text, callback);
+}
+
 Outcome check_text(const std::string& text, const Limits& limits) {
     constexpr std::size_t kMaxDepth = 64; // a certificate is at most 6 deep
     try {
@@ -171,9 +226,11 @@ Outcome check_text(const std::string& text, const Limits& limits) {
             return {kMalformed, "malformed: nested more than " + std::to_string(kMaxDepth) + " levels deep"};
         Json cert;
         try {
-            cert = Json::parse(text);
+            cert = parse_unique_keys(text);
         } catch (const Json::exception& e) {
             return {kMalformed, one_line(std::string("malformed JSON: ") + e.what())};
+        } catch (const DuplicateKey& d) {
+            return {kMalformed, one_line("malformed: " + d.path + ": duplicate key \"" + d.key + "\"")};
         }
         try {
             check(cert, limits);
