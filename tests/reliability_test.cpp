@@ -138,3 +138,44 @@ TEST_CASE("defect 18.6 fail: a certificate with a repeated key is malformed, whe
     REQUIRE(outcome.status == impactcert_check::kMalformed);
     REQUIRE(outcome.message.find("$.law.pieces[0].name: duplicate key \"name\"") != std::string::npos);
 }
+
+TEST_CASE("defect 18.7 fail: fuzz refuses a law beyond its dimension before any proof work", "[reliability][cli]") {
+    // One piece, c = 40 (Q = I, the orthant's rays): refused at once, with the limit named.
+    std::string rows, ones;
+    for (int i = 0; i < 40; ++i) {
+        std::string row;
+        for (int j = 0; j < 40; ++j)
+            row += std::string(j ? "," : "") + (i == j ? "\"1\"" : "\"0\"");
+        rows += std::string(i ? "," : "") + "[" + row + "]";
+    }
+    for (int i = 0; i < 41; ++i)
+        ones += std::string(i ? "," : "") + "\"1\"";
+    const std::string path = "/tmp/impactcert-reliability-c40.json";
+    std::ofstream(path) << R"({"format": "impactcert-law/1", "name": "c40", "masses": [)" << ones
+                        << R"(], "pieces": [{"name": "I", "Q": [)" << rows << "], \"rays\": [" << rows << "]}]}";
+    for (const char* cmd : {"fuzz --samples 10 --law ", "eval --float --impl-cmd cat --law "}) {
+        std::string zeros;
+        for (int i = 0; i < 40; ++i)
+            zeros += " 0";
+        const auto run = run_cli(cmd + path + (std::string(cmd).find("eval") != std::string::npos ? " --" + zeros : ""));
+        INFO(cmd << " -> " << run.err);
+        REQUIRE(run.status == 2);
+        REQUIRE(run.err.find("at most 32") != std::string::npos);
+    }
+}
+
+TEST_CASE("defect 18.9 fail: unsigned options refuse -1, 2^64 and non-integers as written", "[reliability][cli]") {
+    for (const char* args : {"derive cradle --balls -1", "derive cradle --balls 18446744073709551616", "verify --max-faces -1",
+                             "verify --max-pieces 1e6", "verify --jobs -2", "fuzz --jobs -1", "fuzz --keep -1",
+                             "derive sequential --masses 1,1 --max-impacts -1", "sweep --masses 1,m --vary m=1..2:2 --jobs -1 -o /tmp/x",
+                             "fuzz --samples -1", "fuzz --samples nan", "fuzz --impl-timeout 0", "fuzz --seconds nan"}) {
+        const auto run = run_cli(args);
+        INFO(args << " -> " << run.err);
+        REQUIRE(run.status == 2);
+        REQUIRE(std::count(run.err.begin(), run.err.end(), '\n') == 1);
+        REQUIRE(run.err.find("18446744073709551615") == std::string::npos);
+        REQUIRE(run.err.size() < 200);
+    }
+    // A positive control: the same options with valid values.
+    REQUIRE(run_cli("derive cradle --balls 3").status == 0);
+}
