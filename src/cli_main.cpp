@@ -100,7 +100,7 @@ int run_report(const std::string& law_path, const std::string& dir, const Limits
 struct SweepArgs {
     std::string masses, restitution = "1", rule = "most-negative", out;
     std::vector<std::string> vary;
-    std::size_t max_impacts = 100;
+    std::size_t max_impacts = 100, max_points = 100000;
     unsigned jobs = 1;
 };
 
@@ -122,6 +122,7 @@ int run_sweep_command(const SweepArgs& a, const Limits& limits) {
     spec.max_impacts = a.max_impacts;
     spec.limits = limits;
     spec.jobs = a.jobs;
+    spec.max_points = a.max_points;
     for (const auto& v : a.vary)
         spec.parameters.push_back(parse_vary(v));
     const bool tty = isatty(2) != 0;
@@ -234,6 +235,9 @@ int main(int argc, char** argv) {
         cmd->add_option("--outcomes-from", args->outcomes_from, "declare the outcomes of this law file (e.g. the observed ones of proofs/newton3/law.json) instead of the simulated ones");
         cmd->add_option("-o,--output", args->out, "law file to write (default: standard output)");
     }
+    for (auto [cmd, args] : {std::pair{sequential_cmd, &derive_args}, std::pair{newton_cmd, &newton_args}, std::pair{poisson_cmd, &poisson_args}})
+        cmd->add_option("--max-bits", args->max_bits, "limit: bits of one matrix entry (numerator and denominator) during the derivation; undecided (exit 3) beyond it")->check(natural)->capture_default_str();
+    sequential_cmd->add_flag("--json", derive_args.json, "with exit 1 (no finite law): the exact witness as JSON on standard output");
     sequential_cmd->add_option("--rule", derive_args.rule, "which approaching contact impacts first: most-negative, left-first or right-first")->capture_default_str();
     sequential_cmd->add_option("--max-impacts", derive_args.max_impacts, "longest impact sequence allowed")->check(natural)->capture_default_str();
     newton_cmd->add_option("--restitution-on", newton_args.restitution_on, "all (the classical inequality law) or approaching (restitution only where gamma-_k < 0, as physics engines do)")->capture_default_str();
@@ -251,6 +255,7 @@ int main(int argc, char** argv) {
     sweep_cmd->add_option("--rule", sweep_args.rule, "most-negative, left-first or right-first")->capture_default_str();
     sweep_cmd->add_option("--max-impacts", sweep_args.max_impacts, "longest impact sequence allowed")->check(natural)->capture_default_str();
     sweep_cmd->add_option("--vary", sweep_args.vary, "NAME=LO..HI:COUNT[:log], once or twice")->required();
+    sweep_cmd->add_option("--max-points", sweep_args.max_points, "limit: grid points in all (undecided, exit 3, beyond it)")->check(natural)->capture_default_str();
     sweep_cmd->add_option("--jobs", sweep_args.jobs, "worker processes (default: all cores)")->check(natural)->check(CLI::Range(1u, 256u));
     sweep_cmd->add_option("-o,--output", sweep_args.out, "directory to write sweep.csv, sweep.json and sweep.html into")->required();
     Limits limits;
@@ -356,6 +361,15 @@ int main(int argc, char** argv) {
     } catch (const InputError& e) {
         std::cerr << "impactcert: " << e.what() << "\n";
         return kExitBadInput;
+    } catch (const DeriveLimit& e) {
+        std::cerr << "impactcert: undecided: derive: " << e.what() << "\n";
+        return kExitUndecided;
+    } catch (const SweepLimit& e) {
+        std::cerr << "impactcert: undecided: " << e.what() << "\n";
+        return kExitUndecided;
+    } catch (const std::bad_alloc&) {
+        std::cerr << "impactcert: out of memory (raise the memory limit, or lower the limits that size the work)\n";
+        return kExitUndecided;
     } catch (const std::exception& e) {
         std::cerr << "impactcert: internal error (please report): " << e.what() << "\n";
         return kExitInternal;

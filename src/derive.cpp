@@ -142,7 +142,24 @@ std::optional<Vector> simulate_balls(const System& system, const std::vector<Rat
     }
 }
 
+std::size_t entry_bits(const Matrix& m) {
+    std::size_t bits = 0;
+    for (std::size_t i = 0; i < m.rows(); ++i)
+        for (std::size_t j = 0; j < m.cols(); ++j) {
+            const auto& q = m(i, j);
+            bits = std::max(bits, mpz_sizeinbase(mpq_numref(q.mpq()), 2) + mpz_sizeinbase(mpq_denref(q.mpq()), 2));
+        }
+    return bits;
+}
+
 namespace derive_detail {
+
+void check_bits(const Matrix& m, std::size_t max_bits, const std::string& what) {
+    const std::size_t bits = entry_bits(m);
+    if (bits > max_bits)
+        throw DeriveLimit(what + " has an entry of " + std::to_string(bits) + " bits, more than " + std::to_string(max_bits) +
+                          " (raise it with --max-bits)");
+}
 
 std::string list_text(const std::vector<Rational>& xs) {
     std::string s;
@@ -209,8 +226,10 @@ DeriveResult derive_sequential(const DeriveOptions& options) {
     const PplScope ppl;
     const Matrix& G = mech.G;
     std::vector<Matrix> Qk;
-    for (std::size_t k = 0; k < c; ++k)
+    for (std::size_t k = 0; k < c; ++k) {
         Qk.push_back(two_body_impact(G, k, options.restitution[k]));
+        check_bits(Qk.back(), options.max_bits, "the impact matrix of contact " + std::to_string(k + 1));
+    }
 
     DeriveResult result;
     std::vector<Region> regions;
@@ -271,7 +290,9 @@ DeriveResult derive_sequential(const DeriveOptions& options) {
             }
             auto word = node.key;
             word.push_back(branch);
-            work.push_back({cell, Qk[branch] * node.M, word, {}});
+            Matrix next = Qk[branch] * node.M;
+            check_bits(next, options.max_bits, "the map of word " + word_name(word, c));
+            work.push_back({cell, std::move(next), word, {}});
         }
     }
     result.regions = regions.size();

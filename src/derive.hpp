@@ -20,6 +20,7 @@
 #include "system.hpp"
 
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -27,11 +28,22 @@ namespace impactcert {
 
 enum class ImpactRule { most_negative, left_first, right_first };
 
+// A derivation whose numbers outgrow `max_bits` (bits of the numerator plus the denominator of
+// one matrix entry) stops: exit 3, undecided, naming --max-bits. Words are bounded by
+// --max-impacts; this bounds the size of what each impact multiplies (restitution 10^-1000 makes
+// every entry thousands of digits longer per impact).
+struct DeriveLimit : std::runtime_error {
+    using std::runtime_error::runtime_error;
+};
+inline constexpr std::size_t kDefaultMaxBits = 65536;
+std::size_t entry_bits(const Matrix& m); // the largest numerator-plus-denominator bit length
+
 // The system (a chain by its masses, or any system: system.hpp), then the process.
 struct DeriveOptions : System {
     std::vector<Rational> restitution; // one per contact, each in [0, 1]
     ImpactRule rule = ImpactRule::most_negative;
     std::size_t max_impacts = 100;     // longest word allowed
+    std::size_t max_bits = kDefaultMaxBits;
     std::vector<OutcomeDecl> outcomes_override; // non-empty: declare these instead of the simulated ones
 };
 
@@ -73,6 +85,7 @@ RestitutionOn parse_restitution_on(const std::string& text); // InputError namin
 struct ClassicalOptions : System {
     std::vector<Rational> restitution; // one per contact, each in [0, 1]
     RestitutionOn on = RestitutionOn::all; // Newton only
+    std::size_t max_bits = kDefaultMaxBits;
     std::vector<OutcomeDecl> outcomes_override;
 };
 

@@ -108,6 +108,7 @@ Mechanics validated(const ClassicalOptions& o, bool poisson) {
         if (sign_of(o.restitution[k]) == Sign::negative || o.restitution[k] > Rational(1))
             throw InputError("--restitution: contact " + std::to_string(k + 1) + " must be in [0, 1], got " +
                              to_string(o.restitution[k]));
+    check_bits(m.G, o.max_bits, "G = W^T M^-1 W");
     return m;
 }
 
@@ -174,7 +175,9 @@ Law derive_newton(const ClassicalOptions& o) {
                 key.push_back(c);
                 key.insert(key.end(), R.begin(), R.end());
             }
-            regions.push_back({cell, I + mech.G * a.L, key, name});
+            Matrix map = I + mech.G * a.L;
+            check_bits(map, o.max_bits, "the map of " + name);
+            regions.push_back({cell, std::move(map), key, name});
         }
     }
     Law law = head(o, approaching ? "newton-approaching" : "newton");
@@ -222,6 +225,7 @@ Law derive_poisson(const ClassicalOptions& o) {
             key.push_back(c);
             key.insert(key.end(), K.begin(), K.end());
             const std::string name = J.empty() && K.empty() ? "free" : "C" + set_text(J) + "/E" + set_text(K);
+            check_bits(exp.w, o.max_bits, "the map of " + name);
             regions.push_back({cell, exp.w, key, name});
         }
     }

@@ -59,7 +59,8 @@ struct WrittenPiece {
 // the merged list (indices of WrittenPiece::region refer to it).
 std::vector<WrittenPiece> add_region_pieces(std::vector<Region>& regions, std::size_t c, Law& law);
 
-// Shared by the derivations.
+// Shared by the derivations. DeriveLimit when an entry of m has more than max_bits bits.
+void check_bits(const Matrix& m, std::size_t max_bits, const std::string& what);
 std::string list_text(const std::vector<Rational>& xs); // "1,2,1/2"
 std::string system_text(const System& s);              // for descriptions
 // The classical experiments of a cradle (one ball in from the left, ...) in n ball velocities.

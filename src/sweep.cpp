@@ -34,31 +34,24 @@ Rational number(const std::string& text, const std::string& where) {
     return *x;
 }
 
-Rational power(const Rational& x, std::size_t k) {
-    Rational out = 1;
-    for (std::size_t i = 0; i < k; ++i)
-        out *= x;
-    return out;
+// log2 of a positive rational as a double: the binary exponent from the bit lengths (exact, any
+// size), the rest from a quotient in [1/4, 4).
+double log2_of(const Rational& q) {
+    const long k = static_cast<long>(mpz_sizeinbase(mpq_numref(q.mpq()), 2)) -
+                   static_cast<long>(mpz_sizeinbase(mpq_denref(q.mpq()), 2));
+    Rational scaled;
+    if (k >= 0)
+        mpq_div_2exp(scaled.mpq(), q.mpq(), static_cast<mp_bitcnt_t>(k));
+    else
+        mpq_mul_2exp(scaled.mpq(), q.mpq(), static_cast<mp_bitcnt_t>(-k));
+    return static_cast<double>(k) + std::log2(mpq_get_d(scaled.mpq()));
 }
 
-// The largest k/1000 with (k/1000)^e <= target, by bisection between lo and hi (exact).
-Rational root_below(const Rational& target, std::size_t e, const Rational& lo, const Rational& hi) {
-    const long d = 1000;
-    auto floor_of = [](const Rational& q) {
-        mpz_class z;
-        mpz_fdiv_q(z.get_mpz_t(), mpq_numref(q.mpq()), mpq_denref(q.mpq()));
-        return z;
-    };
-    mpz_class a = floor_of(lo * Rational(d)), b = floor_of(hi * Rational(d)) + 1;
-    auto value = [&](const mpz_class& k) { return Rational(CGAL::Gmpz(k.get_mpz_t())) / Rational(d); };
-    while (b - a > 1) {
-        const mpz_class mid = (a + b) / 2;
-        if (power(value(mid), e) <= target)
-            a = mid;
-        else
-            b = mid;
-    }
-    return value(a);
+Rational power_of_ten(long e) {
+    mpz_class p;
+    mpz_ui_pow_ui(p.get_mpz_t(), 10, static_cast<unsigned long>(e < 0 ? -e : e));
+    const Rational r{CGAL::Gmpz(p.get_mpz_t())};
+    return e < 0 ? Rational(1) / r : r;
 }
 
 const char* kColour[] = {"#2da44e", "#cf222e", "#8c959f", "#bf8700"}; // proved, refuted, skipped, undecided
@@ -110,7 +103,14 @@ Json evaluate(const SweepSpec& spec, const Point& point) {
     for (std::size_t p = 0; p < spec.parameters.size(); ++p)
         at[spec.parameters[p].name] = to_string(point.values[p]);
     out["point"] = at;
-    const DeriveResult d = derive_sequential(o);
+    DeriveResult d;
+    try {
+        d = derive_sequential(o);
+    } catch (const DeriveLimit& e) {
+        out["derive"] = "undecided";
+        out["limit"] = e.what();
+        return out;
+    }
     if (!d.law) {
         out["derive"] = "not-finite";
         out["not_finite"] = Json{{"gamma", to_json(*d.not_finite)}, {"word", d.word + "..."}};
@@ -152,6 +152,9 @@ std::string svg_map(const SweepSpec& spec, const std::vector<Json>& results, con
                     detail = " " + o["counterexample"].dump();
                 if (o.contains("limit"))
                     detail = " " + o["limit"].get<std::string>();
+            } else if (r["derive"] == "undecided") {
+                verdict = "undecided";
+                detail = " derivation beyond a limit: " + r["limit"].get<std::string>();
             } else {
                 detail = " gamma- = " + r["not_finite"]["gamma"].dump() + " needs more than " +
                          std::to_string(spec.max_impacts) + " impacts";
@@ -220,22 +223,47 @@ SweepParameter parse_vary(const std::string& text) {
         throw InputError("--vary " + p.name + ": COUNT must be an integer from 1 to 10000, got " + rest);
     if (log && (sign_of(lo) != Sign::positive || sign_of(hi) != Sign::positive))
         throw InputError("--vary " + p.name + ": a log grid needs LO > 0 and HI > 0");
-    for (std::size_t i = 0; i < count; ++i) {
-        if (count == 1 || i == 0) {
-            p.values.push_back(lo);
-        } else if (i + 1 == count) {
-            p.values.push_back(hi);
-        } else if (!log) {
-            p.values.push_back(lo + (hi - lo) * Rational(static_cast<int>(i)) / Rational(static_cast<int>(count - 1)));
-        } else {
-            const Rational target = power(lo, count - 1 - i) * power(hi, i);
-            p.values.push_back(root_below(target, count - 1, std::min(lo, hi), std::max(lo, hi)));
-        }
-    }
+    p.lo = lo;
+    p.hi = hi;
+    p.count = count;
+    p.log = log;
     return p;
 }
 
-void run_sweep(const SweepSpec& spec, const std::string& dir, const std::function<void(std::size_t, std::size_t)>& progress) {
+std::vector<Rational> grid_values(const SweepParameter& p) {
+    std::vector<Rational> values;
+    const std::size_t count = p.count;
+    if (!p.log || count <= 2 || p.lo == p.hi) {
+        for (std::size_t i = 0; i < count; ++i)
+            values.push_back(count == 1 || i == 0 ? p.lo
+                             : i + 1 == count   ? p.hi
+                                                : p.lo + (p.hi - p.lo) * Rational(static_cast<int>(i)) /
+                                                             Rational(static_cast<int>(count - 1)));
+        return values;
+    }
+    const double a = log2_of(p.lo), b = log2_of(p.hi), log10_2 = std::log10(2.0);
+    const bool up = p.lo < p.hi;
+    for (int digits = 3; digits <= 15; ++digits) {
+        values.assign(1, p.lo);
+        bool ok = true;
+        for (std::size_t i = 1; i + 1 < count && ok; ++i) {
+            const double t = static_cast<double>(i) / static_cast<double>(count - 1);
+            const double l10 = ((1 - t) * a + t * b) * log10_2;
+            const double e10 = std::floor(l10);
+            const double mant = std::nearbyint(std::pow(10.0, l10 - e10 + digits - 1)); // in [10^(d-1), 10^d]
+            const Rational v = Rational(static_cast<long>(mant)) * power_of_ten(static_cast<long>(e10) - digits + 1);
+            ok = up ? values.back() < v && v < p.hi : p.hi < v && v < values.back();
+            values.push_back(v);
+        }
+        if (ok) {
+            values.push_back(p.hi);
+            return values;
+        }
+    }
+    throw InputError("--vary " + p.name + ": " + std::to_string(count) + " log-spaced points between LO and HI are not distinct at 15 significant digits (fewer points, or a wider range)");
+}
+
+void run_sweep(SweepSpec spec, const std::string& dir, const std::function<void(std::size_t, std::size_t)>& progress) {
     if (spec.parameters.empty() || spec.parameters.size() > 2)
         throw InputError("--vary: give one or two parameters");
     for (std::size_t a = 0; a < spec.parameters.size(); ++a)
@@ -257,43 +285,52 @@ void run_sweep(const SweepSpec& spec, const std::string& dir, const std::functio
     for (const auto& p : spec.parameters)
         if (std::find(used.begin(), used.end(), p.name) == used.end())
             throw InputError("--vary " + p.name + ": the parameter appears in neither --masses nor --restitution");
-    std::vector<Point> points;
-    const std::size_t n1 = spec.parameters.size() > 1 ? spec.parameters[1].values.size() : 1;
-    for (const auto& v0 : spec.parameters[0].values)
-        for (std::size_t j = 0; j < n1; ++j) {
-            Point pt;
-            pt.values.push_back(v0);
-            if (spec.parameters.size() > 1)
-                pt.values.push_back(spec.parameters[1].values[j]);
-            points.push_back(pt);
-        }
-    // Validate every point before any work (bad input is exit 2 with one line).
-    for (const auto& pt : points) {
-        auto check = [&](const std::string& item, bool mass) {
-            Rational x;
-            std::string name = item;
-            bool found = false;
-            for (std::size_t p = 0; p < spec.parameters.size(); ++p)
-                if (spec.parameters[p].name == item) {
-                    x = pt.values[p];
-                    found = true;
-                }
-            if (!found)
-                x = number(item, mass ? "--masses" : "--restitution");
-            if (mass && sign_of(x) != Sign::positive)
-                throw InputError("--masses: " + name + " = " + to_string(x) + " is not a positive mass");
-            if (!mass && (sign_of(x) == Sign::negative || x > Rational(1)))
-                throw InputError("--restitution: " + name + " = " + to_string(x) + " is outside [0, 1]");
-        };
-        for (const auto& m : spec.masses)
-            check(m, true);
-        for (const auto& e : spec.restitution)
-            check(e, false);
-    }
+    // Validate every input before any work (bad input is exit 2 with one line): the constants
+    // first, then the size of the grid, then each parameter's values where it is used.
+    auto check = [&](const std::string& name, const Rational& x, bool mass) {
+        if (mass && sign_of(x) != Sign::positive)
+            throw InputError("--masses: " + name + " = " + to_string(x) + " is not a positive mass");
+        if (!mass && (sign_of(x) == Sign::negative || x > Rational(1)))
+            throw InputError("--restitution: " + name + " = " + to_string(x) + " is outside [0, 1]");
+    };
+    for (const auto* list : {&spec.masses, &spec.restitution})
+        for (const auto& item : *list)
+            if (!is_name(item))
+                check(item, number(item, list == &spec.masses ? "--masses" : "--restitution"), list == &spec.masses);
     if (spec.masses.size() < 2)
         throw InputError("--masses: a chain needs at least two balls");
     if (spec.restitution.size() != 1 && spec.restitution.size() != spec.masses.size() - 1)
         throw InputError("--restitution: expected one value or one per contact (" + std::to_string(spec.masses.size() - 1) + ")");
+    std::size_t total = 1;
+    for (const auto& p : spec.parameters)
+        total *= p.count; // at most 10,000^2: no overflow
+    if (total > spec.max_points)
+        throw SweepLimit("the grid has " + std::to_string(total) + " points, more than " + std::to_string(spec.max_points) +
+                         " (raise it with --max-points)");
+    std::vector<SweepParameter> gridded = spec.parameters;
+    for (auto& p : gridded) {
+        p.values = grid_values(p);
+        for (const auto& x : p.values) {
+            for (const auto& m : spec.masses)
+                if (m == p.name)
+                    check(p.name, x, true);
+            for (const auto& e : spec.restitution)
+                if (e == p.name)
+                    check(p.name, x, false);
+        }
+    }
+    spec.parameters = gridded;
+    const auto& params = spec.parameters;
+    std::vector<Point> points;
+    const std::size_t n1 = params.size() > 1 ? params[1].values.size() : 1;
+    for (const auto& v0 : params[0].values)
+        for (std::size_t j = 0; j < n1; ++j) {
+            Point pt;
+            pt.values.push_back(v0);
+            if (params.size() > 1)
+                pt.values.push_back(params[1].values[j]);
+            points.push_back(pt);
+        }
     std::error_code ec;
     std::filesystem::create_directories(dir, ec);
     if (ec)
@@ -310,6 +347,13 @@ void run_sweep(const SweepSpec& spec, const std::string& dir, const std::functio
     } else {
         // Worker processes (PPL is not thread-safe): worker w takes the points k = w mod jobs,
         // writes one JSON line per point to its part file and one byte per point to a pipe.
+        // The part files are created (and must be writable) before any worker starts.
+        for (unsigned w = 0; w < jobs; ++w) {
+            const std::string path = dir + "/.sweep-part-" + std::to_string(w);
+            std::ofstream part(path, std::ios::binary | std::ios::trunc);
+            if (!part)
+                throw InputError(path + ": cannot write a worker's part file");
+        }
         int fds[2];
         if (pipe(fds) != 0)
             throw std::runtime_error("sweep: cannot create a pipe");
@@ -324,6 +368,10 @@ void run_sweep(const SweepSpec& spec, const std::string& dir, const std::functio
                     for (std::size_t k = w; k < points.size(); k += jobs) {
                         part << k << "\t" << evaluate(spec, points[k]).dump() << "\n";
                         part.flush();
+                        if (!part) {
+                            status = 2; // the part file cannot be written (a full disk)
+                            break;
+                        }
                         const char one = '.';
                         if (::write(fds[1], &one, 1) != 1)
                             status = 1;
@@ -348,23 +396,40 @@ void run_sweep(const SweepSpec& spec, const std::string& dir, const std::functio
                 progress(done, points.size());
         }
         close(fds[0]);
+        bool lost_write = false, failed = false;
         for (auto pid : workers) {
             int status = 0;
             waitpid(pid, &status, 0);
-            if (!WIFEXITED(status) || WEXITSTATUS(status) != 0)
-                throw std::runtime_error("sweep: a worker process failed");
+            lost_write = lost_write || (WIFEXITED(status) && WEXITSTATUS(status) == 2);
+            failed = failed || !WIFEXITED(status) || (WEXITSTATUS(status) != 0 && WEXITSTATUS(status) != 2);
         }
+        if (failed)
+            throw std::runtime_error("sweep: a worker process failed");
+        if (lost_write)
+            throw InputError(dir + ": cannot write a worker's part file (disk full?)");
         for (unsigned w = 0; w < jobs; ++w) {
             const std::string path = dir + "/.sweep-part-" + std::to_string(w);
             std::ifstream part(path, std::ios::binary);
             std::string line;
             while (std::getline(part, line)) {
                 const auto tab = line.find('\t');
-                results.at(std::stoul(line.substr(0, tab))) = Json::parse(line.substr(tab + 1));
+                std::size_t k = points.size();
+                try {
+                    k = std::stoul(line.substr(0, tab));
+                    if (k >= points.size())
+                        throw std::out_of_range("index");
+                    results[k] = Json::parse(line.substr(tab + 1));
+                } catch (const std::exception&) {
+                    throw InputError(path + ": a worker's part file was changed or cut short while the sweep ran");
+                }
             }
             std::filesystem::remove(path, ec);
         }
     }
+
+    for (std::size_t k = 0; k < results.size(); ++k)
+        if (!results[k].is_object())
+            throw InputError(dir + ": the result of grid point " + std::to_string(k + 1) + " is missing from the part files");
 
     // sweep.csv
     std::string csv;
@@ -392,14 +457,14 @@ void run_sweep(const SweepSpec& spec, const std::string& dir, const std::functio
     doc["restitution"] = spec.restitution;
     doc["rule"] = to_string(spec.rule);
     doc["max_impacts"] = spec.max_impacts;
-    Json params = Json::array();
+    Json params_json = Json::array();
     for (const auto& p : spec.parameters) {
         Json values = Json::array();
         for (const auto& v : p.values)
             values.push_back(to_string(v));
-        params.push_back(Json{{"name", p.name}, {"values", values}});
+        params_json.push_back(Json{{"name", p.name}, {"values", values}});
     }
-    doc["parameters"] = params;
+    doc["parameters"] = params_json;
     doc["points"] = results;
     write(dir + "/sweep.json", doc.dump(1) + "\n");
 

@@ -15,6 +15,7 @@
 #include "limits.hpp"
 
 #include <functional>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -22,7 +23,15 @@ namespace impactcert {
 
 struct SweepParameter {
     std::string name;
-    std::vector<Rational> values;
+    Rational lo, hi;
+    std::size_t count = 0;
+    bool log = false;
+    std::vector<Rational> values; // filled by run_sweep once the inputs are validated (grid_values)
+};
+
+// A limit of the sweep exceeded before any work (exit 3, naming the option).
+struct SweepLimit : std::runtime_error {
+    using std::runtime_error::runtime_error;
 };
 
 struct SweepSpec {
@@ -33,13 +42,19 @@ struct SweepSpec {
     std::vector<SweepParameter> parameters; // one or two
     Limits limits;
     unsigned jobs = 1;
+    std::size_t max_points = 100000; // --max-points: grid points in all
 };
 
 // NAME=LO..HI:COUNT[:log]
+// Syntax only (no grid yet): NAME=LO..HI:COUNT[:log].
 SweepParameter parse_vary(const std::string& text);
+// The grid: COUNT points from LO to HI, evenly spaced, or with :log geometrically spaced rationals
+// with enough significant decimal digits to be distinct (at least 3), computed from the exponents
+// (time linear in the digits of LO and HI, positive at any scale); the ends exact.
+std::vector<Rational> grid_values(const SweepParameter& p);
 
 // Writes the three files into dir; `progress(done, total)` now and then.
-void run_sweep(const SweepSpec& spec, const std::string& dir,
+void run_sweep(SweepSpec spec, const std::string& dir,
                const std::function<void(std::size_t, std::size_t)>& progress);
 
 } // namespace impactcert

@@ -130,7 +130,7 @@ std::size_t lines_of(const std::string& s) { return static_cast<std::size_t>(std
 
 } // namespace
 
-TEST_CASE("cli: every usage error is one line on stderr with exit 2; --help and --version exit 0", "[cli]") {
+TEST_CASE("cli: every usage error is one line on stderr with exit 2 - --help and --version exit 0", "[cli]") {
     for (const char* args : {"verify --frobnicate", "", "certify", "fuzz --jobs 0", "eval --law", "frobnicate",
                              "verify extra", "fuzz --samples x"}) {
         INFO("impactcert " << args);

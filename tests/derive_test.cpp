@@ -158,7 +158,7 @@ TEST_CASE("derive: masses 1,2,1 with e = 1 are discontinuous on the tie boundary
     CHECK(sign_of(g[0]) == Sign::negative);
 }
 
-TEST_CASE("derive: e = 0 has no finite law; the witness needs more impacts than allowed", "[derive]") {
+TEST_CASE("derive: e = 0 has no finite law - the witness needs more impacts than allowed", "[derive]") {
     DeriveOptions o = options({"1", "1", "1"}, {"0"});
     o.max_impacts = 20;
     const DeriveResult r = derive_sequential(o);
@@ -174,7 +174,7 @@ TEST_CASE("derive: e = 0 has no finite law; the witness needs more impacts than 
     CHECK(std::count(run.err.begin(), run.err.end(), '\n') == 1);
 }
 
-TEST_CASE("derive: the CLI writes a law that loads; bad input is one line and exit 2", "[derive][cli]") {
+TEST_CASE("derive: the CLI writes a law that loads - bad input is one line and exit 2", "[derive][cli]") {
     const auto ok = test::run_cli("derive sequential --masses 1,1,1");
     REQUIRE(ok.status == 0);
     const Model m(parse_law_text(ok.out, "stdout"));
@@ -237,12 +237,12 @@ TEST_CASE("sweep: the CSV holds the verdicts computed one by one, whatever the n
     std::filesystem::remove_all(one);
 }
 
-TEST_CASE("sweep: e = 0 is recorded as no finite law; bad grids are one line and exit 2", "[derive][sweep]") {
+TEST_CASE("sweep: e = 0 is recorded as no finite law - bad grids are one line and exit 2", "[derive][sweep]") {
     const std::string dir = "/tmp/impactcert-sweep-test-2";
     const auto run = test::run_cli("sweep --masses 1,1,1 --restitution e --vary e=0..1:2 --jobs 1 -o " + dir);
     REQUIRE(run.status == 0);
     const std::string csv = test::read_file(dir + "/sweep.csv");
-    CHECK(csv.find("\n0,,,,,,,,,,,,,,,not-finite\n") != std::string::npos);
+    CHECK(csv.find("\n0,,,,,,,,,,,,,,,,not-finite\n") != std::string::npos); // e, 13 obligations, pieces, max_word
     CHECK(csv.find("\n1,proved,proved,") != std::string::npos);
     std::filesystem::remove_all(dir);
     for (const char* bad : {"--masses 1,m,1 --vary x=1..2:3", "--masses 1,m,1 --vary m=1..2:3 --vary e=0..1:2",

@@ -188,7 +188,7 @@ TEST_CASE("fan: tilings that are not face to face are proved by walls, and the c
     CHECK(r.method == "chambers");
 }
 
-TEST_CASE("fan: random edge splits of the 4-ball fan still tile; moving one ray never does", "[fan][chambers]") {
+TEST_CASE("fan: random edge splits of the 4-ball fan still tile - moving one ray never does", "[fan][chambers]") {
     std::mt19937_64 rng(7);
     for (int round = 0; round < 12; ++round) {
         Law law = test::sorting_law(4);

@@ -461,7 +461,7 @@ TEST_CASE("fuzz --velocities: implementations in ball velocities", "[fuzz]") {
     CHECK(ref.fast_path());
 }
 
-TEST_CASE("fuzz: results do not depend on --jobs; JUnit and JSON reports", "[fuzz][cli]") {
+TEST_CASE("fuzz: results do not depend on --jobs - JUnit and JSON reports", "[fuzz][cli]") {
     const Model newton4 = law_file("proofs/newton4/law.json");
     const auto impl = fuzz::load_symbol(newton4_impl("newton4_two_sweeps"), 3, 3);
     const auto one = fuzz_law(newton4, *impl, 60000, fuzz::Tolerance::relative, 1e-12, 1);

@@ -165,7 +165,7 @@ TEST_CASE("negative controls: the expansive law is caught by copositivity, not b
     test::revalidate(m, ne);
 }
 
-TEST_CASE("gate: only claimed obligations decide the verdict; the others are still reported", "[obligations]") {
+TEST_CASE("gate: only claimed obligations decide the verdict - the others are still reported", "[obligations]") {
     Law law = load_law_file(source_path("proofs/controls/perturbed-entry.json"));
     law.claims = std::vector<std::string>{"fan", "energetic", "outcomes"};
     const VerifyReport r = verify(Model(law));

@@ -53,7 +53,7 @@ TEST_CASE("rationals: command-line numbers add exact hex floats", "[rational]") 
         CHECK_FALSE(parse_cli_number(bad));
 }
 
-TEST_CASE("rationals: command-line decimals take an exact decimal exponent; law files do not", "[rational]") {
+TEST_CASE("rationals: command-line decimals take an exact decimal exponent - law files do not", "[rational]") {
     CHECK(to_string(*parse_cli_number("1e300")) == "1" + std::string(300, '0'));
     CHECK(to_string(*parse_cli_number("2.5e-3")) == "1/400");
     CHECK(to_string(*parse_cli_number("-1E+2")) == "-100");

@@ -7,6 +7,7 @@
 #include "law_json.hpp"
 #include "obligations.hpp"
 #include "paper_law.hpp"
+#include "sweep.hpp"
 #include "support.hpp"
 
 #include <catch2/catch.hpp>
@@ -178,4 +179,78 @@ TEST_CASE("defect 18.9 fail: unsigned options refuse -1, 2^64 and non-integers a
     }
     // A positive control: the same options with valid values.
     REQUIRE(run_cli("derive cradle --balls 3").status == 0);
+}
+
+TEST_CASE("defect 18.3 fail: sweep validates before work, grids at any scale, bounded, and workers that cannot write", "[reliability][cli][sweep]") {
+    // (b) an invalid constant is refused before a 3,000-point log grid is built.
+    auto run = run_cli("sweep --masses 1,m,1 --restitution -1 --vary m=1/4..4:3000:log -o /tmp/impactcert-rel-sweep");
+    REQUIRE(run.status == 2);
+    REQUIRE(run.err.find("--restitution: -1 = -1 is outside [0, 1]") != std::string::npos);
+    // (d) a log grid below 1/1000 is logarithmic and positive; (c) at 10^100000 it answers, and the
+    // derivation at such masses is undecided (--max-bits), recorded as such.
+    const std::string dir = "/tmp/impactcert-rel-sweep";
+    std::filesystem::remove_all(dir);
+    run = run_cli("sweep --masses 1,m,1 --vary m=1e-10..1:3:log --jobs 1 -o " + dir);
+    REQUIRE(run.status == 0);
+    std::string csv = test::read_file(dir + "/sweep.csv");
+    REQUIRE(csv.find("\n1/10000000000,") != std::string::npos);
+    REQUIRE(csv.find("\n1/100000,") != std::string::npos);
+    REQUIRE(csv.find("\n1,") != std::string::npos);
+    run = run_cli("sweep --masses 1,m,1 --vary m=1..1e100000:3:log --jobs 2 -o " + dir);
+    REQUIRE(run.status == 0);
+    csv = test::read_file(dir + "/sweep.csv");
+    REQUIRE(csv.find(",undecided\n") != std::string::npos);
+    REQUIRE(csv.find("\n1,proved,") != std::string::npos);
+    // A log grid keeps distinct points at any count: 3,000 between 1/4 and 4 (needs 5 digits).
+    SweepParameter p = parse_vary("m=1/4..4:3000:log");
+    const auto values = grid_values(p);
+    REQUIRE(values.size() == 3000);
+    REQUIRE(values.front() == q("1/4"));
+    REQUIRE(values.back() == q("4"));
+    for (std::size_t i = 1; i < values.size(); ++i)
+        REQUIRE(values[i - 1] < values[i]);
+    REQUIRE(values[1500] > q("0.99"));
+    REQUIRE(values[1500] < q("1.01"));
+    // (e) 10^8 points are refused before anything is built: undecided, naming --max-points.
+    run = run_cli("sweep --masses 1,m,e --vary m=1..2:10000 --vary e=0..1:10000 -o " + dir);
+    REQUIRE(run.status == 3);
+    REQUIRE(run.err.find("--max-points") != std::string::npos);
+    // (a) worker part files that cannot be created: one line, exit 2 (not an internal error).
+    run = run_cli("sweep --masses 1,m,1 --vary m=1/2..2:3 --jobs 2 -o /proc/self");
+    REQUIRE(run.status == 2);
+    std::filesystem::create_directories(dir + "-blocked/.sweep-part-0");
+    run = run_cli("sweep --masses 1,m,1 --vary m=1/2..2:3 --jobs 2 -o " + dir + "-blocked");
+    REQUIRE(run.status == 2);
+    REQUIRE(run.err.find(".sweep-part-0: cannot write") != std::string::npos);
+}
+
+TEST_CASE("defect 18.4 fail: derive bounds the size of its numbers, and shortens its witnesses", "[reliability][cli]") {
+    for (const char* args : {"--masses 1,1,1 --restitution 1e-1000", "--masses 1,1,1 --restitution 1e-100000",
+                             "--masses 1,1e50000,1"}) {
+        const auto run = run_cli(std::string("derive sequential ") + args);
+        INFO(args << " -> " << run.err);
+        REQUIRE(run.status == 3);
+        REQUIRE(run.err.find("--max-bits") != std::string::npos);
+        REQUIRE(run.err.size() < 300);
+    }
+    for (const char* args : {"newton --masses 1,1e50000,1", "poisson --masses 1,1,1 --restitution 1e-100000"}) {
+        const auto run = run_cli(std::string("derive ") + args);
+        INFO(args << " -> " << run.err);
+        REQUIRE(run.status == 3);
+    }
+    // A long witness: one short line on stderr, the exact gamma- in --json (and it does exceed
+    // the bound: the sequence, simulated exactly, is longer).
+    const auto run = run_cli("derive sequential --masses 1,1,1 --restitution 1e-10 --json");
+    REQUIRE(run.status == 1);
+    REQUIRE(run.err.size() < 400);
+    REQUIRE(run.err.find('~') != std::string::npos);
+    const Json j = Json::parse(run.out);
+    const Vector gamma = test::vec_of(j["gamma_minus"]);
+    DeriveOptions o;
+    o.masses = {q("1"), q("1"), q("1")};
+    o.restitution = {q("1/10000000000"), q("1/10000000000")};
+    const auto [word, finished] = sequential_word(o, o.restitution, o.rule, gamma, 100);
+    REQUIRE(!finished);
+    // A positive control: the same restitution with a higher bound derives.
+    REQUIRE(run_cli("derive sequential --masses 1,1,1 --restitution 1/2").status == 0);
 }

@@ -54,11 +54,24 @@ int run_derive_sequential(const DeriveArgs& a) {
     o.restitution = restitution_list(a.restitution, mech.contacts());
     o.rule = parse_rule(a.rule);
     o.max_impacts = a.max_impacts;
+    o.max_bits = a.max_bits;
     o.outcomes_override = outcomes_from(a.outcomes_from, mech.balls());
     const DeriveResult r = derive_sequential(o);
     if (r.not_finite) {
-        std::cerr << "impactcert: derive: no finite law: gamma- = " << to_string(*r.not_finite) << " needs more than "
-                  << o.max_impacts << " impacts (word " << r.word << "...)\n";
+        // One line, shortened; the exact witness in full with --json.
+        std::string word = r.word.size() > 60 ? r.word.substr(0, 60) : r.word;
+        std::cerr << "impactcert: derive: no finite law: gamma- = " << short_text(*r.not_finite) << " needs more than "
+                  << o.max_impacts << " impacts (word " << word << "...)" << (a.json ? "" : "; the exact gamma- with --json")
+                  << "\n";
+        if (a.json) {
+            Json j;
+            j["format"] = "impactcert-derive/1";
+            j["verdict"] = "not-finite";
+            j["gamma_minus"] = to_json(*r.not_finite);
+            j["max_impacts"] = o.max_impacts;
+            j["word"] = r.word + "...";
+            write_stdout(j.dump(2) + "\n");
+        }
         return kExitRefuted;
     }
     emit(a.out, law_text(*r.law),
@@ -73,6 +86,7 @@ int run_derive_classical(const DeriveArgs& a, bool poisson) {
     const Mechanics mech = make_mechanics(o);
     o.restitution = restitution_list(a.restitution, mech.contacts());
     o.on = parse_restitution_on(a.restitution_on);
+    o.max_bits = a.max_bits;
     if (poisson && o.on != RestitutionOn::all)
         throw InputError("--restitution-on: the Poisson-type law has no such choice (its expansion phase acts only "
                          "where compression did)");
