@@ -48,12 +48,8 @@ int run_verify(const std::string& law_path, bool json, const std::string& junit_
         std::cout << verdict_json(report).dump(2) << "\n";
     else
         std::cout << verdict_table(report, model);
-    if (!junit_path.empty()) {
-        std::ofstream out(junit_path, std::ios::binary);
-        out << verdict_junit(report);
-        if (!out)
-            throw InputError(junit_path + ": cannot write the JUnit report");
-    }
+    if (!junit_path.empty())
+        write_file(junit_path, verdict_junit(report)); // flushed, closed and checked
     return report.exit_status();
 }
 

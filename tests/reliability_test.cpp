@@ -254,3 +254,22 @@ TEST_CASE("defect 18.4 fail: derive bounds the size of its numbers, and shortens
     // A positive control: the same restitution with a higher bound derives.
     REQUIRE(run_cli("derive sequential --masses 1,1,1 --restitution 1/2").status == 0);
 }
+
+TEST_CASE("defect 18.5 fail: every output stream and file is flushed and checked (a full disk is exit 2)", "[reliability][cli]") {
+    for (const char* cmd :
+         {"verify --junit /dev/full", "certify -o /dev/full", "derive cradle --balls 4 -o /dev/full",
+          "derive newton --masses 1,1,1 -o /dev/full", "derive sequential --masses 1,1,1 -o /dev/full",
+          "smt -o /proc/self", "report -o /proc/self", "fuzz --samples 100 --junit /dev/full",
+          "sweep --masses 1,m,1 --vary m=1..2:2 --jobs 1 -o /proc/self", "verify > /dev/full", "verify --json > /dev/full",
+          "derive cradle --balls 4 > /dev/full", "derive sequential --masses 1,1,1 > /dev/full", "eval -- -1 0 > /dev/full",
+          "eval --float -- -1 0 > /dev/full", "smt -o /tmp/impactcert-rel-smt > /dev/full", "fuzz --samples 100 > /dev/full",
+          "fuzz --samples 100 --json > /dev/full"}) {
+        const auto run = run_cli(cmd);
+        INFO(cmd << " -> " << run.err);
+        REQUIRE(run.status == 2);
+        REQUIRE(std::count(run.err.begin(), run.err.end(), '\n') == 1);
+        REQUIRE(run.err.find("cannot write") != std::string::npos);
+    }
+    // Positive control: the same to a writable place.
+    REQUIRE(run_cli("verify --junit /tmp/impactcert-rel-junit.xml").status == 0);
+}
