@@ -6,6 +6,7 @@
 #include "verdict_output.hpp"
 
 #include <array>
+#include <climits>
 #include <cmath>
 #include <cstdio>
 #include <string_view>
@@ -27,10 +28,34 @@ struct Dir {
     double x, y; // unit vector
 };
 
+// A direction in double at any scale: the vector is first multiplied exactly by the power of two
+// that brings its largest component near 1 (the binary exponent from the bit lengths of numerator
+// and denominator), so no component overflows and the direction is kept (a component below 2^-1074
+// of the largest becomes 0). A zero vector gives zeros. (18.8: diag(2^1000, 2^-1000) drew "-nan".)
+std::vector<double> scaled_doubles(const Vector& v) {
+    long top = LONG_MIN;
+    for (const auto& q : v)
+        if (sign_of(q) != Sign::zero)
+            top = std::max(top, static_cast<long>(mpz_sizeinbase(mpq_numref(q.mpq()), 2)) -
+                                    static_cast<long>(mpz_sizeinbase(mpq_denref(q.mpq()), 2)));
+    std::vector<double> out;
+    for (const auto& q : v) {
+        Rational r = q;
+        if (top > 0)
+            mpq_div_2exp(r.mpq(), q.mpq(), static_cast<mp_bitcnt_t>(top));
+        else if (top != LONG_MIN && top < 0)
+            mpq_mul_2exp(r.mpq(), q.mpq(), static_cast<mp_bitcnt_t>(-top));
+        out.push_back(mpq_get_d(r.mpq())); // |r| < 4 for the largest: finite
+    }
+    return out;
+}
+
 Dir direction(const Vector& v) {
-    const double x = mpq_get_d(v[0].mpq()), y = mpq_get_d(v[1].mpq());
-    const double n = std::hypot(x, y);
-    return {x / n, y / n};
+    const auto d = scaled_doubles(v);
+    const double n = std::hypot(d[0], d[1]);
+    if (!(n > 0))
+        return {1, 0};
+    return {d[0] / n, d[1] / n};
 }
 
 // A wedge from direction a counter-clockwise to b (angle < pi), centred at (cx, cy) with
@@ -58,7 +83,6 @@ std::pair<Vector, Vector> ccw(const Vector& a, const Vector& b) {
 
 std::string verdict_word(const ObligationResult& o) { return to_string(o.verdict); }
 
-double as_double(const Rational& q) { return mpq_get_d(q.mpq()); }
 
 // The points of a refuted obligation's counterexample: one point, or a pair (to be joined).
 struct Marked {
@@ -71,13 +95,27 @@ std::vector<Marked> marked_points(const VerifyReport* report, std::size_t c) {
     if (!report)
         return out;
     auto read = [&](const Json& j) {
-        std::vector<double> v;
+        Vector v;
         for (const auto& x : j) {
             std::string why;
             const auto q = parse_rational(x.get<std::string>(), &why);
-            v.push_back(q ? as_double(*q) : 0.0);
+            v.push_back(q ? *q : Rational(0));
         }
         return v;
+    };
+    // The points of one mark scaled together (a pair keeps its relative lengths), exactly.
+    auto scaled = [](const std::vector<Vector>& pts) {
+        Vector all;
+        for (const auto& p : pts)
+            all.insert(all.end(), p.begin(), p.end());
+        const auto d = scaled_doubles(all);
+        std::vector<std::vector<double>> parts;
+        std::size_t k = 0;
+        for (const auto& p : pts) {
+            parts.emplace_back(d.begin() + static_cast<std::ptrdiff_t>(k), d.begin() + static_cast<std::ptrdiff_t>(k + p.size()));
+            k += p.size();
+        }
+        return parts;
     };
     for (const auto& o : report->obligations) {
         if (o.verdict != Verdict::refuted || !o.counterexample.is_object())
@@ -85,11 +123,11 @@ std::vector<Marked> marked_points(const VerifyReport* report, std::size_t c) {
         const Json& w = o.counterexample;
         Marked m{o.id, {}};
         if (w.contains("gamma_a") && w.contains("gamma_b")) {
-            m.points = {read(w["gamma_a"]), read(w["gamma_b"])};
+            m.points = scaled({read(w["gamma_a"]), read(w["gamma_b"])});
         } else if (w.contains("gamma") && w["gamma"].is_array()) {
-            m.points = {read(w["gamma"])};
+            m.points = scaled({read(w["gamma"])});
         } else if (w.contains("ray") && w["ray"].is_array()) {
-            m.points = {read(w["ray"])};
+            m.points = scaled({read(w["ray"])});
         }
         if (!m.points.empty() && m.points[0].size() == c)
             out.push_back(std::move(m));
@@ -156,10 +194,15 @@ using P3 = std::array<double, 3>;
 
 P3 unit(P3 v) {
     const double n = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    if (!(n > 0 && std::isfinite(n)))
+        return {0, 0, 1};
     return {v[0] / n, v[1] / n, v[2] / n};
 }
 double dot3(const P3& a, const P3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
-P3 to_p3(const Vector& v) { return unit({as_double(v[0]), as_double(v[1]), as_double(v[2])}); }
+P3 to_p3(const Vector& v) {
+    const auto d = scaled_doubles(v);
+    return unit({d[0], d[1], d[2]});
+}
 
 // The spherical triangle of three unit rays as a dense closed polyline (great-circle edges).
 std::vector<P3> spherical_triangle(const P3& a, const P3& b, const P3& c) {

@@ -7,11 +7,13 @@
 #include "law_json.hpp"
 #include "obligations.hpp"
 #include "paper_law.hpp"
+#include "report.hpp"
 #include "sweep.hpp"
 #include "support.hpp"
 
 #include <catch2/catch.hpp>
 
+#include <cctype>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -50,6 +52,19 @@ Rational power_of_two(int e) {
     for (int i = 0; i < std::abs(e); ++i)
         r *= two;
     return r;
+}
+
+// "nan" or "inf" as a word of its own (printf's output for a non-finite double), not inside
+// "Winandy" or "infinite".
+bool has_non_number(const std::string& text) {
+    for (const char* word : {"nan", "inf"})
+        for (auto at = text.find(word); at != std::string::npos; at = text.find(word, at + 1)) {
+            const bool before = at > 0 && std::isalpha(static_cast<unsigned char>(text[at - 1]));
+            const bool after = at + 3 < text.size() && std::isalpha(static_cast<unsigned char>(text[at + 3]));
+            if (!before && !after)
+                return true;
+        }
+    return false;
 }
 
 fuzz::Summary fuzz_float_law(const Model& model, std::uint64_t samples) {
@@ -272,4 +287,29 @@ TEST_CASE("defect 18.5 fail: every output stream and file is flushed and checked
     }
     // Positive control: the same to a writable place.
     REQUIRE(run_cli("verify --junit /tmp/impactcert-rel-junit.xml").status == 0);
+}
+
+TEST_CASE("defect 18.8 fail: report draws exact directions at any scale (no nan, no inf)", "[reliability][report]") {
+    for (const auto& [e1, e2] : std::vector<std::pair<int, int>>{{1000, -1000}, {-1000, 1000}, {0, 0}}) {
+        INFO("diag(2^" << e1 << ", 2^" << e2 << ")");
+        const Model model(scaled_paper(power_of_two(e1), power_of_two(e2)));
+        const VerifyReport report = verify(model);
+        REQUIRE(report.exit_status() == 0);
+        const std::string html = report_html(model, report);
+        REQUIRE(html.find("<svg") != std::string::npos);
+        REQUIRE(!has_non_number(html));
+    }
+    // A refuted law in those coordinates: its counterexample marks are drawn too, finite.
+    Law law = scaled_paper(power_of_two(1000), power_of_two(-1000));
+    std::swap(law.pieces[0].Q, law.pieces[1].Q);
+    law.identities.clear();
+    law.single_impacts.clear();
+    law.outcomes.clear();
+    law.claims.reset();
+    const Model bad(law);
+    const VerifyReport report = verify(bad);
+    REQUIRE(report.exit_status() == 1);
+    const std::string html = report_html(bad, report);
+    REQUIRE(html.find("class=\"counterexample\"") != std::string::npos);
+    REQUIRE(!has_non_number(html));
 }
