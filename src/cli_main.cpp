@@ -40,7 +40,7 @@ VerifyReport verify_with_progress(const Model& model, const Limits& limits) {
 }
 
 int run_verify(const std::string& law_path, bool json, const std::string& junit_path, const Limits& limits) {
-    const Model model = load_model(law_path, limits.max_pieces);
+    const Model model = load_model(law_path, limits.max_pieces, limits.max_memory_mb);
     Limits no_evidence = limits;
     no_evidence.evidence = false; // a verdict needs no certificate
     const VerifyReport report = verify_with_progress(model, no_evidence);
@@ -54,7 +54,7 @@ int run_verify(const std::string& law_path, bool json, const std::string& junit_
 }
 
 int run_certify(const std::string& law_path, const std::string& out_path, const Limits& limits) {
-    const Model model = load_model(law_path, limits.max_pieces);
+    const Model model = load_model(law_path, limits.max_pieces, limits.max_memory_mb);
     // The header names the top verdict: a first pass without evidence gives it; the second
     // writes each obligation as it is decided (one obligation's evidence in memory at a time).
     Limits quick = limits;
@@ -81,7 +81,7 @@ int run_certify(const std::string& law_path, const std::string& out_path, const 
 }
 
 int run_report(const std::string& law_path, const std::string& dir, const Limits& limits) {
-    const Model model = load_model(law_path, limits.max_pieces);
+    const Model model = load_model(law_path, limits.max_pieces, limits.max_memory_mb);
     const VerifyReport report = verify_with_progress(model, limits);
     std::error_code ec;
     std::filesystem::create_directories(dir, ec);
@@ -261,6 +261,7 @@ int main(int argc, char** argv) {
         cmd->add_option("--max-faces", limits.max_faces, "limit: simplex faces of one KKT enumeration (copositivity); beyond it an obligation is undecided")->check(natural)->capture_default_str();
         cmd->add_option("--max-chambers", limits.max_chambers, "limit: steps of the chamber enumeration that decides a fan not meeting face to face")->check(natural)->capture_default_str();
         cmd->add_option("--max-subsets", limits.max_subsets, "limit: constraint subsets for the extreme rays of cone intersections (P1, not face to face)")->check(natural)->capture_default_str();
+        cmd->add_option("--max-memory", limits.max_memory_mb, "limit: megabytes of the pieces a law's symmetries generate (counted by the size of their numbers; input error beyond it)")->check(natural)->capture_default_str();
         cmd->add_option("--max-pieces", limits.max_pieces, "limit: pieces of a law given by orbit representatives, listed and generated (input error beyond it)")->check(natural)->capture_default_str();
         cmd->add_flag("--no-integer-kernels", no_integer_kernels, "decide the pair forms over GMP alone (same verdicts; for comparison)");
     }

@@ -3,6 +3,7 @@
 #include "int_kernel.hpp"
 
 #include <algorithm>
+#include <cstdint>
 #include <set>
 
 namespace impactcert {
@@ -47,7 +48,31 @@ void Model::add_piece(const std::string& name, const Matrix& Q, const std::vecto
     pieces_.push_back(std::move(piece));
 }
 
-Model::Model(Law law, std::size_t max_pieces) : law_(std::move(law)) {
+namespace {
+
+std::size_t rational_bytes(const Rational& q) {
+    return 96 + 8 * (mpz_size(mpq_numref(q.mpq())) + mpz_size(mpq_denref(q.mpq())));
+}
+
+std::size_t matrix_bytes(const Matrix& m) {
+    std::size_t bytes = 0;
+    for (std::size_t i = 0; i < m.rows(); ++i)
+        for (std::size_t j = 0; j < m.cols(); ++j)
+            bytes += rational_bytes(m(i, j));
+    return bytes;
+}
+
+std::size_t matrix_bits(const Matrix& m) {
+    std::size_t bits = 0;
+    for (std::size_t i = 0; i < m.rows(); ++i)
+        for (std::size_t j = 0; j < m.cols(); ++j)
+            bits = std::max(bits, mpz_sizeinbase(mpq_numref(m(i, j).mpq()), 2) + mpz_sizeinbase(mpq_denref(m(i, j).mpq()), 2));
+    return bits;
+}
+
+} // namespace
+
+Model::Model(Law law, std::size_t max_pieces, std::size_t max_memory_mb) : law_(std::move(law)) {
     if (law_.name.empty())
         input_error("$.name", "empty law name");
 
@@ -145,6 +170,17 @@ Model::Model(Law law, std::size_t max_pieces) : law_(std::move(law)) {
         };
         for (std::size_t p = 0; p < pieces_.size(); ++p)
             by_rays.emplace(key_of(pieces_[p].ray_ids), p);
+        // Budgets of the expansion (18.2): bytes of the generated numbers, and their growth.
+        const std::size_t max_bytes = max_memory_mb > (SIZE_MAX >> 20) ? SIZE_MAX : max_memory_mb << 20;
+        std::size_t listed_bits = 0, bytes = 0;
+        for (const auto& p : pieces_) {
+            listed_bits = std::max({listed_bits, matrix_bits(p.Q), matrix_bits(p.R)});
+            bytes += matrix_bytes(p.Q) + matrix_bytes(p.R) + matrix_bytes(p.R_inv);
+        }
+        for (std::size_t g = 0; g < law_.symmetries.size(); ++g)
+            listed_bits = std::max({listed_bits, matrix_bits(law_.symmetries[g].P), matrix_bits(law_.symmetries[g].P_prime),
+                                    matrix_bits(P_inv_[g])});
+        const std::size_t max_bits = 16 * listed_bits + 1024;
         // Images of rays in int64 where P (over a common denominator) and the rays fit,
         // else over GMP; the same primitive rays either way.
         std::vector<std::optional<intk::IntMatrix>> P_int;
@@ -199,7 +235,23 @@ Model::Model(Law law, std::size_t max_pieces) : law_(std::move(law)) {
                     input_error(idx("$.symmetries", g) + ".name",
                                 "generated piece name " + in_quotes(name) + " is taken");
                 const Matrix Q = sym.P_prime * pieces_[p].Q * P_inv_[g];
+                const std::size_t grown = std::max(matrix_bits(Q), matrix_bits(Matrix::from_columns(image)));
+                if (grown > max_bits)
+                    input_error("$.symmetries", "generated piece " + in_quotes(name.substr(0, 60)) + " has an entry of " +
+                                                    std::to_string(grown) + " bits, more than 16 times those of the "
+                                                    "listed data: the numbers grow (a symmetry of infinite order?)");
+                const std::size_t rays_before = rays_.size();
                 add_piece(name, Q, image, "$.symmetries");
+                // The piece's matrices, its name (twice: the piece and the set of names), the map
+                // entries, and each new ray twice (the table and its index).
+                bytes += matrix_bytes(pieces_.back().Q) + matrix_bytes(pieces_.back().R) + matrix_bytes(pieces_.back().R_inv) +
+                         2 * name.size() + 512;
+                for (std::size_t r = rays_before; r < rays_.size(); ++r)
+                    bytes += 2 * (matrix_bytes(Matrix::from_columns({rays_[r]})) + 64);
+                if (bytes > max_bytes)
+                    input_error("$.symmetries", "the generated pieces need more than " + std::to_string(max_memory_mb) +
+                                                    " MB (" + std::to_string(pieces_.size()) +
+                                                    " pieces so far; raise it with --max-memory)");
                 by_rays.emplace(key_of(pieces_.back().ray_ids), pieces_.size() - 1);
             }
     }

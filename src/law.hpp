@@ -106,7 +106,13 @@ class Model {
     // generated) and each symmetry in order, the cone P C is added, with Q' = P' Q P^-1 and
     // the name "<piece>.<symmetry>", unless a piece already has exactly those rays; more than
     // `max_pieces` pieces is an input error.
-    explicit Model(Law law, std::size_t max_pieces = Limits{}.max_pieces);
+    // max_memory_mb bounds the generated pieces by the bytes of their numbers (96 per rational
+    // plus its limbs), and a generated entry may have at most 16 times the bits of the listed
+    // data plus 1,024: a group of finite order never needs more; one of infinite order (a
+    // rational rotation) is stopped as soon as its numbers grow. Both are input errors naming
+    // the option (as --max-pieces).
+    explicit Model(Law law, std::size_t max_pieces = Limits{}.max_pieces,
+                   std::size_t max_memory_mb = Limits{}.max_memory_mb);
 
     const Law& law() const { return law_; }
     std::size_t balls() const { return M_.rows(); }      // n

@@ -316,10 +316,10 @@ Law parse_document(const Json& doc) {
 
 } // namespace
 
-Law parse_law_text(const std::string& text, const std::string& origin, std::size_t max_pieces) {
+Law parse_law_text(const std::string& text, const std::string& origin, std::size_t max_pieces, std::size_t max_memory_mb) {
     try {
         Law law = parse_document(parse_syntax(text));
-        Model check(law, max_pieces); // semantic validation, with JSON paths
+        Model check(law, max_pieces, max_memory_mb); // semantic validation, with JSON paths
         return law;
     } catch (const InputError& e) {
         throw InputError(origin + ": " + e.what());
@@ -378,14 +378,14 @@ System parse_system_text(const std::string& text, const std::string& origin) {
 
 System load_system_file(const std::string& path) { return parse_system_text(read_law_text(path), path); }
 
-Law load_law_file(const std::string& path, std::size_t max_pieces) {
-    return parse_law_text(read_law_text(path), path, max_pieces);
+Law load_law_file(const std::string& path, std::size_t max_pieces, std::size_t max_memory_mb) {
+    return parse_law_text(read_law_text(path), path, max_pieces, max_memory_mb);
 }
 
-Model load_model_file(const std::string& path, std::size_t max_pieces) {
+Model load_model_file(const std::string& path, std::size_t max_pieces, std::size_t max_memory_mb) {
     const std::string text = read_law_text(path);
     try {
-        return Model(parse_document(parse_syntax(text)), max_pieces); // validated once
+        return Model(parse_document(parse_syntax(text)), max_pieces, max_memory_mb); // validated once
     } catch (const InputError& e) {
         throw InputError(path + ": " + e.what());
     }

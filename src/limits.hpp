@@ -18,6 +18,7 @@ struct Limits {
     std::size_t max_chambers = 200000;  // --max-chambers: chambers of the facet arrangement
     std::size_t max_subsets = 5000000;  // --max-subsets: constraint subsets for cone intersections
     std::size_t max_pieces = 500000;    // --max-pieces: pieces of a law with symmetries, listed and generated
+    std::size_t max_memory_mb = 640;    // --max-memory: megabytes of generated pieces (counted by the size of their numbers)
 
     // How the work is done; no effect on any verdict, method, count or witness.
     bool evidence = true;          // build each obligation's evidence (certify); verify needs none

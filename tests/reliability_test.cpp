@@ -13,7 +13,10 @@
 
 #include <catch2/catch.hpp>
 
+#include <sys/wait.h>
+
 #include <cctype>
+#include <cstdlib>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -312,4 +315,100 @@ TEST_CASE("defect 18.8 fail: report draws exact directions at any scale (no nan,
     const std::string html = report_html(bad, report);
     REQUIRE(html.find("class=\"counterexample\"") != std::string::npos);
     REQUIRE(!has_non_number(html));
+}
+
+namespace {
+
+// Runs a command under a 1 GB address-space cap; returns the exit status (-1 for a signal).
+// AddressSanitizer reserves terabytes of address space for its shadow: no cap in that build.
+int capped(const std::string& command, std::string* err = nullptr) {
+#if defined(__SANITIZE_ADDRESS__)
+    const std::string cap;
+#else
+    const std::string cap = "ulimit -v 1000000; ";
+#endif
+    const std::string err_path = "/tmp/impactcert-rel-capped.err";
+    const int status = std::system((cap + command + " >/dev/null 2>" + err_path).c_str());
+    if (err)
+        *err = test::read_file(err_path);
+    if (!WIFEXITED(status))
+        return -1;
+    return WEXITSTATUS(status);
+}
+
+std::string compact_flips_law(int c) {
+    // H = I (unit masses, W = I), one listed orthant, the c sign flips: 2^c orthants in all.
+    auto matrix = [&](int flip) {
+        std::string rows;
+        for (int i = 0; i < c; ++i) {
+            std::string row;
+            for (int j = 0; j < c; ++j)
+                row += std::string(j ? "," : "") + (i != j ? "\"0\"" : i == flip ? "\"-1\"" : "\"1\"");
+            rows += std::string(i ? "," : "") + "[" + row + "]";
+        }
+        return "[" + rows + "]";
+    };
+    std::string masses, syms;
+    for (int i = 0; i < c; ++i) {
+        masses += std::string(i ? "," : "") + "\"1\"";
+        syms += std::string(i ? "," : "") + "{\"name\": \"f" + std::to_string(i + 1) + "\", \"P\": " + matrix(i) +
+                ", \"P_prime\": " + matrix(i) + "}";
+    }
+    return R"({"format": "impactcert-law/1", "name": "flips", "masses": [)" + masses + R"(], "contacts": {"W": )" +
+           matrix(-1) + R"(}, "pieces": [{"name": "o", "Q": )" + matrix(-1) + R"(, "rays": )" + matrix(-1) +
+           R"(}], "symmetries": [)" + syms + R"(], "pieces_listed": "orbit-representatives", "claims": ["fan", "P1"]})";
+}
+
+const char* kRotations = R"({"format": "impactcert-law/1", "name": "rot", "masses": ["1", "1"],
+    "contacts": {"W": [["1", "0"], ["0", "1"]]},
+    "pieces": [{"name": "o", "Q": [["1", "0"], ["0", "1"]], "rays": [["1", "0"], ["0", "1"]]}],
+    "symmetries": [{"name": "a", "P": [["3/5", "-4/5"], ["4/5", "3/5"]], "P_prime": [["3/5", "-4/5"], ["4/5", "3/5"]]},
+                   {"name": "b", "P": [["5/13", "-12/13"], ["12/13", "5/13"]], "P_prime": [["5/13", "-12/13"], ["12/13", "5/13"]]}],
+    "pieces_listed": "orbit-representatives", "claims": ["fan"]})";
+
+} // namespace
+
+TEST_CASE("defect 18.2 fail: memory is budgeted in bytes, growth is stopped, under a 1 GB cap", "[reliability][cli]") {
+    const std::string dir = "/tmp/impactcert-rel-memory";
+    std::filesystem::create_directories(dir);
+    std::ofstream(dir + "/flips20.json") << compact_flips_law(20);
+    std::ofstream(dir + "/flips4.json") << compact_flips_law(4);
+    std::ofstream(dir + "/rot.json") << kRotations;
+    const std::string cli = std::string("'") + IMPACTCERT_CLI + "' ";
+    const std::string checker = std::string("'") + IMPACTCERT_CHECKER + "' ";
+    std::string err;
+    // (b) verify: 2^20 orthants of c = 20 stop at the byte budget, one line naming --max-memory.
+    REQUIRE(capped(cli + "verify --law " + dir + "/flips20.json", &err) == 2);
+    REQUIRE(err.find("--max-memory") != std::string::npos);
+    REQUIRE(std::count(err.begin(), err.end(), '\n') == 1);
+    // (c) two rational rotations: the numbers grow; stopped at once.
+    REQUIRE(capped(cli + "verify --law " + dir + "/rot.json", &err) == 2);
+    REQUIRE(err.find("infinite order") != std::string::npos);
+    // Positive control: the same construction with 16 orthants is proved.
+    REQUIRE(capped(cli + "verify --law " + dir + "/flips4.json") == 0);
+    // (a) the checker, on certificates carrying those laws (the certificate of the c = 4 law with
+    // its law replaced): undecided or rejected with one line, never a signal.
+    REQUIRE(capped(cli + "certify --law " + dir + "/flips4.json -o " + dir + "/flips4.cert.json") == 0);
+    REQUIRE(capped(checker + dir + "/flips4.cert.json") == 0);
+    Json cert = Json::parse(test::read_file(dir + "/flips4.cert.json"));
+    for (const auto& [name, text] : std::vector<std::pair<std::string, std::string>>{{"flips20", compact_flips_law(20)}, {"rot", kRotations}}) {
+        Json law = Json::parse(text);
+        law.erase("claims");
+        Json forged = cert;
+        forged["law"] = law;
+        std::ofstream(dir + "/" + name + ".cert.json") << forged.dump();
+        const int status = capped(checker + dir + "/" + name + ".cert.json", &err);
+        INFO(name << " -> " << status << ": " << err);
+        REQUIRE(status >= 1);
+        REQUIRE(status <= 3);
+        REQUIRE(std::count(err.begin(), err.end(), '\n') == 1);
+    }
+    // (d) derive cradle says when verify's defaults cannot load what it writes.
+    const auto run = run_cli("derive cradle --balls 10 -o " + dir + "/c10.json");
+    REQUIRE(run.status == 0);
+    REQUIRE(run.err.find("need --max-pieces 3628800 --max-memory") != std::string::npos);
+    REQUIRE(capped(cli + "verify --law " + dir + "/c10.json", &err) == 2);
+    REQUIRE(err.find("raise it with --max-") != std::string::npos);
+    const auto small = run_cli("derive cradle --balls 6 -o " + dir + "/c6.json");
+    REQUIRE(small.err.find("note:") == std::string::npos);
 }

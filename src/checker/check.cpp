@@ -25,7 +25,7 @@ int check(const Json& cert, const Limits& limits) {
     const Json& law_json = field(cert, "$", "law");
     const std::string hash = str(field(cert, "$", "law_sha256"), "$.law_sha256");
     require(sha256_hex(law_json.dump()) == hash, "$.law_sha256", "does not match the SHA-256 of the law's canonical text");
-    const Law law = read_law(law_json, "$.law", limits.max_pieces);
+    const Law law = read_law(law_json, "$.law", limits.max_pieces, limits.max_memory);
 
     const Json& system = field(cert, "$", "system");
     expect_keys(system, "$.system", {"G", "H"});

@@ -1,6 +1,8 @@
 // The law of a certificate, read and re-derived (checked_law.hpp).
 #include "checked_law.hpp"
 
+#include <algorithm>
+#include <cstdint>
 #include <utility>
 
 namespace impactcert_check::detail {
@@ -25,7 +27,31 @@ bool applies(const Json& law, const std::string& id) {
     return true;
 }
 
-Law read_law(const Json& j, const std::string& path, std::size_t max_pieces) {
+namespace {
+
+std::size_t bits_of(const Q& q) {
+    return mpz_sizeinbase(q.get_num_mpz_t(), 2) + mpz_sizeinbase(q.get_den_mpz_t(), 2);
+}
+
+std::size_t bits_of(const Mat& m) {
+    std::size_t b = 0;
+    for (const auto& row : m)
+        for (const auto& q : row)
+            b = std::max(b, bits_of(q));
+    return b;
+}
+
+std::size_t bytes_of(const Mat& m) {
+    std::size_t b = 0;
+    for (const auto& row : m)
+        for (const auto& q : row)
+            b += 96 + 8 * (mpz_size(q.get_num_mpz_t()) + mpz_size(q.get_den_mpz_t()));
+    return b;
+}
+
+} // namespace
+
+Law read_law(const Json& j, const std::string& path, std::size_t max_pieces, std::size_t max_memory) {
     Law law;
     law.json = j;
     // The prover's input rules (SPEC section 4): a law it rejects is never verified.
@@ -168,6 +194,15 @@ Law read_law(const Json& j, const std::string& path, std::size_t max_pieces) {
             };
             for (std::size_t p = 0; p < law.pieces.size(); ++p)
                 by_rays.emplace(key(law.pieces[p].rays), p);
+            std::size_t listed_bits = 0, bytes = 0;
+            for (const auto& piece : law.pieces) {
+                listed_bits = std::max({listed_bits, bits_of(piece.Q_), bits_of(from_cols(piece.rays))});
+                bytes += bytes_of(piece.Q_) + 2 * bytes_of(from_cols(piece.rays));
+            }
+            for (const Symmetry& sym : law.symmetries)
+                listed_bits = std::max({listed_bits, bits_of(sym.P), bits_of(sym.P_prime), bits_of(sym.P_inv)});
+            const std::size_t max_bits = 16 * listed_bits + 1024;
+            const std::size_t max_bytes = max_memory > (SIZE_MAX >> 20) ? SIZE_MAX : max_memory << 20;
             for (std::size_t p = 0; p < law.pieces.size(); ++p)
                 for (const Symmetry& sym : law.symmetries) {
                     Piece image;
@@ -186,10 +221,20 @@ Law read_law(const Json& j, const std::string& path, std::size_t max_pieces) {
                             "generated piece name \"" + image.name + "\" is taken");
                     image.Q_ = mul(mul(sym.P_prime, law.pieces[p].Q_), sym.P_inv);
                     image.R = from_cols(image.rays);
+                    require(std::max(bits_of(image.Q_), bits_of(image.R)) <= max_bits, at(path, "symmetries"),
+                            "generated piece \"" + image.name.substr(0, 60) +
+                                "\" has numbers of more than 16 times the bits of the listed data (a symmetry of infinite order?)");
                     require(invert(image.R, image.R_inv), at(path, "symmetries"), "a generated cone is degenerate");
+                    bytes += bytes_of(image.Q_) + 2 * bytes_of(image.R) + 2 * image.name.size() + 512;
                     for (const auto& r : image.rays)
-                        if (law.ray_index.emplace(r, law.distinct_rays.size()).second)
+                        if (law.ray_index.emplace(r, law.distinct_rays.size()).second) {
                             law.distinct_rays.push_back(r);
+                            bytes += 2 * (bytes_of(Mat{r}) + 64);
+                        }
+                    if (bytes > max_bytes)
+                        undecided("--max-memory", at(path, "symmetries"),
+                                  "the generated pieces need more than " + std::to_string(max_memory) + " MB (" +
+                                      std::to_string(law.pieces.size() + 1) + " pieces so far)");
                     by_rays.emplace(key(image.rays), law.pieces.size());
                     law.pieces.push_back(std::move(image));
                 }

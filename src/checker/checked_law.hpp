@@ -113,6 +113,10 @@ bool applies(const Json& law, const std::string& id);
 // the prover does (breadth first: each piece in order, each symmetry in order; the cone P C
 // with Q' = P' Q P^-1, named "<piece>.<symmetry>", unless a piece has exactly those rays);
 // beyond max_pieces pieces the check is undecided (--max-pieces).
-Law read_law(const Json& j, const std::string& path, std::size_t max_pieces);
+// The prover's rule on growth: a generated entry (of Q or of a primitive ray) has at most
+// 16 times the bits of the listed data (Q, rays, P, P', P^-1) plus 1,024, else rejected; and
+// beyond max_memory megabytes of generated numbers (96 bytes per rational plus its limbs, names
+// and ray tables) the check is undecided (--max-memory).
+Law read_law(const Json& j, const std::string& path, std::size_t max_pieces, std::size_t max_memory = 640);
 
 } // namespace impactcert_check::detail

@@ -46,6 +46,7 @@ struct Limits {
     // large factors grows without a bound the prover checks.
     std::size_t max_product_bits = 4194304; // --max-product-bits
     std::size_t max_pieces = 500000;        // --max-pieces: pieces of a law with symmetries, listed and generated
+    std::size_t max_memory = 640;           // --max-memory: megabytes of generated pieces, by the size of their numbers
     // Not a limit: threads for the pair forms (--jobs; default all cores). Never changes the outcome.
     std::size_t jobs = 1;
     bool progress = false; // impactcert-check: the obligation being checked, on a terminal, after a second

@@ -17,12 +17,13 @@ using impactcert_check::detail::one_line;
 
 const char* const kUsage =
     "usage: impactcert-check [--jobs J] [--max-faces N] [--max-chambers N] [--max-subsets N]\n"
-    "                        [--max-pieces N] [--max-product-bits N] CERTIFICATE.json\n"
+    "                        [--max-pieces N] [--max-memory MB] [--max-product-bits N] CERTIFICATE.json\n"
     "exit 0 verified, 1 rejected, 2 malformed (or not checked: usage, unreadable, out of memory),\n"
     "3 undecided (a limit would be exceeded; the message names the option that raises it)\n"
     "limits (defaults as the prover's): --max-faces 16384 (KKT faces of one copositivity check),\n"
     "--max-chambers 200000 (steps of the chamber enumeration), --max-subsets 5000000 (constraint\n"
-    "subsets for intersections of cones), --max-pieces 500000 (pieces of a compact law, generated included);\n"
+    "subsets for intersections of cones), --max-pieces 500000 (pieces of a compact law, generated included),\n"
+    "--max-memory 640 (megabytes of a compact law's generated pieces, by the size of their numbers);\n"
     "the checker's own: --max-product-bits 4194304 (bits of\n"
     "an entry of a declared identity's product); --jobs J threads for the pair forms (default: all\n"
     "cores; the outcome does not depend on it)\n";
@@ -66,6 +67,7 @@ int main(int argc, char** argv) {
                                   : name == "--max-subsets"      ? &limits.max_subsets
                                   : name == "--max-product-bits" ? &limits.max_product_bits
                                   : name == "--max-pieces"       ? &limits.max_pieces
+                                  : name == "--max-memory"       ? &limits.max_memory
                                   : name == "--jobs"             ? &limits.jobs
                                                                  : nullptr;
             if (target == nullptr)

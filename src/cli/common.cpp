@@ -16,8 +16,9 @@
 
 namespace impactcert::cli {
 
-Model load_model(const std::string& law_path, std::size_t max_pieces) {
-    return law_path.empty() ? Model(paper_law(), max_pieces) : load_model_file(law_path, max_pieces);
+Model load_model(const std::string& law_path, std::size_t max_pieces, std::size_t max_memory_mb) {
+    return law_path.empty() ? Model(paper_law(), max_pieces, max_memory_mb)
+                            : load_model_file(law_path, max_pieces, max_memory_mb);
 }
 
 TerminalProgress::TerminalProgress() : enabled_(isatty(2) != 0), start_(std::chrono::steady_clock::now()) {}

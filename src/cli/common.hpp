@@ -27,7 +27,8 @@ constexpr int kExitBadInput = 2;
 constexpr int kExitUndecided = 3;
 constexpr int kExitInternal = 4;
 
-Model load_model(const std::string& law_path, std::size_t max_pieces = Limits{}.max_pieces);
+Model load_model(const std::string& law_path, std::size_t max_pieces = Limits{}.max_pieces,
+                 std::size_t max_memory_mb = Limits{}.max_memory_mb);
 
 // Progress on a terminal for runs over a second: one line on stderr, rewritten in place.
 class TerminalProgress {

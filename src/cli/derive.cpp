@@ -109,6 +109,17 @@ int run_derive_cradle(const CradleArgs& a) {
     emit(a.out, law_text(law),
          std::to_string(law.pieces.size()) + " pieces listed, " + std::to_string(cones) + " in all, " +
              std::to_string(law.symmetries.size()) + " symmetries");
+    // Never a law that verify cannot load within its default limits without saying so (18.2d):
+    // the pieces, and their memory as Model counts it (c x c matrices Q, R, R^-1 of small
+    // rationals, 96 bytes each, plus the piece's name and tables).
+    const std::size_t c = a.balls - 1;
+    const std::size_t mb = (cones * (3 * c * c * 104 + 512 + 2 * 16 * a.balls) >> 20) + 1;
+    const Limits defaults;
+    if (cones > defaults.max_pieces || mb > defaults.max_memory_mb)
+        std::cerr << "impactcert: note: verify, certify and impactcert-check need --max-pieces " << cones
+                  << " --max-memory " << mb * 3 / 2 << " or more for this law (" << cones << " pieces, about " << mb
+                  << " MB of numbers; the defaults are " << defaults.max_pieces << " and " << defaults.max_memory_mb
+                  << ")\n";
     return kExitProved;
 }
 
