@@ -254,8 +254,11 @@ TEST_CASE("derive cradle agrees with proofs/newton3, proofs/newton4 and derive s
                 if (cradle.in_interior(q, centre)) {
                     found = true;
                     CHECK(cradle.pieces()[q].Q == piece.Q);
-                    for (std::size_t k = 0; k < n - 1; ++k)
-                        CHECK(cradle.pieces_containing(piece.R.column(k)).size() >= 1);
+                    // Every ray of the derived cone lies in the cradle's cone q (the same cone).
+                    for (std::size_t k = 0; k < n - 1; ++k) {
+                        const auto holders = cradle.pieces_containing(piece.R.column(k));
+                        CHECK(std::find(holders.begin(), holders.end(), q) != holders.end());
+                    }
                 }
             CHECK(found);
         }
