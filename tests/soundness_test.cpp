@@ -10,6 +10,9 @@
 
 #include <catch2/catch.hpp>
 
+#include <cctype>
+#include <sstream>
+
 #include <sys/wait.h>
 
 #include <algorithm>
@@ -196,7 +199,10 @@ TEST_CASE("soundness 2b: a borrowed witness is accepted only where the rules all
         forged["obligations"][p2]["counterexample"] = w;
         const auto out = check(forged);
         INFO(via << ": " << out.message);
-        CHECK(out.status != impactcert_check::kVerified);
+        // Refused for the rule it was written for (not, say, for a missing key).
+        CHECK(out.status == impactcert_check::kRejected);
+        CHECK(out.message == std::string("rejected: $.obligations[2].counterexample.via: a witness of \"") + via +
+                                 "\" does not refute P2");
     }
     // The same for a proved-elsewhere law: nonexpansive refuted "via fan" where S is a function.
     Json paper = certificate_of(Model(paper_law()));
@@ -206,7 +212,9 @@ TEST_CASE("soundness 2b: a borrowed witness is accepted only where the rules all
     w["via"] = "fan";
     paper["obligations"][ne]["counterexample"] = w;
     paper["verdict"] = "refuted";
-    CHECK(check(paper).status != impactcert_check::kVerified);
+    const auto out = check(paper);
+    CHECK(out.status == impactcert_check::kRejected);
+    CHECK(out.message == "rejected: $.obligations[9].counterexample.via: S is a function on R^c: nothing to borrow");
 }
 
 TEST_CASE("soundness 2c: skipped claims, unknown or duplicate claim ids and a wrong format are rejected", "[soundness][checker]") {
@@ -237,6 +245,7 @@ TEST_CASE("soundness 2c: skipped claims, unknown or duplicate claim ids and a wr
 TEST_CASE("soundness 3: via cycles, added keys and deep nesting give one line and exit 1 or 2", "[soundness][checker]") {
     const Json cert = certificate_of(load("proofs/controls/missing-cone.json"));
     std::vector<Json> forged;
+    std::vector<std::string> expected; // the reason each forgery is refused for, pinned
     for (const char* id : {"fan", "P1", "kinematic", "nonexpansive", "nonexpansive-lemma"})
         for (const char* via : {"fan", "P1", "nonexpansive", "kinematic", "nonexpansive-lemma"}) {
             Json c = cert;
@@ -248,6 +257,11 @@ TEST_CASE("soundness 3: via cycles, added keys and deep nesting give one line an
                 continue; // that is the certificate as written
             w["via"] = via;
             forged.push_back(c);
+            const std::string at = "$.obligations[" + std::to_string(k) + "].counterexample";
+            // The fan's gap point read as a P1 witness lacks P1's keys: refused by its shape.
+            expected.push_back(std::string(id) == "nonexpansive-lemma" && std::string(via) == "P1"
+                                   ? "malformed: " + at + ": missing key \"piece_a\""
+                                   : "rejected: " + at + ".via: a witness of \"" + via + "\" does not refute " + id);
         }
     REQUIRE(forged.size() >= 10);
     // Added keys everywhere a key can go.
@@ -256,12 +270,18 @@ TEST_CASE("soundness 3: via cycles, added keys and deep nesting give one line an
         Json c = cert;
         c[Json::json_pointer(pointer)]["extra"] = "1";
         forged.push_back(c);
+        std::string path = "$"; // "/obligations/0" -> "$.obligations[0]"
+        std::stringstream parts(pointer);
+        for (std::string part; std::getline(parts, part, '/');)
+            if (!part.empty())
+                path += std::isdigit(static_cast<unsigned char>(part[0])) ? "[" + part + "]" : "." + part;
+        expected.push_back("malformed: " + path + ".extra: unknown key");
     }
-    for (const auto& c : forged) {
-        const auto out = check(c);
+    for (std::size_t f = 0; f < forged.size(); ++f) {
+        const auto out = check(forged[f]);
         INFO(out.message);
-        CHECK(out.status != impactcert_check::kVerified);
-        CHECK(out.message.find('\n') == std::string::npos);
+        CHECK(out.message == expected[f]);
+        CHECK(out.status == (expected[f].rfind("rejected", 0) == 0 ? impactcert_check::kRejected : impactcert_check::kMalformed));
     }
     // Nesting 100,000 deep: text that nlohmann would parse, and whose dump() would recurse.
     const auto out = impactcert_check::check_text(std::string(100000, '[') + std::string(100000, ']'));
