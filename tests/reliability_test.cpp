@@ -412,3 +412,37 @@ TEST_CASE("defect 18.2 fail: memory is budgeted in bytes, growth is stopped, und
     const auto small = run_cli("derive cradle --balls 6 -o " + dir + "/c6.json");
     REQUIRE(small.err.find("note:") == std::string::npos);
 }
+
+TEST_CASE("defect 18.10g: impactcert-check as a program: exit 0, 1, 2 and 3, and its options", "[reliability][cli][checker]") {
+    const std::string checker = std::string("'") + IMPACTCERT_CHECKER + "' ";
+    const std::string cradle = test::source_path("proofs/cradle4/certificate.json");
+    auto run = [&](const std::string& args, std::string* out) {
+        const std::string path = "/tmp/impactcert-rel-check.out";
+        const int status = std::system((checker + args + " >" + path + " 2>&1").c_str());
+        *out = test::read_file(path);
+        return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    };
+    std::string out;
+    REQUIRE(run(cradle, &out) == 0);
+    REQUIRE(out.find("verified (cradle-4: proved)") != std::string::npos);
+    REQUIRE(run("--jobs 2 " + cradle, &out) == 0);
+    // 1: a tampered verdict, rejected with the path.
+    std::string text = test::read_file(cradle);
+    const auto at = text.find("\"verdict\": \"proved\"", text.find("\"obligations\""));
+    REQUIRE(at != std::string::npos);
+    text.replace(at, std::string("\"verdict\": \"proved\"").size(), "\"verdict\": \"refuted\"");
+    std::ofstream("/tmp/impactcert-rel-tampered.json") << text;
+    REQUIRE(run("/tmp/impactcert-rel-tampered.json", &out) == 1);
+    REQUIRE(out.find("rejected: $.") != std::string::npos);
+    REQUIRE(std::count(out.begin(), out.end(), '\n') == 1);
+    // 3: limits below what the certificate needs, each named.
+    for (const char* option : {"--max-pieces 2", "--max-memory 0"}) {
+        REQUIRE(run(std::string(option) + " " + cradle, &out) == 3);
+        INFO(option << " -> " << out);
+        REQUIRE(out.find(std::string(option).substr(0, std::string(option).find(' '))) != std::string::npos);
+    }
+    // 2: bad options and unreadable input.
+    for (const char* args : {"--frobnicate 1", "--max-pieces abc", "--jobs 0", "--max-memory -1", "/nonexistent.json", ""}) {
+        REQUIRE(run(std::string(args) + (std::string(args).find(".json") == std::string::npos && *args ? " " + cradle : ""), &out) == 2);
+    }
+}
