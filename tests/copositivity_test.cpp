@@ -129,6 +129,16 @@ TEST_CASE("copositivity: the decision agrees with exact sampling of the simplex 
         INFO("trial " << trial);
         if (sampled_negative)
             REQUIRE_FALSE(r.copositive);
+        if (r.method == CopositivityMethod::kkt_enumeration) {
+            // The reported minimum is attained by the witness, a point of the simplex.
+            Rational sum;
+            for (const auto& x : r.witness) {
+                REQUIRE(sign_of(x) != Sign::negative);
+                sum += x;
+            }
+            REQUIRE(sum == Rational(1));
+            REQUIRE(bilinear(r.witness, A, r.witness) == r.minimum);
+        }
         if (!r.copositive) {
             REQUIRE(sign_of(bilinear(r.witness, A, r.witness)) == Sign::negative);
             for (const auto& x : r.witness)

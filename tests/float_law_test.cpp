@@ -3,6 +3,8 @@
 #include "support.hpp"
 
 #include <catch2/catch.hpp>
+
+#include <algorithm>
 #include <impactcert/float_law.hpp>
 
 #include <cmath>
@@ -107,8 +109,11 @@ TEST_CASE("float law: equal-mass ball velocities are sorted exactly", "[float]")
         double v[3] = {0, s.a[0], s.a[0] + s.a[1]};
         if (!std::isfinite(v[2]))
             continue;
+        const double before[3] = {v[0], v[1], v[2]};
         fp::sort_velocities(v);
         CHECK(v[0] <= v[1]);
         CHECK(v[1] <= v[2]);
+        // A permutation of the input, not just some sorted triple.
+        CHECK(std::is_permutation(v, v + 3, before));
     }
 }

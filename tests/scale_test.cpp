@@ -369,8 +369,10 @@ TEST_CASE("symmetries: law files are validated with paths, and compact laws are 
         "pieces": [{"name": "I", "Q": [["1","0"],["0","1"]], "rays": [["1","0"],["0","1"]]}],
         "symmetries": [{"name": "s", "P": [["3/5","-4/5"],["4/5","3/5"]], "P_prime": [["3/5","-4/5"],["4/5","3/5"]]}],
         "pieces_listed": "orbit-representatives"})";
-    CHECK(error_of(rotation) ==
-          "law.json: $.symmetries: generated piece name longer than 4096 characters (a symmetry of infinite order?)");
+    // Stopped as soon as the numbers grow (long before the 4,096-character name bound).
+    const std::string rotation_error = error_of(rotation);
+    CHECK(rotation_error.rfind("law.json: $.symmetries: generated piece \"I.s.s.", 0) == 0);
+    CHECK(rotation_error.find("the numbers grow (a symmetry of infinite order?)") != std::string::npos);
     // A shear is no isometry: generating from it is refused before anything is generated.
     std::string shear = rotation;
     shear.replace(shear.find(R"("P": [["3/5","-4/5"],["4/5","3/5"]])"), 35, R"("P": [["1","1"],["0","1"]])");

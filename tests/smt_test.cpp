@@ -6,6 +6,7 @@
 #include <catch2/catch.hpp>
 
 #include <cstdio>
+#include <map>
 #include <fstream>
 #include <unistd.h>
 
@@ -73,12 +74,20 @@ TEST_CASE("smt: impactcert smt writes one file per universal claim", "[smt][cli]
     const std::string dir = "/tmp/impactcert-smt-cli-test";
     const auto run = test::run_cli("smt -o " + dir);
     CHECK(run.status == 0);
+    // Each file is exactly the in-process script of its claim (the one z3 decides in the test
+    // above), and standard output lists the files.
+    std::map<std::string, std::string> scripts;
+    for (const auto& problem : smt_problems(Model(paper_law())))
+        scripts[problem.id] = problem.script;
     for (const char* id : {"fan", "P1", "P2", "P3", "kinematic", "kinetic", "energetic", "nonexpansive"}) {
         std::ifstream in(dir + "/" + id + ".smt2");
         const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
         INFO(id);
         CHECK(text.find("(set-logic QF_NRA)") != std::string::npos);
         CHECK(text.find("(check-sat)") != std::string::npos);
+        REQUIRE(scripts.count(id));
+        CHECK(text == scripts[id]);
+        CHECK(run.out.find(dir + "/" + id + ".smt2\n") != std::string::npos);
         std::remove((dir + "/" + id + ".smt2").c_str());
     }
     rmdir(dir.c_str());
