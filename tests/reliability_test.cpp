@@ -146,6 +146,14 @@ TEST_CASE("defect 18.6 fail: a certificate with a repeated key is malformed, whe
         REQUIRE(outcome.status == impactcert_check::kMalformed);
         REQUIRE(outcome.message.find(m.path + ": duplicate key") != std::string::npos);
     }
+    // An object with 100,000 keys is refused at once (key lookups are linear in nlohmann's ordered
+    // objects: read whole, it took minutes).
+    std::string many = "{";
+    for (int k = 0; k < 100000; ++k)
+        many += std::string(k ? "," : "") + "\"k" + std::to_string(k) + "\": 0";
+    const auto wide = impactcert_check::check_text(many + "}");
+    REQUIRE(wide.status == impactcert_check::kMalformed);
+    REQUIRE(wide.message.find("more than 4096 keys") != std::string::npos);
     // A repeated key inside an array element: the path names the element.
     std::string mutated = text;
     const auto ray = mutated.find("\"rays\": [");
@@ -441,6 +449,10 @@ TEST_CASE("defect 18.10g: impactcert-check as a program: exit 0, 1, 2 and 3, and
         INFO(option << " -> " << out);
         REQUIRE(out.find(std::string(option).substr(0, std::string(option).find(' '))) != std::string::npos);
     }
+    // 2: a verdict that cannot be written is not given.
+    const int full = std::system((checker + cradle + " >/dev/full 2>/dev/null").c_str());
+    REQUIRE(WIFEXITED(full));
+    REQUIRE(WEXITSTATUS(full) == 2);
     // 2: bad options and unreadable input.
     for (const char* args : {"--frobnicate 1", "--max-pieces abc", "--jobs 0", "--max-memory -1", "/nonexistent.json", ""}) {
         REQUIRE(run(std::string(args) + (std::string(args).find(".json") == std::string::npos && *args ? " " + cradle : ""), &out) == 2);

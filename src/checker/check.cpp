@@ -205,6 +205,12 @@ Json parse_unique_keys(const std::string& text) {
             break;
         case Json::parse_event_t::key:
             levels.back().key = parsed.get<std::string>();
+            // A certificate's objects have at most a few dozen keys; ordered_json finds keys by a
+            // linear search, so an object of a million keys would take half an hour to read.
+            if (levels.back().keys.size() >= 4096) {
+                levels.push_back({false, {}, {}, 0});
+                throw DuplicateKey{path(), ""};
+            }
             if (!levels.back().keys.insert(levels.back().key).second) {
                 levels.push_back({false, {}, {}, 0});
                 throw DuplicateKey{path(), levels[levels.size() - 2].key};
@@ -230,6 +236,8 @@ Outcome check_text(const std::string& text, const Limits& limits) {
         } catch (const Json::exception& e) {
             return {kMalformed, one_line(std::string("malformed JSON: ") + e.what())};
         } catch (const DuplicateKey& d) {
+            if (d.key.empty())
+                return {kMalformed, one_line("malformed: " + d.path + ": more than 4096 keys in one object")};
             return {kMalformed, one_line("malformed: " + d.path + ": duplicate key \"" + d.key + "\"")};
         }
         try {

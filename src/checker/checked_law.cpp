@@ -197,7 +197,7 @@ Law read_law(const Json& j, const std::string& path, std::size_t max_pieces, std
             std::size_t listed_bits = 0, bytes = 0;
             for (const auto& piece : law.pieces) {
                 listed_bits = std::max({listed_bits, bits_of(piece.Q_), bits_of(from_cols(piece.rays))});
-                bytes += bytes_of(piece.Q_) + 2 * bytes_of(from_cols(piece.rays));
+                bytes += bytes_of(piece.Q_) + bytes_of(piece.R) + bytes_of(piece.R_inv); // as the prover counts
             }
             for (const Symmetry& sym : law.symmetries)
                 listed_bits = std::max({listed_bits, bits_of(sym.P), bits_of(sym.P_prime), bits_of(sym.P_inv)});
@@ -225,7 +225,7 @@ Law read_law(const Json& j, const std::string& path, std::size_t max_pieces, std
                             "generated piece \"" + image.name.substr(0, 60) +
                                 "\" has numbers of more than 16 times the bits of the listed data (a symmetry of infinite order?)");
                     require(invert(image.R, image.R_inv), at(path, "symmetries"), "a generated cone is degenerate");
-                    bytes += bytes_of(image.Q_) + 2 * bytes_of(image.R) + 2 * image.name.size() + 512;
+                    bytes += bytes_of(image.Q_) + bytes_of(image.R) + bytes_of(image.R_inv) + 2 * image.name.size() + 512;
                     for (const auto& r : image.rays)
                         if (law.ray_index.emplace(r, law.distinct_rays.size()).second) {
                             law.distinct_rays.push_back(r);

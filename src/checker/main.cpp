@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <exception>
+#include <cstdio>
 #include <fstream>
 #include <iostream>
 #include <sstream>
@@ -99,6 +100,12 @@ int main(int argc, char** argv) {
         const auto outcome = impactcert_check::check_text(text.str(), limits);
         (outcome.status == impactcert_check::kVerified ? std::cout : std::cerr)
             << "impactcert-check: " << one_line(file) << ": " << outcome.message << "\n";
+        // A verdict that cannot be written is not given (a full disk must not read as "verified").
+        std::cout.flush();
+        if (!std::cout || std::fflush(stdout) != 0 || std::ferror(stdout)) {
+            std::cerr << "impactcert-check: standard output: cannot write\n";
+            return impactcert_check::kMalformed;
+        }
         return outcome.status;
     } catch (const std::exception& e) {
         std::cerr << "impactcert-check: " << one_line(file) << ": error: "
