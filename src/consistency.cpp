@@ -2,6 +2,7 @@
 
 #include "errors.hpp"
 #include "exact_double.hpp"
+#include "splitmix.hpp"
 
 #include <gmp.h>
 
@@ -74,15 +75,8 @@ std::pair<double, double> parse_range(const std::string& text) {
 
 namespace {
 
-std::uint64_t splitmix(std::uint64_t& state) {
-    std::uint64_t z = (state += 0x9E3779B97F4A7C15ULL);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
-    return z ^ (z >> 31);
-}
 
 double unit(std::uint64_t& st) { return static_cast<double>(splitmix(st) >> 11) * 0x1p-53; }
-std::uint64_t below(std::uint64_t& st, std::uint64_t n) { return ((splitmix(st) >> 32) * n) >> 32; }
 
 // Log-uniform magnitude in [lo, hi].
 double magnitude(std::uint64_t& st, double lo, double hi) {

@@ -134,6 +134,15 @@ void declare_single_impacts(Law& law, const Matrix& G, const std::vector<Rationa
     }
 }
 
+// The pieces from the regions, the single impacts, and the outcomes by the independent
+// simulation in ball velocities (or the ones given).
+void finish(Law& law, std::vector<Region>& regions, const Mechanics& mech, const ClassicalOptions& o,
+            const std::function<Vector(const Vector&)>& simulate) {
+    add_region_pieces(regions, mech.contacts(), law);
+    declare_single_impacts(law, mech.G, o.restitution);
+    declare_outcomes(law, o.outcomes_override, [&](const Vector& u) -> std::optional<Vector> { return simulate(u); });
+}
+
 } // namespace
 
 Law derive_newton(const ClassicalOptions& o) {
@@ -189,11 +198,7 @@ Law derive_newton(const ClassicalOptions& o) {
                       "; derived by impactcert derive newton. Pieces are named by the contacts that carry an impulse "
                       "(J13: contacts 1 and 3; free: none); /e1 lists the contacts of J where restitution applies "
                       "when not all of them (/e0: none); parts of a triangulated region by .1, .2, ...";
-    add_region_pieces(regions, c, law);
-    declare_single_impacts(law, mech.G, o.restitution);
-    declare_outcomes(law, o.outcomes_override, [&](const Vector& u) -> std::optional<Vector> {
-        return simulate_newton(mech, o.restitution, o.on, u);
-    });
+    finish(law, regions, mech, o, [&](const Vector& u) { return simulate_newton(mech, o.restitution, o.on, u); });
     return law;
 }
 
@@ -235,11 +240,7 @@ Law derive_poisson(const ClassicalOptions& o) {
                       "; derived by impactcert derive poisson. Pieces are named by the active sets of the compression "
                       "and expansion phases (C12/E1: contacts 1 and 2 compress, contact 1 carries an extra impulse in "
                       "expansion; 0: none; free: no impact); parts of a triangulated region by .1, .2, ...";
-    add_region_pieces(regions, c, law);
-    declare_single_impacts(law, mech.G, o.restitution);
-    declare_outcomes(law, o.outcomes_override, [&](const Vector& u) -> std::optional<Vector> {
-        return simulate_poisson(mech, o.restitution, u);
-    });
+    finish(law, regions, mech, o, [&](const Vector& u) { return simulate_poisson(mech, o.restitution, u); });
     return law;
 }
 

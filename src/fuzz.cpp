@@ -1,6 +1,7 @@
 #include "fuzz.hpp"
 
 #include "exact_double.hpp"
+#include "splitmix.hpp"
 
 #include "eft.hpp"
 #include "float_eval.hpp"
@@ -26,12 +27,6 @@ namespace impactcert::fuzz {
 
 namespace {
 
-std::uint64_t splitmix(std::uint64_t& state) {
-    std::uint64_t z = (state += 0x9E3779B97F4A7C15ULL);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
-    return z ^ (z >> 31);
-}
 
 double from_bits(std::uint64_t bits) {
     double d;
@@ -39,8 +34,6 @@ double from_bits(std::uint64_t bits) {
     return d;
 }
 
-// Uniform in [0, n) for n < 2^32 by a multiply-shift (no division; bias below n 2^-32).
-std::uint64_t below(std::uint64_t& st, std::uint64_t n) { return ((splitmix(st) >> 32) * n) >> 32; }
 bool coin(std::uint64_t& st) { return splitmix(st) & 1; }
 
 // A finite double with a uniformly random binary exponent over the whole range (subnormals
