@@ -6,6 +6,7 @@
 
 #include <gmp.h>
 
+#include <algorithm>
 #include <stdexcept>
 
 namespace impactcert {
@@ -151,6 +152,19 @@ PairKernel::PairKernel(const Model& m, bool enabled) : c_(m.contacts()), enabled
         d.E.resize(c_ * c_);
         for (std::size_t k = 0; k < c_ * c_ && d.ok; ++k)
             d.ok = !__builtin_sub_overflow(RtHR[k], QRtHQR[k], &d.E[k]);
+        auto max_abs = [](const std::vector<i64>& v) {
+            i128 largest = 0;
+            for (const i64 x : v)
+                largest = std::max(largest, x < 0 ? -static_cast<i128>(x) : static_cast<i128>(x));
+            return largest;
+        };
+        d.max_R = max_abs(d.R);
+        d.max_QR = max_abs(d.QR);
+        d.max_HR = max_abs(d.HR);
+        d.max_HQR = max_abs(d.HQR);
+        d.E_nonnegative = true;
+        for (const i64 x : d.E)
+            d.E_nonnegative = d.E_nonnegative && x >= 0;
     }
 }
 
@@ -166,34 +180,49 @@ std::optional<CopositivityMethod> PairKernel::decide(std::size_t i, std::size_t 
         return std::nullopt;
     const PieceData &a = pieces_[i], &b = pieces_[j];
     const std::size_t c = c_, n = 2 * c_;
+    // F = R_i^T H R_j - QR_i^T H QR_j (all scaled); A = [[E_i, -F], [-F^T, E_j]]. When the
+    // bounds of the entries show that no partial sum can leave int64 (c terms of two products,
+    // each below the bound), F is computed in plain int64 (the common case, vectorised);
+    // otherwise in __int128 with every step checked.
+    const i128 bound = static_cast<i128>(c) * (a.max_R * b.max_HR + a.max_QR * b.max_HQR);
+    const bool small = a.max_R < (i128{1} << 62) && b.max_HR < (i128{1} << 62) && a.max_QR < (i128{1} << 62) &&
+                       b.max_HQR < (i128{1} << 62) && bound < (i128{1} << 62);
+    s.F.assign(c * c, 0);
+    bool nonnegative = a.E_nonnegative && b.E_nonnegative;
+    for (std::size_t x = 0; x < c; ++x)
+        for (std::size_t y = 0; y < c; ++y) {
+            i64 minus_f;
+            if (small) {
+                i64 f = 0;
+                for (std::size_t r = 0; r < c; ++r)
+                    f += a.R[r * c + x] * b.HR[r * c + y] - a.QR[r * c + x] * b.HQR[r * c + y];
+                minus_f = -f;
+            } else {
+                i128 f = 0;
+                for (std::size_t r = 0; r < c; ++r) {
+                    const i128 term = static_cast<i128>(a.R[r * c + x]) * b.HR[r * c + y] -
+                                      static_cast<i128>(a.QR[r * c + x]) * b.HQR[r * c + y];
+                    if (__builtin_add_overflow(f, term, &f))
+                        return std::nullopt;
+                }
+                f = -f;
+                if (!fits(f))
+                    return std::nullopt;
+                minus_f = static_cast<i64>(f);
+            }
+            s.F[x * c + y] = minus_f;
+            nonnegative = nonnegative && minus_f >= 0;
+        }
+    if (nonnegative)
+        return CopositivityMethod::nonnegative_entries;
     s.A.assign(n * n, 0);
-    // A = [[E_i, -F], [-F^T, E_j]], F = R_i^T H R_j - QR_i^T H QR_j (all scaled).
     for (std::size_t r = 0; r < c; ++r)
         for (std::size_t k = 0; k < c; ++k) {
             s.A[r * n + k] = a.E[r * c + k];
             s.A[(c + r) * n + c + k] = b.E[r * c + k];
+            s.A[r * n + c + k] = s.F[r * c + k];
+            s.A[(c + k) * n + r] = s.F[r * c + k];
         }
-    bool nonnegative = true;
-    for (std::size_t x = 0; x < c; ++x)
-        for (std::size_t y = 0; y < c; ++y) {
-            i128 f = 0;
-            for (std::size_t r = 0; r < c; ++r) {
-                const i128 term = static_cast<i128>(a.R[r * c + x]) * b.HR[r * c + y] -
-                                  static_cast<i128>(a.QR[r * c + x]) * b.HQR[r * c + y];
-                if (__builtin_add_overflow(f, term, &f))
-                    return std::nullopt;
-            }
-            f = -f;
-            if (!fits(f))
-                return std::nullopt;
-            s.A[x * n + c + y] = static_cast<i64>(f);
-            s.A[(c + y) * n + x] = static_cast<i64>(f);
-            nonnegative = nonnegative && f >= 0;
-        }
-    for (std::size_t k = 0; k < n * n && nonnegative; ++k)
-        nonnegative = s.A[k] >= 0;
-    if (nonnegative)
-        return CopositivityMethod::nonnegative_entries;
     s.C = s.A;
     const auto psd = int_psd(s.C, n);
     if (!psd)

@@ -31,7 +31,7 @@ class PairKernel {
     PairKernel(const Model& m, bool enabled);
 
     struct Scratch {
-        std::vector<std::int64_t> A, C;
+        std::vector<std::int64_t> A, C, F;
     };
 
     std::optional<CopositivityMethod> decide(std::size_t i, std::size_t j, Scratch& s) const;
@@ -45,6 +45,8 @@ class PairKernel {
     struct PieceData {
         bool ok = false;
         std::vector<std::int64_t> R, QR, HR, HQR, E; // c x c row-major; E = R^T H R - QR^T H QR
+        __extension__ __int128 max_R = 0, max_QR = 0, max_HR = 0, max_HQR = 0; // largest absolute entries
+        bool E_nonnegative = false;
     };
     std::vector<PieceData> pieces_;
 };

@@ -83,6 +83,15 @@ std::vector<Model> kernel_laws() {
     o.masses = {Rational(3), Rational(1), Rational(2), Rational(5)};
     o.restitution = {Rational(1), Rational(1), Rational(1)};
     laws.emplace_back(*derive_sequential(o).law);
+    // Continuous inelastic laws (on the continuity curves of the (1, m, 1) family): P1 holds, so
+    // the pair forms decide, and they take every route (a discontinuous law is refuted near
+    // P1's ray before any pair form).
+    o.masses = {Rational(1), Rational(1, 2), Rational(1)};
+    o.restitution = {Rational(1, 2), Rational(1, 2)};
+    laws.emplace_back(*derive_sequential(o).law);
+    o.masses = {Rational(1), Rational(1, 3), Rational(1)};
+    o.restitution = {Rational(1, 3), Rational(1, 3)};
+    laws.emplace_back(*derive_sequential(o).law);
     return laws;
 }
 

@@ -98,6 +98,8 @@ void Checker::could_be_undecided(const std::string& id, const std::string& limit
         require(!face_to_face(), path, "the cones meet face to face: P1 is decided on shared rays, without a limit");
     if (id == "nonexpansive" && option == "--max-faces" && holds("fan") != Truth::undecided)
         require(!domain_witness(), path, "S is not a function: the prover refutes nonexpansive by the domain witness");
+    if (id == "nonexpansive")
+        require(holds("P1") != Truth::refuted, path, "P1 is refuted: the prover refutes nonexpansive near its discontinuity");
     if (id == "nonexpansive-lemma" && option == "--max-subsets")
         require(holds("fan") != Truth::undecided && !domain_witness() && holds("P1") == Truth::undecided, path,
                 "P1 is decided, or S is not a function: the lemma does not stop at P1's limit");
@@ -295,6 +297,11 @@ bool Checker::evidence(const std::string& id, const Json& data, const std::strin
         // S undefined or two-valued: refuted before any pair is examined.
         if (holds("fan") != Truth::undecided && domain_witness()) {
             require(data.empty(), dp, "lists pairs although S is not a function");
+            return false;
+        }
+        // A discontinuity (P1 refuted): refuted near its ray before any pair form.
+        if (holds("P1") == Truth::refuted) {
+            require(data.empty(), dp, "lists pairs although P1 found a discontinuity");
             return false;
         }
         const auto ps = firsts(); // one first piece per orbit when the symmetries hold

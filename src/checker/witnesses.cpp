@@ -112,7 +112,11 @@ void Checker::check_witness(const std::string& id, const Json& w, const std::str
         return;
     }
     if (id == "nonexpansive" || id == "nonexpansive-lemma") {
-        expect_keys(w, wp, {"piece_a", "piece_b", "gamma_a", "gamma_b", "lhs", "rhs"});
+        const bool across = id == "nonexpansive" && w.contains("discontinuity");
+        if (across)
+            expect_keys(w, wp, {"piece_a", "piece_b", "gamma_a", "gamma_b", "lhs", "rhs", "discontinuity"});
+        else
+            expect_keys(w, wp, {"piece_a", "piece_b", "gamma_a", "gamma_b", "lhs", "rhs"});
         const std::size_t a = law_.piece(field(w, wp, "piece_a"), at(wp, "piece_a"));
         const std::size_t b = law_.piece(field(w, wp, "piece_b"), at(wp, "piece_b"));
         const Vec ga = vec(field(w, wp, "gamma_a"), at(wp, "gamma_a"));
@@ -126,7 +130,30 @@ void Checker::check_witness(const std::string& id, const Json& w, const std::str
         require(rat(field(w, wp, "rhs"), at(wp, "rhs")) == rhs, at(wp, "rhs"), "is not |a - b|_H^2");
         require(lhs > rhs, wp, "lhs <= rhs: not a violation");
         Vec ca, cb;
-        if (id == "nonexpansive") {
+        if (id == "nonexpansive" && holds("P1") == Truth::refuted) {
+            if (holds("fan") != Truth::undecided)
+                require(!domain_witness(), wp, "S is not a function: the canonical witness is the fan's");
+            // Near P1's ray v: v + eps R 1 in each cone, the first eps = 1/2, 1/4, ... that
+            // violates the claim (proofs/README.md, Lemma D); P1's witness has been checked.
+            require(across, wp, "P1 is refuted: the canonical witness lies across its discontinuity");
+            const Json& p1w = field(obl_[1], "$.obligations[1]", "counterexample");
+            require(p1w.at("piece_a") == w.at("piece_a") && p1w.at("piece_b") == w.at("piece_b"), wp,
+                    "are not the pieces of P1's counterexample");
+            const Vec v = vec(p1w.at("gamma"), "$.obligations[1].counterexample.gamma");
+            expect_vec(w, wp, "discontinuity", v, "P1's ray");
+            const Vec da = mul(pc(a).R, Vec(law_.c, Q(1))), db = mul(pc(b).R, Vec(law_.c, Q(1)));
+            for (Q eps = Q(1) / 2;; eps /= 2) {
+                ca = v;
+                cb = v;
+                for (std::size_t k = 0; k < law_.c; ++k) {
+                    ca[k] += eps * da[k];
+                    cb[k] += eps * db[k];
+                }
+                if (law_.energy(sub(mul(pc(a).Q_, ca), mul(pc(b).Q_, cb))) > law_.energy(sub(ca, cb)))
+                    break;
+            }
+        } else if (id == "nonexpansive") {
+            require(!across, at(wp, "discontinuity"), "P1 is not refuted");
             if (holds("fan") != Truth::undecided)
                 require(!domain_witness(), wp, "S is not a function: the canonical witness is the fan's");
             const Json& entry = last_entry("nonexpansive", "pairs");

@@ -10,6 +10,8 @@
 // evidence is built, so verdicts, methods, counts and witnesses never depend on the kernel.
 // Pairs are decided in blocks, by `jobs` threads, and read in order: the first pair that is
 // not copositive (or exceeds a limit) ends the obligation, whatever the number of threads.
+// A discontinuity found by P1 comes first: the pair across it is refuted near P1's ray without
+// any pair form (discontinuity_pair).
 // Witness: a negative z moved into the open orthant (interior_witness), so that gamma_a and
 // gamma_b are interior to their cones.
 #include "pair_kernel.hpp"
@@ -32,6 +34,23 @@ Json Prover::pair_witness(std::size_t i, std::size_t j, const Vector& gamma_a, c
     return Json{{"piece_a", name(i)},         {"piece_b", name(j)},
                 {"gamma_a", to_json(gamma_a)}, {"gamma_b", to_json(gamma_b)},
                 {"lhs", to_json(lhs)},         {"rhs", to_json(rhs)}};
+}
+
+// Near a ray v where Q_a v != Q_b v: gamma_a = v + eps R_a 1, gamma_b = v + eps R_b 1 lie in
+// the interiors of C_a and C_b (R^-1 gamma = R^-1 v + eps 1 > 0), and as eps -> 0 the left side
+// tends to |Q_a v - Q_b v|_H^2 > 0 while the right side is eps^2 |R_a 1 - R_b 1|_H^2: the first
+// eps = 1/2, 1/4, ... with lhs > rhs gives the witness (it exists, so the loop ends).
+Json Prover::discontinuity_pair(const Discontinuity& d) {
+    const Vector ones(c_, Rational(1));
+    const Vector da = pieces_[d.a].R * ones, db = pieces_[d.b].R * ones;
+    for (Rational eps = Rational(1, 2);; eps = eps / 2) {
+        const Vector ga = d.ray + eps * da, gb = d.ray + eps * db;
+        if (m_.energy(pieces_[d.a].Q * ga - pieces_[d.b].Q * gb) > m_.energy(ga - gb)) {
+            Json w = pair_witness(d.a, d.b, ga, gb);
+            w["discontinuity"] = to_json(d.ray);
+            return w;
+        }
+    }
 }
 
 Matrix Prover::pair_form(std::size_t i, std::size_t j) const {
@@ -75,6 +94,17 @@ Outcome Prover::nonexpansive() {
             return refute(o, std::move(*w));
     } catch (const LimitExceeded& e) {
         fan_limit = e;
+    }
+    // A discontinuity refutes the claim at once (proofs/README.md, "nonexpansive (pairwise)",
+    // Lemma D): the pair of pieces across P1's ray comes before every pair form. P1 beyond its
+    // limit leaves the pairs to decide.
+    try {
+        if (!p1().proved && p1_discontinuity_) {
+            o.method = "the pieces across P1's discontinuity";
+            o.checks = 1;
+            return refute(o, discontinuity_pair(*p1_discontinuity_));
+        }
+    } catch (const LimitExceeded&) {
     }
     std::size_t by_method[4] = {0, 0, 0, 0};
     const std::vector<std::size_t> firsts = orbit_representatives();

@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <string>
+#include <unordered_map>
 #include <utility>
 #include <vector>
 
@@ -20,6 +21,7 @@ Json Prover::p1_witness(std::size_t i, std::size_t j, const Vector& x) {
     const auto in = m_.pieces_containing(x);
     ensure(std::find(in.begin(), in.end(), i) != in.end() && std::find(in.begin(), in.end(), j) != in.end(),
            "P1 point in both cones");
+    p1_discontinuity_ = Discontinuity{i, j, x};
     return Json{{"piece_a", name(i)}, {"piece_b", name(j)}, {"gamma", to_json(x)},
                 {"image_a", to_json(qi)}, {"image_b", to_json(qj)}};
 }
@@ -55,27 +57,50 @@ Outcome Prover::p1_shared_rays() {
     const bool reduced = symmetry() != nullptr;
     const std::vector<std::size_t> firsts = orbit_representatives();
     o.method += by_symmetries();
+    // The pieces through each ray of a first piece (ascending), found by the ray ids of the
+    // Model (primitive rays, hashed once when the law is read): the work follows the shared
+    // rays, not the P^2 / 2 pairs. Q_p v is computed once per (piece, ray).
+    std::vector<char> wanted(m_.rays().size(), 0);
+    for (const std::size_t i : firsts)
+        for (const auto id : pieces_[i].ray_ids)
+            wanted[id] = 1;
+    std::unordered_map<std::size_t, std::vector<std::size_t>> through;
+    for (std::size_t p = 0; p < pieces_.size(); ++p)
+        for (const auto id : pieces_[p].ray_ids)
+            if (wanted[id])
+                through[id].push_back(p);
+    std::unordered_map<std::size_t, Vector> images; // key p * c + slot
+    auto image = [&](std::size_t p, std::size_t id) -> const Vector& {
+        const auto& ids = pieces_[p].ray_ids;
+        const std::size_t slot = static_cast<std::size_t>(std::find(ids.begin(), ids.end(), id) - ids.begin());
+        auto [it, fresh] = images.try_emplace(p * c_ + slot);
+        if (fresh)
+            it->second = pieces_[p].Q * m_.rays()[id];
+        return it->second;
+    };
     for (std::size_t f = 0; f < firsts.size() && o.proved; ++f) {
         const std::size_t i = firsts[f];
         if (i % 64 == 0)
             report_progress("P1", f, firsts.size());
-        for (std::size_t j = reduced ? 0 : i + 1; j < pieces_.size() && o.proved; ++j) {
-            if (j == i)
-                continue;
-            for (std::size_t a = 0; a < c_ && o.proved; ++a) {
-                const auto id = pieces_[i].ray_ids[a];
-                const auto& rj = pieces_[j].ray_ids;
-                if (std::find(rj.begin(), rj.end(), id) == rj.end())
-                    continue;
-                const Vector& v = m_.rays()[id];
-                const Vector qi = pieces_[i].Q * v, qj = pieces_[j].Q * v;
-                ++o.checks;
-                if (limits_.evidence)
-                    o.data["shared"].push_back(Json{{"piece_a", name(i)}, {"piece_b", name(j)},
-                                                    {"ray", to_json(v)}, {"image_a", to_json(qi)},
-                                                    {"image_b", to_json(qj)}});
-                if (qi != qj)
-                    o = refute(o, p1_witness(i, j, v));
+        std::vector<std::pair<std::size_t, std::size_t>> mine; // (j, slot of the ray in i), in order
+        for (std::size_t a = 0; a < c_; ++a)
+            for (const std::size_t j : through[pieces_[i].ray_ids[a]])
+                if (j != i && (reduced || j > i))
+                    mine.emplace_back(j, a);
+        std::sort(mine.begin(), mine.end());
+        for (const auto& [j, a] : mine) {
+            const auto id = pieces_[i].ray_ids[a];
+            const Vector& v = m_.rays()[id];
+            const Vector& qi = image(i, id);
+            const Vector& qj = image(j, id);
+            ++o.checks;
+            if (limits_.evidence)
+                o.data["shared"].push_back(Json{{"piece_a", name(i)}, {"piece_b", name(j)},
+                                                {"ray", to_json(v)}, {"image_a", to_json(qi)},
+                                                {"image_b", to_json(qj)}});
+            if (qi != qj) {
+                o = refute(o, p1_witness(i, j, v));
+                break;
             }
         }
     }

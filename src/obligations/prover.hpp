@@ -68,6 +68,11 @@ class Prover {
     std::optional<FanResult> fan_;
     std::optional<LimitExceeded> fan_limit_; // the fan's decision exceeded a limit
     std::optional<Outcome> p1_;
+    struct Discontinuity {
+        std::size_t a, b;
+        Vector ray;
+    };
+    std::optional<Discontinuity> p1_discontinuity_; // P1 refuted: its pieces and ray
     std::optional<LimitExceeded> p1_limit_;
     std::optional<DomainResult> domain_;
     std::optional<Outcome> symmetries_;
@@ -125,6 +130,7 @@ class Prover {
     Matrix pair_form(std::size_t i, std::size_t j) const;
     std::string method_summary(const std::size_t (&by_method)[4]);
     Outcome nonexpansive();
+    Json discontinuity_pair(const Discontinuity& d); // the interior pair near P1's ray
 
     Outcome nonexpansive_lemma(); // nonexpansive_lemma.cpp
     Outcome outcomes();           // outcomes.cpp

@@ -1,0 +1,120 @@
+// scale19_test.cpp -- issue 19: what matters first (a discontinuity refutes nonexpansive near
+// P1's ray, Lemma D), shared rays found through the ray index, the planar derivation by sectors,
+// and shards (a slice of the work each, merged and checked for coverage).
+#include "certificate.hpp"
+#include "derive.hpp"
+#include "impactcert_check.hpp"
+#include "law_json.hpp"
+#include "support.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <string>
+
+using namespace impactcert;
+using impactcert::test::source_path;
+
+namespace {
+
+Model derived(std::vector<Rational> masses, std::vector<Rational> e) {
+    DeriveOptions o;
+    o.masses = std::move(masses);
+    o.restitution = std::move(e);
+    return Model(*derive_sequential(o).law);
+}
+
+std::size_t piece_named(const Model& m, const Json& name) {
+    for (std::size_t p = 0; p < m.pieces().size(); ++p)
+        if (m.pieces()[p].name == name.get<std::string>())
+            return p;
+    throw std::logic_error("no piece " + name.dump());
+}
+
+impactcert_check::Outcome check(const Json& cert) { return impactcert_check::check_text(cert.dump()); }
+
+Json& obligation(Json& cert, const std::string& id) {
+    for (auto& o : cert["obligations"])
+        if (o["id"] == id)
+            return o;
+    throw std::logic_error("no obligation " + id);
+}
+
+} // namespace
+
+TEST_CASE("nonexpansive: a discontinuity found by P1 is refuted near its ray before any pair form (Lemma D)",
+          "[scale][issue19]") {
+    // The 4-ball chain 1,2,3,4 with e = 1/2: P1 fails on the tie of 121 and 212.
+    const Model m = derived({Rational(1), Rational(2), Rational(3), Rational(4)}, {Rational(1, 2), Rational(1, 2), Rational(1, 2)});
+    const VerifyReport r = verify(m);
+    const auto& p1 = r.at("P1");
+    const auto& ne = r.at("nonexpansive");
+    REQUIRE(p1.verdict == Verdict::refuted);
+    REQUIRE(ne.verdict == Verdict::refuted);
+    CHECK(ne.checks == 1); // no pair form was decided
+    const Json& w = ne.counterexample;
+    CHECK(w["piece_a"] == p1.counterexample["piece_a"]);
+    CHECK(w["piece_b"] == p1.counterexample["piece_b"]);
+    CHECK(w["discontinuity"] == p1.counterexample["gamma"]);
+    // A true pair of interior points with lhs > rhs, by the evaluator (second route).
+    test::revalidate(m, ne);
+    // Both points lie within eps R 1 of the ray: gamma - v is a positive combination of the rays.
+    const Vector v = test::vec_of(w["discontinuity"]);
+    for (const char* side : {"a", "b"}) {
+        const std::size_t p = piece_named(m, w[std::string("piece_") + side]);
+        const auto s = solve(m.pieces()[p].R, test::vec_of(w[std::string("gamma_") + side]) - v);
+        REQUIRE(s);
+        for (std::size_t k = 1; k < s->size(); ++k)
+            CHECK((*s)[k] == (*s)[0]); // gamma - v = eps R 1
+        CHECK(sign_of((*s)[0]) == Sign::positive);
+    }
+    test::require_sound(m, r);
+
+    // The certificate: verified; the checker holds it to the canonical pair.
+    const Json cert = make_certificate(m, verify(m, [] { Limits l; l.evidence = true; return l; }()));
+    REQUIRE(check(cert).status == impactcert_check::kVerified);
+    {
+        Json bad = cert; // the witness without the ray it came from
+        obligation(bad, "nonexpansive")["counterexample"].erase("discontinuity");
+        CHECK(check(bad).status == impactcert_check::kRejected);
+    }
+    {
+        // Another true violation (half the canonical eps) is not the canonical witness.
+        Json bad = cert;
+        Json& cw = obligation(bad, "nonexpansive")["counterexample"];
+        const std::size_t a = piece_named(m, cw["piece_a"]), b = piece_named(m, cw["piece_b"]);
+        const Vector ga = test::vec_of(cw["gamma_a"]), gb = test::vec_of(cw["gamma_b"]);
+        const Vector ga2 = v + Rational(1, 2) * (ga - v), gb2 = v + Rational(1, 2) * (gb - v);
+        const Rational lhs = m.energy(m.pieces()[a].Q * ga2 - m.pieces()[b].Q * gb2), rhs = m.energy(ga2 - gb2);
+        REQUIRE(lhs > rhs);
+        cw["gamma_a"] = to_json(ga2);
+        cw["gamma_b"] = to_json(gb2);
+        cw["lhs"] = to_string(lhs);
+        cw["rhs"] = to_string(rhs);
+        const auto outcome = check(bad);
+        CHECK(outcome.status == impactcert_check::kRejected);
+        CHECK(outcome.message.find("canonical") != std::string::npos);
+    }
+    {
+        // Listing pair forms after a discontinuity is rejected.
+        Json bad = cert;
+        obligation(bad, "nonexpansive")["data"]["pairs"] = Json::array();
+        CHECK(check(bad).status == impactcert_check::kRejected);
+    }
+}
+
+TEST_CASE("nonexpansive: a continuous law is still decided by its pair forms (negative control of Lemma D)",
+          "[scale][issue19]") {
+    // (1, 1/2, 1) with e = 1/2 lies on a continuity curve: P1 holds, the pairs decide.
+    const Model m = derived({Rational(1), Rational(1, 2), Rational(1)}, {Rational(1, 2), Rational(1, 2)});
+    const VerifyReport r = verify(m);
+    REQUIRE(r.at("P1").verdict == Verdict::proved);
+    CHECK(r.at("nonexpansive").verdict == Verdict::proved);
+    CHECK(r.at("nonexpansive").method.find("copositive pair forms") != std::string::npos);
+    CHECK(r.at("nonexpansive").checks > 100);
+    // A continuous but expansive control is refuted by a pair form, without a discontinuity.
+    const Model expansive(load_law_file(source_path("proofs/controls/expansive-scaled.json")));
+    const VerifyReport x = verify(expansive);
+    REQUIRE(x.at("nonexpansive").verdict == Verdict::refuted);
+    if (x.at("P1").verdict == Verdict::proved)
+        CHECK_FALSE(x.at("nonexpansive").counterexample.contains("discontinuity"));
+}
