@@ -1,7 +1,10 @@
 #include "derive.hpp"
 
+#include "derive_planar.hpp"
 #include "derive_regions.hpp"
 #include "errors.hpp"
+
+#include <gmpxx.h>
 
 #include <algorithm>
 #include <functional>
@@ -186,6 +189,42 @@ std::vector<OutcomeDecl> classical_experiments(std::size_t n) {
     return out;
 }
 
+// The sign of det(a) by fraction-free (Bareiss) elimination when every entry is an integer
+// (derived rays are primitive, experiments integral): no gcd; else by determinant().
+Sign integer_determinant_sign(const Matrix& a) {
+    const std::size_t n = a.rows();
+    std::vector<mpz_class> m(n * n);
+    for (std::size_t i = 0; i < n; ++i)
+        for (std::size_t j = 0; j < n; ++j) {
+            if (mpz_cmp_ui(mpq_denref(a(i, j).mpq()), 1) != 0)
+                return sign_of(determinant(a));
+            m[i * n + j] = mpz_class(mpq_numref(a(i, j).mpq()));
+        }
+    int sign = 1;
+    mpz_class prev = 1;
+    for (std::size_t k = 0; k < n; ++k) {
+        std::size_t p = k;
+        while (p < n && m[p * n + k] == 0)
+            ++p;
+        if (p == n)
+            return Sign::zero;
+        if (p != k) {
+            for (std::size_t j = 0; j < n; ++j)
+                std::swap(m[p * n + j], m[k * n + j]);
+            sign = -sign;
+        }
+        for (std::size_t i = k + 1; i < n; ++i) {
+            for (std::size_t j = k + 1; j < n; ++j) {
+                m[i * n + j] = m[k * n + k] * m[i * n + j] - m[i * n + k] * m[k * n + j];
+                mpz_divexact(m[i * n + j].get_mpz_t(), m[i * n + j].get_mpz_t(), prev.get_mpz_t());
+            }
+            m[i * n + k] = 0;
+        }
+        prev = m[k * n + k];
+    }
+    return sgn(m[(n - 1) * n + (n - 1)]) * sign > 0 ? Sign::positive : Sign::negative;
+}
+
 void declare_outcomes(Law& law, const std::vector<OutcomeDecl>& override_outcomes,
                       const std::function<std::optional<Vector>(const Vector&)>& simulate) {
     if (!override_outcomes.empty()) {
@@ -193,18 +232,43 @@ void declare_outcomes(Law& law, const std::vector<OutcomeDecl>& override_outcome
         return;
     }
     // Classical outcomes, by the independent simulation, where every piece containing gamma-
-    // agrees with it.
-    const Model model(law);
-    for (auto experiment : classical_experiments(model.balls())) {
+    // agrees with it. Containment by the signs of Cramer's determinants (gamma = R s, s >= 0),
+    // without building a Model: the pieces of a long word carry numbers of thousands of digits,
+    // and inverting every ray matrix cost more than the derivation.
+    const Mechanics mech = make_mechanics(law.masses, law.M, law.W);
+    const std::size_t c = mech.contacts();
+    auto det = [c](const Matrix& a) -> Sign {
+        if (c == 2)
+            return sign_of(a(0, 0) * a(1, 1) - a(0, 1) * a(1, 0));
+        return integer_determinant_sign(a);
+    };
+    for (auto experiment : classical_experiments(mech.balls())) {
         const auto u_plus = simulate(experiment.u_minus);
         if (!u_plus)
             continue;
-        const Vector gamma = model.contact_velocities(experiment.u_minus);
-        const auto pieces = model.pieces_containing(gamma);
-        bool agree = !pieces.empty();
-        for (auto p : pieces)
-            agree = agree && model.post_impact_velocities(experiment.u_minus, gamma, model.pieces()[p].Q * gamma) == *u_plus;
-        if (agree) {
+        const Vector gamma = transpose(mech.W) * experiment.u_minus;
+        bool agree = true, inside_any = false;
+        for (std::size_t p = 0; p < law.pieces.size() && agree; ++p) {
+            const PieceDecl& piece = law.pieces[p];
+            if (!piece.rays)
+                throw std::logic_error("declare_outcomes: a derived piece without rays");
+            const Matrix R = Matrix::from_columns(*piece.rays);
+            const Sign whole = det(R);
+            bool inside = whole != Sign::zero;
+            for (std::size_t k = 0; k < c && inside; ++k) {
+                Matrix Rk = R;
+                for (std::size_t i = 0; i < c; ++i)
+                    Rk(i, k) = gamma[i];
+                const Sign sk = det(Rk);
+                inside = sk == Sign::zero || sk == whole;
+            }
+            if (!inside)
+                continue;
+            inside_any = true;
+            const Vector impulse = mech.H * (piece.Q * gamma - gamma);
+            agree = experiment.u_minus + mech.M_inv * (mech.W * impulse) == *u_plus;
+        }
+        if (agree && inside_any) {
             experiment.u_plus = *u_plus;
             law.outcomes.push_back(experiment);
         }
@@ -219,6 +283,92 @@ std::string system_text(const System& s) {
 
 } // namespace derive_detail
 
+namespace {
+
+Law law_header(const DeriveOptions& options, std::size_t n) {
+    Law law;
+    const bool plain_chain = !options.M && !options.W;
+    law.name = plain_chain ? "sequential-" + std::to_string(n) + "-balls" : "sequential-" + options.name;
+    law.description = "Sequential impact law of " + system_text(options) + ", restitution " +
+                      list_text(options.restitution) + ", rule " + to_string(options.rule) +
+                      "; derived by impactcert derive sequential. Pieces are named by their words (contacts in "
+                      "order of application; regions of several words with one matrix and a convex union are "
+                      "merged under the first word); parts of a triangulated region by .1, .2, ...";
+    law.masses = options.masses;
+    law.M = options.M;
+    law.W = options.W;
+    return law;
+}
+
+// The declarations of a derived law from its pieces (name, word): single impacts (one-letter
+// words), factorisations, outcomes.
+void finish_law(const DeriveOptions& options, Law& law,
+                const std::vector<std::pair<std::string, std::vector<std::size_t>>>& pieces) {
+    std::map<std::size_t, std::string> letter_piece; // contact -> a piece of the one-letter word
+    for (const auto& [name, word] : pieces)
+        if (word.size() == 1 && !letter_piece.count(word[0]))
+            letter_piece[word[0]] = name;
+    for (const auto& [k, name] : letter_piece)
+        law.single_impacts.push_back(SingleImpactDecl{name, static_cast<int>(k + 1), options.restitution[k]});
+    for (const auto& [name, word] : pieces) {
+        if (word.size() < 2)
+            continue;
+        IdentityDecl id;
+        id.lhs = name;
+        bool complete = true;
+        for (auto it = word.rbegin(); it != word.rend(); ++it) {
+            if (!letter_piece.count(*it))
+                complete = false;
+            else
+                id.product.push_back(letter_piece[*it]);
+        }
+        if (complete)
+            law.identities.push_back(id);
+    }
+    declare_outcomes(law, options.outcomes_override, [&](const Vector& u) {
+        return simulate_balls(options, options.restitution, options.rule, u, options.max_impacts);
+    });
+}
+
+// Two contacts: the regions are sectors of the plane (derive_planar.hpp).
+DeriveResult derive_planar(const DeriveOptions& options, const Mechanics& mech, const std::vector<Matrix>& Qk) {
+    DeriveResult result;
+    const std::size_t c = 2;
+    auto planar = planar_regions(Qk, options.rule, options.max_impacts, options.max_bits,
+                                 [&](const std::vector<std::size_t>& w) { return word_name(w, c); });
+    if (planar.too_long_cell) {
+        // The general path's witness: the sum of the extreme rays of the cell (PPL's generators).
+        PPL::Generator_System gs;
+        gs.insert(PPL::point());
+        for (const auto& r : *planar.too_long_cell) {
+            PPL::Linear_Expression e;
+            for (std::size_t k = 0; k < c; ++k)
+                e += PPL::Coefficient(mpz_class(mpq_numref(r[k].mpq()))) * PPL::Variable(static_cast<PPL::dimension_type>(k));
+            gs.insert(PPL::ray(e));
+        }
+        const Vector x = interior_point(PPL::C_Polyhedron(gs), c);
+        const auto sim = sequential_word(options, options.restitution, options.rule, x, options.max_impacts);
+        if (sim.second || is_zero(x))
+            throw std::logic_error("derive: the non-finite witness does not exceed the bound");
+        result.not_finite = x;
+        result.word = word_name(planar.too_long_word, c);
+        return result;
+    }
+    result.regions = planar.regions.size();
+    for (const auto& region : planar.regions)
+        result.max_word = std::max(result.max_word, region.key.size());
+    Law law = law_header(options, mech.balls());
+    const auto written = add_planar_pieces(planar.regions, law);
+    std::vector<std::pair<std::string, std::vector<std::size_t>>> pieces;
+    for (const auto& piece : written)
+        pieces.emplace_back(piece.name, planar.regions[piece.region].key);
+    finish_law(options, law, pieces);
+    result.law = std::move(law);
+    return result;
+}
+
+} // namespace
+
 DeriveResult derive_sequential(const DeriveOptions& options) {
     const Mechanics mech = make_mechanics(options);
     const std::size_t n = mech.balls(), c = mech.contacts();
@@ -232,6 +382,8 @@ DeriveResult derive_sequential(const DeriveOptions& options) {
     }
 
     DeriveResult result;
+    if (c == 2 && !options.polyhedral)
+        return derive_planar(options, mech, Qk);
     std::vector<Region> regions;
     std::vector<Region> work;
     work.push_back({cone_of(c, {}), Matrix::identity(c), {}, {}});
@@ -298,46 +450,12 @@ DeriveResult derive_sequential(const DeriveOptions& options) {
     result.regions = regions.size();
     for (const auto& region : regions)
         result.max_word = std::max(result.max_word, region.key.size());
-
-    Law law;
-    const bool plain_chain = !options.M && !options.W;
-    law.name = plain_chain ? "sequential-" + std::to_string(n) + "-balls" : "sequential-" + options.name;
-    law.description = "Sequential impact law of " + system_text(options) + ", restitution " +
-                      list_text(options.restitution) + ", rule " + to_string(options.rule) +
-                      "; derived by impactcert derive sequential. Pieces are named by their words (contacts in "
-                      "order of application; regions of several words with one matrix and a convex union are "
-                      "merged under the first word); parts of a triangulated region by .1, .2, ...";
-    law.masses = options.masses;
-    law.M = options.M;
-    law.W = options.W;
+    Law law = law_header(options, n);
     const auto written = add_region_pieces(regions, c, law);
-    std::map<std::size_t, std::string> letter_piece; // contact -> a piece of the one-letter word
-    for (const auto& piece : written) {
-        const auto& word = regions[piece.region].key;
-        if (word.size() == 1 && !letter_piece.count(word[0]))
-            letter_piece[word[0]] = piece.name;
-    }
-    for (const auto& [k, name] : letter_piece)
-        law.single_impacts.push_back(SingleImpactDecl{name, static_cast<int>(k + 1), options.restitution[k]});
-    for (const auto& piece : written) {
-        const auto& word = regions[piece.region].key;
-        if (word.size() < 2)
-            continue;
-        IdentityDecl id;
-        id.lhs = piece.name;
-        bool complete = true;
-        for (auto it = word.rbegin(); it != word.rend(); ++it) {
-            if (!letter_piece.count(*it))
-                complete = false;
-            else
-                id.product.push_back(letter_piece[*it]);
-        }
-        if (complete)
-            law.identities.push_back(id);
-    }
-    declare_outcomes(law, options.outcomes_override, [&](const Vector& u) {
-        return simulate_balls(options, options.restitution, options.rule, u, options.max_impacts);
-    });
+    std::vector<std::pair<std::string, std::vector<std::size_t>>> pieces;
+    for (const auto& piece : written)
+        pieces.emplace_back(piece.name, regions[piece.region].key);
+    finish_law(options, law, pieces);
     result.law = std::move(law);
     return result;
 }

@@ -45,6 +45,7 @@ struct DeriveOptions : System {
     std::size_t max_impacts = 100;     // longest word allowed
     std::size_t max_bits = kDefaultMaxBits;
     std::vector<OutcomeDecl> outcomes_override; // non-empty: declare these instead of the simulated ones
+    bool polyhedral = false; // two contacts by PPL polyhedra too (the tests compare it with the sectors)
 };
 
 struct DeriveResult {

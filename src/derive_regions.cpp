@@ -93,6 +93,21 @@ bool key_less(const Region& a, const Region& b) {
     return a.key.size() != b.key.size() ? a.key.size() < b.key.size() : a.key < b.key;
 }
 
+// Stable sort by key through a permutation: a PPL polyhedron is copied, not moved, so each
+// region is copied once instead of n log n times.
+void sort_by_key(std::vector<Region>& regions) {
+    std::vector<std::size_t> order(regions.size());
+    for (std::size_t i = 0; i < order.size(); ++i)
+        order[i] = i;
+    std::stable_sort(order.begin(), order.end(),
+                     [&](std::size_t a, std::size_t b) { return key_less(regions[a], regions[b]); });
+    std::vector<Region> sorted;
+    sorted.reserve(regions.size());
+    for (const auto i : order)
+        sorted.push_back(std::move(regions[i]));
+    regions = std::move(sorted);
+}
+
 } // namespace
 
 // PPL switches the FPU to rounding upward when it is initialised and expects that mode while it
@@ -134,21 +149,10 @@ Vector interior_point(const PPL::C_Polyhedron& p, std::size_t c) {
 }
 
 std::vector<WrittenPiece> add_region_pieces(std::vector<Region>& regions, std::size_t c, Law& law) {
-    const auto dim = static_cast<PPL::dimension_type>(c);
-    std::stable_sort(regions.begin(), regions.end(), key_less);
+    sort_by_key(regions);
     // Regions with the same matrix (the braid relation Q1 Q2 Q1 = Q2 Q1 Q2 makes "121" and "212"
-    // one map) are merged where their union is convex: the union must cover its convex hull (an
-    // exact test of PPL). The merged piece keeps the first name.
-    auto convex_union = [&](const PPL::C_Polyhedron& a, const PPL::C_Polyhedron& b) -> std::optional<PPL::C_Polyhedron> {
-        PPL::C_Polyhedron hull = a;
-        hull.poly_hull_assign(b);
-        PPL::Pointset_Powerset<PPL::C_Polyhedron> parts(dim, PPL::EMPTY);
-        parts.add_disjunct(a);
-        parts.add_disjunct(b);
-        if (parts.geometrically_covers(PPL::Pointset_Powerset<PPL::C_Polyhedron>(hull)))
-            return hull;
-        return std::nullopt;
-    };
+    // one map) are merged where their union is convex (the test below). The merged piece keeps
+    // the first name.
     std::map<std::string, std::vector<Region>> groups;
     std::vector<std::string> order;
     for (auto& region : regions) {
@@ -159,23 +163,62 @@ std::vector<WrittenPiece> add_region_pieces(std::vector<Region>& regions, std::s
             order.push_back(key);
         groups[key].push_back(std::move(region));
     }
+    // Two full-dimensional cones with disjoint interiors and a convex union are separated by a
+    // hyperplane containing a facet of each (proofs/README.md, "Derivation", merging): a pair
+    // with no facet normal of one opposite to a facet normal of the other is not tested.
+    auto normals = [&](const PPL::C_Polyhedron& p) {
+        std::set<Vector> out;
+        for (const auto& k : p.minimized_constraints())
+            if (k.is_inequality())
+                out.insert(primitive_ray(vector_of(k, c)));
+        return out;
+    };
+    // Exact, and cheaper than the cover test of a powerset: with A in n . x >= 0 and B in
+    // n . x <= 0 (n a facet normal of A, -n one of B), A ∪ B is convex iff the hull's parts on
+    // the two sides are A and B (proofs/README.md, "Derivation", merging).
+    auto merge = [&](const PPL::C_Polyhedron& a, const PPL::C_Polyhedron& b, const std::set<Vector>& fa,
+                     const std::set<Vector>& fb) -> std::optional<PPL::C_Polyhedron> {
+        std::optional<PPL::C_Polyhedron> hull;
+        for (const auto& n : fa) {
+            const Vector minus = Rational(-1) * n;
+            if (!fb.count(minus))
+                continue;
+            if (!hull) {
+                hull = a;
+                hull->poly_hull_assign(b);
+            }
+            PPL::C_Polyhedron upper = *hull, lower = *hull;
+            upper.add_constraint(nonneg(n));
+            lower.add_constraint(nonneg(minus));
+            if (a.contains(upper) && b.contains(lower))
+                return hull;
+        }
+        return std::nullopt;
+    };
     std::vector<Region> merged;
     for (const auto& key : order) {
         auto& group = groups[key];
+        std::vector<std::set<Vector>> facets;
+        if (group.size() > 1)
+            for (const auto& r : group)
+                facets.push_back(normals(r.cone));
         for (bool changed = true; changed;) {
             changed = false;
             for (std::size_t a = 0; a < group.size() && !changed; ++a)
-                for (std::size_t b = a + 1; b < group.size() && !changed; ++b)
-                    if (auto hull = convex_union(group[a].cone, group[b].cone)) {
+                for (std::size_t b = a + 1; b < group.size() && !changed; ++b) {
+                    if (auto hull = merge(group[a].cone, group[b].cone, facets[a], facets[b])) {
                         group[a].cone = *hull;
+                        facets[a] = normals(group[a].cone);
                         group.erase(group.begin() + static_cast<std::ptrdiff_t>(b));
+                        facets.erase(facets.begin() + static_cast<std::ptrdiff_t>(b));
                         changed = true;
                     }
+                }
         }
         for (auto& r : group)
             merged.push_back(std::move(r));
     }
-    std::stable_sort(merged.begin(), merged.end(), key_less);
+    sort_by_key(merged);
     regions = std::move(merged);
 
     std::vector<WrittenPiece> written;
