@@ -387,7 +387,10 @@ DeriveResult derive_sequential(const DeriveOptions& options) {
     std::vector<Region> regions;
     std::vector<Region> work;
     work.push_back({cone_of(c, {}), Matrix::identity(c), {}, {}});
+    std::size_t nodes = 0;
     while (!work.empty()) {
+        if (options.progress && ++nodes % 1024 == 0)
+            options.progress("regions", regions.size(), 0);
         Region node = std::move(work.back());
         work.pop_back();
         // Branches: no contact approaches (the word ends), or contact k is the one the rule picks.
@@ -451,7 +454,7 @@ DeriveResult derive_sequential(const DeriveOptions& options) {
     for (const auto& region : regions)
         result.max_word = std::max(result.max_word, region.key.size());
     Law law = law_header(options, n);
-    const auto written = add_region_pieces(regions, c, law);
+    const auto written = add_region_pieces(regions, c, law, options.progress);
     std::vector<std::pair<std::string, std::vector<std::size_t>>> pieces;
     for (const auto& piece : written)
         pieces.emplace_back(piece.name, regions[piece.region].key);

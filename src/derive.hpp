@@ -19,6 +19,7 @@
 #include "law.hpp"
 #include "system.hpp"
 
+#include <functional>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -32,6 +33,10 @@ enum class ImpactRule { most_negative, left_first, right_first };
 // one matrix entry) stops: exit 3, undecided, naming --max-bits. Words are bounded by
 // --max-impacts; this bounds the size of what each impact multiplies (restitution 10^-1000 makes
 // every entry thousands of digits longer per impact).
+// Progress of a long derivation: the phase ("regions", "merge", "pieces") and a count, now and
+// then (the CLI shows it on a terminal).
+using DeriveProgress = std::function<void(const char* phase, std::size_t done, std::size_t total)>;
+
 struct DeriveLimit : std::runtime_error {
     using std::runtime_error::runtime_error;
 };
@@ -46,6 +51,7 @@ struct DeriveOptions : System {
     std::size_t max_bits = kDefaultMaxBits;
     std::vector<OutcomeDecl> outcomes_override; // non-empty: declare these instead of the simulated ones
     bool polyhedral = false; // two contacts by PPL polyhedra too (the tests compare it with the sectors)
+    DeriveProgress progress;  // optional
 };
 
 struct DeriveResult {

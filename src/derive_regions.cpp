@@ -1,5 +1,7 @@
 #include "derive_regions.hpp"
 
+#include <gmpxx.h>
+
 #include <algorithm>
 #include <map>
 #include <set>
@@ -50,41 +52,54 @@ Cone describe(const PPL::C_Polyhedron& P, std::size_t c) {
     return out;
 }
 
-std::size_t rank_of(const std::vector<Vector>& vs, std::size_t c) {
-    if (vs.empty())
-        return 0;
-    return c - null_space(vs, c).size();
-}
 
 // Pulling triangulation of the face `face` (indices into rays, of dimension dim): the first ray
 // of the face coned over the triangulations of the face's facets that do not contain it.
-void triangulate(const std::vector<Vector>& rays, const std::vector<std::size_t>& face, std::size_t dim,
-                 const std::vector<Vector>& constraints, std::size_t c, std::vector<std::vector<std::size_t>>& out) {
+// The facets of a face G of a pointed cone are its maximal proper faces, and every face of G is
+// G ∩ {a . x = 0} for a facet normal a of the cone; so the facets are the inclusion-maximal
+// proper sets G ∩ Z(a), found from the incidences (Z(a): the rays with a . r = 0, computed
+// once) without any rank computation (proofs/README.md, "Derivation", triangulation).
+using RaySet = std::vector<bool>;
+
+void triangulate(const std::vector<RaySet>& zero_sets, const std::vector<std::size_t>& face, std::size_t dim,
+                 std::vector<std::vector<std::size_t>>& out) {
     if (face.size() == dim) {
         out.push_back(face);
         return;
     }
     const std::size_t apex = face.front();
-    std::set<std::vector<std::size_t>> facets;
-    for (const auto& a : constraints) {
-        if (sign_of(dot(a, rays[apex])) == Sign::zero)
-            continue;
+    // The distinct proper faces G ∩ Z(a).
+    std::set<std::vector<std::size_t>> proper;
+    for (const auto& zero : zero_sets) {
         std::vector<std::size_t> on;
-        std::vector<Vector> vs;
         for (auto r : face)
-            if (sign_of(dot(a, rays[r])) == Sign::zero) {
+            if (zero[r])
                 on.push_back(r);
-                vs.push_back(rays[r]);
+        if (on.size() < face.size())
+            proper.insert(std::move(on));
+    }
+    auto subset = [](const std::vector<std::size_t>& a, const std::vector<std::size_t>& b) {
+        return a.size() < b.size() && std::includes(b.begin(), b.end(), a.begin(), a.end());
+    };
+    std::set<std::vector<std::size_t>> facets;
+    for (const auto& f : proper) {
+        if (std::binary_search(f.begin(), f.end(), apex))
+            continue;
+        bool maximal = true;
+        for (const auto& g : proper)
+            if (subset(f, g)) {
+                maximal = false;
+                break;
             }
-        if (rank_of(vs, c) == dim - 1)
-            facets.insert(on);
+        if (maximal)
+            facets.insert(f);
     }
     for (const auto& f : facets) {
         std::vector<std::vector<std::size_t>> sub;
-        triangulate(rays, f, dim - 1, constraints, c, sub);
-        for (auto& s : sub) {
-            s.insert(s.begin(), apex);
-            out.push_back(std::move(s));
+        triangulate(zero_sets, f, dim - 1, sub);
+        for (auto& t : sub) {
+            t.insert(t.begin(), apex);
+            out.push_back(std::move(t));
         }
     }
 }
@@ -148,7 +163,8 @@ Vector interior_point(const PPL::C_Polyhedron& p, std::size_t c) {
     return x;
 }
 
-std::vector<WrittenPiece> add_region_pieces(std::vector<Region>& regions, std::size_t c, Law& law) {
+std::vector<WrittenPiece> add_region_pieces(std::vector<Region>& regions, std::size_t c, Law& law,
+                                           const DeriveProgress& progress) {
     sort_by_key(regions);
     // Regions with the same matrix (the braid relation Q1 Q2 Q1 = Q2 Q1 Q2 makes "121" and "212"
     // one map) are merged where their union is convex (the test below). The merged piece keeps
@@ -163,32 +179,75 @@ std::vector<WrittenPiece> add_region_pieces(std::vector<Region>& regions, std::s
             order.push_back(key);
         groups[key].push_back(std::move(region));
     }
-    // Two full-dimensional cones with disjoint interiors and a convex union are separated by a
-    // hyperplane containing a facet of each (proofs/README.md, "Derivation", merging): a pair
-    // with no facet normal of one opposite to a facet normal of the other is not tested.
-    auto normals = [&](const PPL::C_Polyhedron& p) {
-        std::set<Vector> out;
-        for (const auto& k : p.minimized_constraints())
-            if (k.is_inequality())
-                out.insert(primitive_ray(vector_of(k, c)));
+    // Merging (proofs/README.md, "Derivation", merging). Two full-dimensional cones A, B with
+    // disjoint interiors and a convex union are separated by a hyperplane H = {n . x = 0} that
+    // holds a facet of each: n is a facet normal of A and -n one of B; and then A ∩ H = B ∩ H.
+    // Both are cheap necessary conditions (facet normals and extreme rays, computed once per
+    // shape); the decision is exact: A ∪ B is convex iff the hull's parts on the two sides of H
+    // are A and B. A pair found not mergeable is not tested again until one of them changes.
+    using IntVector = std::vector<mpz_class>; // a primitive (integer) vector
+    auto integer = [](const Vector& v) {
+        IntVector out;
+        for (const auto& x : v)
+            out.emplace_back(mpq_numref(x.mpq()));
         return out;
     };
-    // Exact, and cheaper than the cover test of a powerset: with A in n . x >= 0 and B in
-    // n . x <= 0 (n a facet normal of A, -n one of B), A ∪ B is convex iff the hull's parts on
-    // the two sides are A and B (proofs/README.md, "Derivation", merging).
-    auto merge = [&](const PPL::C_Polyhedron& a, const PPL::C_Polyhedron& b, const std::set<Vector>& fa,
-                     const std::set<Vector>& fb) -> std::optional<PPL::C_Polyhedron> {
+    mpz_class scratch;
+    auto sign_of_dot = [&scratch](const IntVector& a, const IntVector& b) {
+        scratch = 0;
+        for (std::size_t k = 0; k < a.size(); ++k)
+            mpz_addmul(scratch.get_mpz_t(), a[k].get_mpz_t(), b[k].get_mpz_t());
+        return sgn(scratch);
+    };
+    struct Shape {
+        std::set<Vector> normals;                 // facet normals, primitive
+        std::vector<std::pair<Vector, IntVector>> facets; // each normal, and its negation as integers
+        std::vector<IntVector> normal_ints;
+        std::vector<IntVector> rays; // extreme rays (lines left out: the filter only weakens)
+        std::size_t version = 0;
+    };
+    std::size_t next_version = 0;
+    auto shape_of = [&](const PPL::C_Polyhedron& p) {
+        Shape sh;
+        const Cone d = describe(p, c);
+        for (const auto& a : d.constraints)
+            sh.normals.insert(primitive_ray(a));
+        for (const auto& n : sh.normals) {
+            sh.facets.emplace_back(Rational(-1) * n, integer(n));
+            sh.normal_ints.push_back(integer(n));
+        }
+        for (const auto& r : d.rays)
+            sh.rays.push_back(integer(r));
+        sh.version = next_version++;
+        return sh;
+    };
+    auto inside = [&](const IntVector& r, const Shape& sh) {
+        for (const auto& a : sh.normal_ints)
+            if (sign_of_dot(a, r) < 0)
+                return false;
+        return true;
+    };
+    auto merge = [&](const PPL::C_Polyhedron& a, const PPL::C_Polyhedron& b, const Shape& sa,
+                     const Shape& sb) -> std::optional<PPL::C_Polyhedron> {
         std::optional<PPL::C_Polyhedron> hull;
-        for (const auto& n : fa) {
-            const Vector minus = Rational(-1) * n;
-            if (!fb.count(minus))
+        for (const auto& [minus, n] : sa.facets) {
+            if (!sb.normals.count(minus))
+                continue;
+            bool same_facet = true;
+            for (const auto& r : sa.rays)
+                if (same_facet && sign_of_dot(n, r) == 0)
+                    same_facet = inside(r, sb);
+            for (const auto& r : sb.rays)
+                if (same_facet && sign_of_dot(n, r) == 0)
+                    same_facet = inside(r, sa);
+            if (!same_facet)
                 continue;
             if (!hull) {
                 hull = a;
                 hull->poly_hull_assign(b);
             }
             PPL::C_Polyhedron upper = *hull, lower = *hull;
-            upper.add_constraint(nonneg(n));
+            upper.add_constraint(nonneg(Rational(-1) * minus));
             lower.add_constraint(nonneg(minus));
             if (a.contains(upper) && b.contains(lower))
                 return hull;
@@ -196,24 +255,62 @@ std::vector<WrittenPiece> add_region_pieces(std::vector<Region>& regions, std::s
         return std::nullopt;
     };
     std::vector<Region> merged;
+    std::size_t group_index = 0;
     for (const auto& key : order) {
+        if (progress && group_index % 256 == 0)
+            progress("merge", group_index, order.size());
+        ++group_index;
         auto& group = groups[key];
-        std::vector<std::set<Vector>> facets;
-        if (group.size() > 1)
+        if (group.size() > 1) {
+            // The first pair (a, b), a < b, in order, that merges is merged, until none does;
+            // regions stay at their places (a merged-away one is marked), so that the order is
+            // that of the list, and a pair is only looked at when b has a facet normal opposite
+            // to one of a's (the other pairs fail the first necessary condition).
+            std::vector<Shape> shapes;
             for (const auto& r : group)
-                facets.push_back(normals(r.cone));
-        for (bool changed = true; changed;) {
-            changed = false;
-            for (std::size_t a = 0; a < group.size() && !changed; ++a)
-                for (std::size_t b = a + 1; b < group.size() && !changed; ++b) {
-                    if (auto hull = merge(group[a].cone, group[b].cone, facets[a], facets[b])) {
-                        group[a].cone = *hull;
-                        facets[a] = normals(group[a].cone);
-                        group.erase(group.begin() + static_cast<std::ptrdiff_t>(b));
-                        facets.erase(facets.begin() + static_cast<std::ptrdiff_t>(b));
-                        changed = true;
+                shapes.push_back(shape_of(r.cone));
+            std::vector<bool> alive(group.size(), true);
+            std::map<Vector, std::set<std::size_t>> having; // facet normal -> regions
+            for (std::size_t r = 0; r < group.size(); ++r)
+                for (const auto& n : shapes[r].normals)
+                    having[n].insert(r);
+            std::set<std::pair<std::size_t, std::size_t>> apart; // versions known not mergeable
+            for (bool changed = true; changed;) {
+                changed = false;
+                for (std::size_t a = 0; a < group.size() && !changed; ++a) {
+                    if (!alive[a])
+                        continue;
+                    std::set<std::size_t> candidates;
+                    for (const auto& facet : shapes[a].facets)
+                        if (auto it = having.find(facet.first); it != having.end())
+                            for (auto b : it->second)
+                                if (b > a)
+                                    candidates.insert(b);
+                    for (const std::size_t b : candidates) {
+                        const auto versions = std::make_pair(shapes[a].version, shapes[b].version);
+                        if (apart.count(versions))
+                            continue;
+                        if (auto hull = merge(group[a].cone, group[b].cone, shapes[a], shapes[b])) {
+                            for (const std::size_t r : {a, b})
+                                for (const auto& n : shapes[r].normals)
+                                    having[n].erase(r);
+                            group[a].cone = *hull;
+                            shapes[a] = shape_of(group[a].cone);
+                            for (const auto& n : shapes[a].normals)
+                                having[n].insert(a);
+                            alive[b] = false;
+                            changed = true;
+                            break;
+                        }
+                        apart.insert(versions);
                     }
                 }
+            }
+            std::vector<Region> kept;
+            for (std::size_t r = 0; r < group.size(); ++r)
+                if (alive[r])
+                    kept.push_back(std::move(group[r]));
+            group = std::move(kept);
         }
         for (auto& r : group)
             merged.push_back(std::move(r));
@@ -223,6 +320,8 @@ std::vector<WrittenPiece> add_region_pieces(std::vector<Region>& regions, std::s
 
     std::vector<WrittenPiece> written;
     for (std::size_t index = 0; index < regions.size(); ++index) {
+        if (progress && index % 256 == 0)
+            progress("pieces", index, regions.size());
         const Region& region = regions[index];
         std::vector<PPL::C_Polyhedron> pointed;
         if (describe(region.cone, c).has_lines) {
@@ -247,8 +346,19 @@ std::vector<WrittenPiece> add_region_pieces(std::vector<Region>& regions, std::s
             std::vector<std::size_t> all(d.rays.size());
             for (std::size_t i = 0; i < all.size(); ++i)
                 all[i] = i;
+            std::vector<RaySet> zero_sets;
+            std::vector<IntVector> ray_ints;
+            for (const auto& r : d.rays)
+                ray_ints.push_back(integer(r));
+            for (const auto& a : d.constraints) {
+                const IntVector normal = integer(a); // PPL's coefficients: integers
+                RaySet zero(d.rays.size());
+                for (std::size_t r = 0; r < d.rays.size(); ++r)
+                    zero[r] = sign_of_dot(normal, ray_ints[r]) == 0;
+                zero_sets.push_back(std::move(zero));
+            }
             std::vector<std::vector<std::size_t>> tri;
-            triangulate(d.rays, all, c, d.constraints, c, tri);
+            triangulate(zero_sets, all, c, tri);
             for (const auto& t : tri) {
                 std::vector<Vector> rs;
                 for (auto i : t)

@@ -12,6 +12,7 @@
 //   - The PPL rounding guard must be held while any of this runs (PplScope).
 #pragma once
 
+#include "derive.hpp"
 #include "law.hpp"
 
 #define PPL_NO_AUTOMATIC_INITIALIZATION
@@ -57,7 +58,8 @@ struct WrittenPiece {
 
 // Sorts by key, merges, triangulates; appends pieces to law.pieces. `regions` is replaced by
 // the merged list (indices of WrittenPiece::region refer to it).
-std::vector<WrittenPiece> add_region_pieces(std::vector<Region>& regions, std::size_t c, Law& law);
+std::vector<WrittenPiece> add_region_pieces(std::vector<Region>& regions, std::size_t c, Law& law,
+                                           const DeriveProgress& progress = {});
 
 // Shared by the derivations. DeriveLimit when an entry of m has more than max_bits bits.
 void check_bits(const Matrix& m, std::size_t max_bits, const std::string& what);

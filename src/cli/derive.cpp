@@ -56,6 +56,11 @@ int run_derive_sequential(const DeriveArgs& a) {
     o.max_impacts = a.max_impacts;
     o.max_bits = a.max_bits;
     o.outcomes_override = outcomes_from(a.outcomes_from, mech.balls());
+    TerminalProgress terminal; // on a terminal only, after a second
+    if (const Progress show = terminal.callback())
+        o.progress = [show](const char* phase, std::size_t done, std::size_t total) {
+            show(std::string("derive ") + phase, std::to_string(done) + (total ? "/" + std::to_string(total) : ""));
+        };
     const DeriveResult r = derive_sequential(o);
     if (r.not_finite) {
         // One line, shortened; the exact witness in full with --json.
