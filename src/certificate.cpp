@@ -1,4 +1,5 @@
 #include "certificate.hpp"
+#include "shard.hpp"
 
 #include "json.hpp"
 #include "law_json.hpp"
@@ -78,6 +79,22 @@ Json obligation_item(const ObligationResult& o, Json data) {
 }
 
 } // namespace
+
+Json make_certificate_part(const Model& model, VerifyReport&& report, const Shard& shard) {
+    Json part = certificate_head(model, "");
+    part.erase("verdict"); // a slice has no top verdict: the merged certificate has
+    part["format"] = kCertificatePartFormat;
+    part["shard"] = Json{{"index", shard.index + 1}, {"count", shard.count}};
+    Json obligations = Json::array();
+    for (std::size_t i = 0; i < report.obligations.size(); ++i) {
+        auto& o = report.obligations[i];
+        const bool slice = o.data.is_object() && o.data.contains("slice");
+        if (slice || (owns(shard, i) && o.method != "not requested"))
+            obligations.push_back(obligation_item(o, std::move(o.data)));
+    }
+    part["obligations"] = std::move(obligations);
+    return part;
+}
 
 Json make_certificate(const Model& model, VerifyReport&& report) {
     Json cert = certificate_head(model, report.verdict());

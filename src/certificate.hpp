@@ -21,6 +21,10 @@ inline constexpr const char* kCertificateFormat = "impactcert-certificate/1";
 Json make_certificate(const Model& model, const VerifyReport& report);
 // The same, moving the evidence out of `report` (a large law's evidence is not held twice).
 Json make_certificate(const Model& model, VerifyReport&& report);
+// One shard's part (shard.hpp): the head without the top verdict, "shard": {index, count}, and
+// the obligations the shard owns, with nonexpansive's slice of pair blocks in every part.
+struct Shard;
+Json make_certificate_part(const Model& model, VerifyReport&& report, const Shard& shard);
 std::string certificate_text(const Json& certificate); // what `certify -o` writes
 void write_certificate(std::ostream& out, const Json& certificate); // the same bytes, streamed
 

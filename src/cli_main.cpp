@@ -7,6 +7,7 @@
 #include "law_json.hpp"
 #include "report.hpp"
 #include "smt.hpp"
+#include "shard.hpp"
 #include "sweep.hpp"
 #include "verdict_output.hpp"
 
@@ -94,8 +95,8 @@ int run_report(const std::string& law_path, const std::string& dir, const Limits
 }
 
 struct SweepArgs {
-    std::string masses, restitution = "1", rule = "most-negative", out;
-    std::vector<std::string> vary;
+    std::string masses, restitution = "1", rule = "most-negative", out, shard;
+    std::vector<std::string> vary, merge;
     std::size_t max_impacts = 100, max_points = 100000;
     unsigned jobs = 1;
 };
@@ -111,7 +112,20 @@ std::vector<std::string> items(const std::string& text) {
 }
 
 int run_sweep_command(const SweepArgs& a, const Limits& limits) {
+    if (!a.merge.empty()) {
+        if (!a.masses.empty() || !a.vary.empty() || !a.shard.empty())
+            throw InputError("--merge: the run is described by its parts; give no --masses, --vary or --shard");
+        merge_sweep_parts(a.merge, a.out);
+        std::cout << a.out << "/sweep.csv\n" << a.out << "/sweep.json\n" << a.out << "/sweep.html\n";
+        return kExitProved;
+    }
+    if (a.masses.empty())
+        throw InputError("--masses is required (or --merge PART...)");
+    if (a.vary.empty())
+        throw InputError("--vary is required (or --merge PART...)");
     SweepSpec spec;
+    if (!a.shard.empty())
+        spec.shard = parse_shard(a.shard);
     spec.masses = items(a.masses);
     spec.restitution = items(a.restitution);
     spec.rule = parse_rule(a.rule);
@@ -129,7 +143,10 @@ int run_sweep_command(const SweepArgs& a, const Limits& limits) {
     });
     if (tty)
         std::fprintf(stderr, "\r\033[K");
-    std::cout << a.out << "/sweep.csv\n" << a.out << "/sweep.json\n" << a.out << "/sweep.html\n";
+    if (spec.shard)
+        std::cout << sweep_part_path(a.out, *spec.shard) << "\n";
+    else
+        std::cout << a.out << "/sweep.csv\n" << a.out << "/sweep.json\n" << a.out << "/sweep.html\n";
     return kExitProved; // the verdicts are data
 }
 
@@ -188,10 +205,16 @@ int main(int argc, char** argv) {
     verify_cmd->add_option("--law", law_path, "law file (impactcert-law/1); default: the paper's 3-ball law");
     verify_cmd->add_flag("--json", json, "print the impactcert-verdict/1 JSON instead of the table");
     verify_cmd->add_option("--junit", junit_path, "also write a JUnit XML report to this file");
+    std::string shard_text;
+    verify_cmd->add_option("--shard", shard_text, "K/N: decide slice K of N only (obligation i when i mod N = K-1, and nonexpansive's pair blocks b mod N = K-1)");
 
     auto* certify_cmd = app.add_subcommand("certify", "write the impactcert-certificate/1 JSON; exit 0 when every claim is proved, 1 when one is refuted, 2 on bad input");
     certify_cmd->add_option("--law", law_path, "law file (impactcert-law/1); default: the paper's 3-ball law");
     certify_cmd->add_option("-o,--output", out_path, "certificate file to write")->required();
+    std::size_t shard_block = 1024;
+    for (auto* cmd : {verify_cmd, certify_cmd})
+        cmd->add_option("--shard-block", shard_block, "with --shard: pairs of nonexpansive per block (the merged result does not depend on it)")->check(natural)->check(CLI::Range(std::size_t{1}, std::size_t{1} << 40))->capture_default_str();
+    certify_cmd->add_option("--shard", shard_text, "K/N: write the part of slice K of N (impactcert-certificate-part/1); impactcert-check PART... merges and checks the parts");
 
     auto* report_cmd = app.add_subcommand("report", "write report.md (CI job summary) and a self-contained report.html with a picture of the cones");
     report_cmd->add_option("--law", law_path, "law file (impactcert-law/1); default: the paper's 3-ball law");
@@ -246,11 +269,13 @@ int main(int argc, char** argv) {
     cradle_cmd->add_option("-o,--output", cradle_args.out, "law file to write (default: standard output)");
 
     auto* sweep_cmd = app.add_subcommand("sweep", "derive + verify over a grid of parameters named in --masses/--restitution; writes DIR/sweep.csv, sweep.json, sweep.html; exit 0 when it ran, 2 on bad input");
-    sweep_cmd->add_option("--masses", sweep_args.masses, "ball masses, numbers or parameter names (1,m,1)")->required();
+    sweep_cmd->add_option("--masses", sweep_args.masses, "ball masses, numbers or parameter names (1,m,1)");
     sweep_cmd->add_option("--restitution", sweep_args.restitution, "E or E1,...,E(n-1), numbers or parameter names")->capture_default_str();
     sweep_cmd->add_option("--rule", sweep_args.rule, "most-negative, left-first or right-first")->capture_default_str();
     sweep_cmd->add_option("--max-impacts", sweep_args.max_impacts, "longest impact sequence allowed")->check(natural)->capture_default_str();
-    sweep_cmd->add_option("--vary", sweep_args.vary, "NAME=LO..HI:COUNT[:log], once or twice")->required();
+    sweep_cmd->add_option("--vary", sweep_args.vary, "NAME=LO..HI:COUNT[:log], once or twice");
+    sweep_cmd->add_option("--shard", sweep_args.shard, "K/N: only the grid points k with k mod N = K-1, written to DIR/sweep.part-K-of-N.json (merge with --merge)");
+    sweep_cmd->add_option("--merge", sweep_args.merge, "PART...: merge the part files of one sharded run (each shard once, every point covered) into DIR");
     sweep_cmd->add_option("--max-points", sweep_args.max_points, "limit: grid points in all (undecided, exit 3, beyond it)")->check(natural)->capture_default_str();
     sweep_cmd->add_option("--jobs", sweep_args.jobs, "worker processes (default: all cores)")->check(natural)->check(CLI::Range(1u, 256u));
     sweep_cmd->add_option("-o,--output", sweep_args.out, "directory to write sweep.csv, sweep.json and sweep.html into")->required();
@@ -318,6 +343,7 @@ int main(int argc, char** argv) {
         return kExitBadInput;
     }
     limits.integer_kernels = !no_integer_kernels;
+    limits.shard_block_pairs = shard_block;
     limits.jobs = verify_jobs;
     // Every command's standard output is flushed and checked before the exit status is final: a
     // lost write (a full disk, /dev/full, a closed pipe) is exit 2, never a silent success.
@@ -327,9 +353,11 @@ int main(int argc, char** argv) {
     };
     try {
         if (verify_cmd->parsed())
-            return finished(run_verify(law_path, json, junit_path, limits));
+            return finished(shard_text.empty() ? run_verify(law_path, json, junit_path, limits)
+                                               : cli::run_verify_shard(law_path, parse_shard(shard_text), json, limits));
         if (certify_cmd->parsed())
-            return finished(run_certify(law_path, out_path, limits));
+            return finished(shard_text.empty() ? run_certify(law_path, out_path, limits)
+                                               : cli::run_certify_shard(law_path, parse_shard(shard_text), out_path, limits));
         if (report_cmd->parsed())
             return finished(run_report(law_path, out_path, limits));
         if (smt_cmd->parsed())

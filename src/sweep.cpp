@@ -4,6 +4,8 @@
 #include "json.hpp"
 #include "obligations.hpp"
 #include "verdict_output.hpp"
+#include "certificate.hpp"
+#include "shard.hpp"
 
 #include <sys/wait.h>
 #include <unistd.h>
@@ -283,13 +285,18 @@ void run_sweep(SweepSpec spec, const std::string& dir, const std::function<void(
     if (ec)
         throw InputError(dir + ": cannot create directory: " + ec.message());
 
+    // A shard evaluates its own points only (k mod N = K - 1), in the same order.
+    std::vector<std::size_t> mine;
+    for (std::size_t k = 0; k < points.size(); ++k)
+        if (!spec.shard || owns(*spec.shard, k))
+            mine.push_back(k);
     std::vector<Json> results(points.size());
-    const unsigned jobs = std::max(1u, std::min<unsigned>(spec.jobs, static_cast<unsigned>(points.size())));
+    const unsigned jobs = std::max(1u, std::min<unsigned>(spec.jobs, static_cast<unsigned>(std::max<std::size_t>(1, mine.size()))));
     if (jobs == 1) {
-        for (std::size_t k = 0; k < points.size(); ++k) {
-            results[k] = evaluate(spec, points[k]);
+        for (std::size_t m = 0; m < mine.size(); ++m) {
+            results[mine[m]] = evaluate(spec, points[mine[m]]);
             if (progress)
-                progress(k + 1, points.size());
+                progress(m + 1, mine.size());
         }
     } else {
         // Worker processes (PPL is not thread-safe): worker w takes the points k = w mod jobs,
@@ -312,7 +319,8 @@ void run_sweep(SweepSpec spec, const std::string& dir, const std::function<void(
                 std::ofstream part(dir + "/.sweep-part-" + std::to_string(w), std::ios::binary);
                 int status = 0;
                 try {
-                    for (std::size_t k = w; k < points.size(); k += jobs) {
+                    for (std::size_t m = w; m < mine.size(); m += jobs) {
+                        const std::size_t k = mine[m];
                         part << k << "\t" << evaluate(spec, points[k]).dump() << "\n";
                         part.flush();
                         if (!part) {
@@ -340,7 +348,7 @@ void run_sweep(SweepSpec spec, const std::string& dir, const std::function<void(
         for (ssize_t got; (got = read(fds[0], buf, sizeof buf)) > 0;) {
             done += static_cast<std::size_t>(got);
             if (progress)
-                progress(done, points.size());
+                progress(done, mine.size());
         }
         close(fds[0]);
         bool lost_write = false, failed = false;
@@ -374,10 +382,174 @@ void run_sweep(SweepSpec spec, const std::string& dir, const std::function<void(
         }
     }
 
-    for (std::size_t k = 0; k < results.size(); ++k)
+    for (const std::size_t k : mine)
         if (!results[k].is_object())
             throw InputError(dir + ": the result of grid point " + std::to_string(k + 1) + " is missing from the part files");
+    if (spec.shard) {
+        write_sweep_part(spec, results, mine, dir);
+        return;
+    }
+    write_sweep_outputs(spec, results, dir);
+}
 
+namespace {
+
+// What identifies a run: every input that can change a verdict (not --jobs).
+Json run_json(const SweepSpec& spec) {
+    Json run;
+    run["masses"] = spec.masses;
+    run["restitution"] = spec.restitution;
+    run["rule"] = to_string(spec.rule);
+    run["max_impacts"] = spec.max_impacts;
+    Json params = Json::array();
+    for (const auto& p : spec.parameters) {
+        Json values = Json::array();
+        for (const auto& v : p.values)
+            values.push_back(to_string(v));
+        params.push_back(Json{{"name", p.name}, {"values", values}});
+    }
+    run["parameters"] = params;
+    run["limits"] = Json{{"max_faces", spec.limits.max_faces},     {"max_chambers", spec.limits.max_chambers},
+                         {"max_subsets", spec.limits.max_subsets}, {"max_pieces", spec.limits.max_pieces},
+                         {"max_memory", spec.limits.max_memory_mb}};
+    return run;
+}
+
+std::string part_digest(const Json& part) {
+    Json body = part;
+    body.erase("sha256");
+    return sha256_hex(body.dump());
+}
+
+} // namespace
+
+std::string sweep_part_path(const std::string& dir, const Shard& shard) {
+    return dir + "/sweep.part-" + std::to_string(shard.index + 1) + "-of-" + std::to_string(shard.count) + ".json";
+}
+
+void write_sweep_part(const SweepSpec& spec, const std::vector<Json>& results, const std::vector<std::size_t>& mine,
+                      const std::string& dir) {
+    Json part;
+    part["format"] = kSweepPartFormat;
+    part["shard"] = Json{{"index", spec.shard->index + 1}, {"count", spec.shard->count}};
+    part["run"] = run_json(spec);
+    Json points = Json::array();
+    for (const std::size_t k : mine) {
+        Json entry = Json{{"index", k}};
+        for (auto it = results[k].begin(); it != results[k].end(); ++it)
+            entry[it.key()] = it.value();
+        points.push_back(std::move(entry));
+    }
+    part["points"] = std::move(points);
+    part["sha256"] = part_digest(part);
+    write(sweep_part_path(dir, *spec.shard), part.dump(1) + "\n");
+}
+
+void merge_sweep_parts(const std::vector<std::string>& paths, const std::string& dir) {
+    if (paths.empty())
+        throw InputError("--merge: no part files given");
+    std::vector<Json> parts;
+    for (const auto& path : paths) {
+        std::ifstream in(path, std::ios::binary);
+        if (!in)
+            throw InputError(path + ": cannot read");
+        std::ostringstream text;
+        text << in.rdbuf();
+        Json part;
+        try {
+            part = Json::parse(text.str());
+        } catch (const Json::exception&) {
+            throw InputError(path + ": not JSON (a sweep part, " + std::string(kSweepPartFormat) + ")");
+        }
+        if (!part.is_object() || part.value("format", "") != kSweepPartFormat)
+            throw InputError(path + ": $.format: not an " + std::string(kSweepPartFormat) + " document");
+        for (const char* key : {"shard", "run", "points", "sha256"})
+            if (!part.contains(key))
+                throw InputError(path + ": $." + key + ": missing");
+        if (!part["sha256"].is_string() || part["sha256"] != part_digest(part))
+            throw InputError(path + ": $.sha256: does not match the part's content (changed or cut short)");
+        parts.push_back(std::move(part));
+    }
+    // One run, every shard exactly once.
+    const Json& run = parts[0]["run"];
+    const Json count = parts[0]["shard"]["count"];
+    if (!count.is_number_unsigned() || count.get<std::size_t>() != parts.size())
+        throw InputError(paths[0] + ": $.shard.count: the run has " + count.dump() + " shards, " +
+                         std::to_string(parts.size()) + " parts given");
+    const std::size_t n = count.get<std::size_t>();
+    std::vector<int> seen(n, -1);
+    for (std::size_t p = 0; p < parts.size(); ++p) {
+        if (parts[p]["run"] != run)
+            throw InputError(paths[p] + ": $.run: a part of another run (masses, restitution, rule, grid or limits differ)");
+        if (parts[p]["shard"]["count"] != count)
+            throw InputError(paths[p] + ": $.shard.count: " + parts[p]["shard"]["count"].dump() + " shards, not " + count.dump());
+        const Json& index = parts[p]["shard"]["index"];
+        if (!index.is_number_unsigned() || index.get<std::size_t>() < 1 || index.get<std::size_t>() > n)
+            throw InputError(paths[p] + ": $.shard.index: expected 1.." + std::to_string(n));
+        const std::size_t k = index.get<std::size_t>() - 1;
+        if (seen[k] >= 0)
+            throw InputError(paths[p] + ": $.shard.index: shard " + std::to_string(k + 1) + " also given by " + paths[seen[k]]);
+        seen[k] = static_cast<int>(p);
+    }
+    // The run's grid, then every point exactly where its shard owns it.
+    SweepSpec spec;
+    try {
+        spec.masses = run.at("masses").get<std::vector<std::string>>();
+        spec.restitution = run.at("restitution").get<std::vector<std::string>>();
+        spec.rule = parse_rule(run.at("rule").get<std::string>());
+        spec.max_impacts = run.at("max_impacts").get<std::size_t>();
+        for (const auto& pj : run.at("parameters")) {
+            SweepParameter param;
+            param.name = pj.at("name").get<std::string>();
+            for (const auto& v : pj.at("values"))
+                param.values.push_back(number(v.get<std::string>(), "$.run.parameters"));
+            param.count = param.values.size();
+            spec.parameters.push_back(param);
+        }
+    } catch (const Json::exception&) {
+        throw InputError(paths[0] + ": $.run: not a sweep's description");
+    }
+    if (spec.parameters.empty() || spec.parameters.size() > 2)
+        throw InputError(paths[0] + ": $.run.parameters: one or two parameters");
+    std::size_t total = 1;
+    for (const auto& p : spec.parameters)
+        total *= std::max<std::size_t>(1, p.values.size());
+    std::vector<Json> results(total);
+    const std::size_t n1 = spec.parameters.size() > 1 ? spec.parameters[1].values.size() : 1;
+    for (std::size_t p = 0; p < parts.size(); ++p) {
+        const Shard shard{parts[p]["shard"]["index"].get<std::size_t>() - 1, n};
+        const Json& points = parts[p]["points"];
+        std::size_t expected = shard.index;
+        for (std::size_t e = 0; e < points.size(); ++e, expected += n) {
+            const std::string where = paths[p] + ": $.points[" + std::to_string(e) + "]";
+            if (!points[e].is_object() || points[e].value("index", total) != expected || expected >= total)
+                throw InputError(where + ".index: expected grid point " + std::to_string(expected) + " (shard " +
+                                 std::to_string(shard.index + 1) + " of " + std::to_string(n) + " owns k mod " +
+                                 std::to_string(n) + " = " + std::to_string(shard.index) + ")");
+            // The point's coordinates are the grid's at its index.
+            const std::size_t i0 = expected / n1, i1 = expected % n1;
+            Json at = Json::object();
+            at[spec.parameters[0].name] = to_string(spec.parameters[0].values[i0]);
+            if (spec.parameters.size() > 1)
+                at[spec.parameters[1].name] = to_string(spec.parameters[1].values[i1]);
+            if (points[e].value("point", Json()) != at)
+                throw InputError(where + ".point: is not the grid point at index " + std::to_string(expected));
+            Json result = points[e];
+            result.erase("index");
+            results[expected] = std::move(result);
+        }
+        if (expected < total)
+            throw InputError(paths[p] + ": $.points: grid point " + std::to_string(expected) + " of shard " +
+                             std::to_string(shard.index + 1) + " is missing");
+    }
+    std::error_code ec;
+    std::filesystem::create_directories(dir, ec);
+    if (ec)
+        throw InputError(dir + ": cannot create directory: " + ec.message());
+    write_sweep_outputs(spec, results, dir);
+}
+
+void write_sweep_outputs(const SweepSpec& spec, const std::vector<Json>& results, const std::string& dir) {
     // sweep.csv
     std::string csv;
     for (const auto& p : spec.parameters)

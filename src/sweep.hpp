@@ -12,9 +12,12 @@
 #pragma once
 
 #include "derive.hpp"
+#include "json.hpp"
 #include "limits.hpp"
+#include "shard.hpp"
 
 #include <functional>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -43,6 +46,7 @@ struct SweepSpec {
     Limits limits;
     unsigned jobs = 1;
     std::size_t max_points = 100000; // --max-points: grid points in all
+    std::optional<Shard> shard;      // --shard K/N: only the points k with k mod N = K - 1 (shard.hpp)
 };
 
 // NAME=LO..HI:COUNT[:log]
@@ -53,8 +57,20 @@ SweepParameter parse_vary(const std::string& text);
 // (time linear in the digits of LO and HI, positive at any scale); the ends exact.
 std::vector<Rational> grid_values(const SweepParameter& p);
 
-// Writes the three files into dir; `progress(done, total)` now and then.
+// Writes the three files into dir; `progress(done, total)` now and then. With a shard: only the
+// shard's points, into its part file (sweep_part_path), nothing else.
 void run_sweep(SweepSpec spec, const std::string& dir,
                const std::function<void(std::size_t, std::size_t)>& progress);
+
+// DIR/sweep.part-K-of-N.json: format impactcert-sweep-part/1, the shard, the run (every input
+// that can change a verdict), the shard's points with their grid index, and the SHA-256 of the rest.
+std::string sweep_part_path(const std::string& dir, const Shard& shard);
+void write_sweep_part(const SweepSpec& spec, const std::vector<Json>& results, const std::vector<std::size_t>& mine,
+                      const std::string& dir);
+// sweep --merge: parts of one run (same run, same N), every shard exactly once, each holding
+// exactly its points in order, at the grid's coordinates, intact (digest); then the three files
+// as a single run writes them. InputError naming the part and the place otherwise.
+void merge_sweep_parts(const std::vector<std::string>& paths, const std::string& dir);
+void write_sweep_outputs(const SweepSpec& spec, const std::vector<Json>& results, const std::string& dir);
 
 } // namespace impactcert

@@ -170,10 +170,6 @@ std::size_t nesting_depth(const std::string& text) {
 // The JSON text parsed with every object's keys checked for repeats: a repeated key would be
 // read by nlohmann as the last one and by another reader as the first, so the certified law (its
 // hash covers the re-serialised, last-wins object) would not be the one a reader sees.
-struct DuplicateKey {
-    std::string path, key;
-};
-
 Json parse_unique_keys(const std::string& text) {
     struct Level {
         bool object;

@@ -189,4 +189,21 @@ std::string one_line(const std::string& text);
 // check_text (impactcert_check.hpp) with the limits of impactcert-check's options.
 Outcome check_text(const std::string& text, const detail::Limits& limits);
 
+
+// check.cpp: the document checks, shared by check_text and check_parts (parts.cpp).
+namespace detail {
+int check(const Json& cert, const Limits& limits);
+} // namespace detail
+std::size_t nesting_depth(const std::string& text);
+struct DuplicateKey {
+    std::string path, key;
+};
+detail::Json parse_unique_keys(const std::string& text);
+
+// parts.cpp: the parts of a sharded certify run, assembled (coverage checked) and checked; the
+// assembled certificate in `merged` when given (the content of a single run's certificate).
+bool is_part_text(const std::string& text);
+Outcome check_parts(const std::vector<std::string>& texts, const std::vector<std::string>& names,
+                    const detail::Limits& limits, std::string* merged = nullptr);
+
 } // namespace impactcert_check

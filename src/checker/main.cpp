@@ -10,6 +10,7 @@
 #include <sstream>
 #include <string>
 #include <thread>
+#include <vector>
 
 namespace {
 
@@ -19,6 +20,8 @@ using impactcert_check::detail::one_line;
 const char* const kUsage =
     "usage: impactcert-check [--jobs J] [--max-faces N] [--max-chambers N] [--max-subsets N]\n"
     "                        [--max-pieces N] [--max-memory MB] [--max-product-bits N] CERTIFICATE.json\n"
+    "       impactcert-check [options] [--merged FILE] PART.json... (the parts of certify --shard K/N:\n"
+    "                        every shard once, merged in order, coverage checked, then checked as one certificate)\n"
     "exit 0 verified, 1 rejected, 2 malformed (or not checked: usage, unreadable, out of memory),\n"
     "3 undecided (a limit would be exceeded; the message names the option that raises it)\n"
     "limits (defaults as the prover's): --max-faces 16384 (KKT faces of one copositivity check),\n"
@@ -40,8 +43,9 @@ int main(int argc, char** argv) {
     Limits limits;
     limits.jobs = std::max(1u, std::thread::hardware_concurrency());
     limits.progress = true;
-    std::string file;
-    bool have_file = false, options_done = false;
+    std::vector<std::string> files;
+    std::string merged_path;
+    bool options_done = false;
     for (int i = 1; i < argc; ++i) {
         const std::string arg = argv[i];
         if (!options_done && (arg == "--help" || arg == "-h")) {
@@ -63,6 +67,12 @@ int main(int argc, char** argv) {
             } else {
                 return usage_error("option " + arg + " needs a value");
             }
+            if (name == "--merged") {
+                if (value.empty())
+                    return usage_error("--merged needs a file name");
+                merged_path = value;
+                continue;
+            }
             std::size_t* target = name == "--max-faces"          ? &limits.max_faces
                                   : name == "--max-chambers"     ? &limits.max_chambers
                                   : name == "--max-subsets"      ? &limits.max_subsets
@@ -82,24 +92,42 @@ int main(int argc, char** argv) {
                 return usage_error("--jobs needs a number of threads in 1..256, got \"" + value + "\"");
             continue;
         }
-        if (have_file)
-            return usage_error("more than one certificate given");
-        file = arg;
-        have_file = true;
+        files.push_back(arg);
     }
-    if (!have_file)
+    if (files.empty())
         return usage_error("no certificate given");
+    std::string label;
+    for (const auto& f : files)
+        label += (label.empty() ? "" : " ") + one_line(f);
     try {
-        std::ifstream in(file, std::ios::binary);
-        if (!in) {
-            std::cerr << "impactcert-check: " << one_line(file) << ": cannot read file\n";
-            return impactcert_check::kMalformed;
+        std::vector<std::string> texts;
+        for (const auto& file : files) {
+            std::ifstream in(file, std::ios::binary);
+            if (!in) {
+                std::cerr << "impactcert-check: " << one_line(file) << ": cannot read file\n";
+                return impactcert_check::kMalformed;
+            }
+            std::ostringstream text;
+            text << in.rdbuf();
+            texts.push_back(text.str());
         }
-        std::ostringstream text;
-        text << in.rdbuf();
-        const auto outcome = impactcert_check::check_text(text.str(), limits);
+        const bool parts = files.size() > 1 || impactcert_check::is_part_text(texts[0]);
+        if (!parts && !merged_path.empty())
+            return usage_error("--merged applies to the parts of a sharded run");
+        std::string merged;
+        const auto outcome = parts ? impactcert_check::check_parts(texts, files, limits, merged_path.empty() ? nullptr : &merged)
+                                   : impactcert_check::check_text(texts[0], limits);
+        if (parts && !merged_path.empty() && outcome.status == impactcert_check::kVerified) {
+            std::ofstream out(merged_path, std::ios::binary);
+            out << merged;
+            out.close();
+            if (!out) {
+                std::cerr << "impactcert-check: " << one_line(merged_path) << ": cannot write\n";
+                return impactcert_check::kMalformed;
+            }
+        }
         (outcome.status == impactcert_check::kVerified ? std::cout : std::cerr)
-            << "impactcert-check: " << one_line(file) << ": " << outcome.message << "\n";
+            << "impactcert-check: " << label << ": " << outcome.message << "\n";
         // A verdict that cannot be written is not given (a full disk must not read as "verified").
         std::cout.flush();
         if (!std::cout || std::fflush(stdout) != 0 || std::ferror(stdout)) {
@@ -108,8 +136,7 @@ int main(int argc, char** argv) {
         }
         return outcome.status;
     } catch (const std::exception& e) {
-        std::cerr << "impactcert-check: " << one_line(file) << ": error: "
-                  << one_line(e.what()) << "\n";
+        std::cerr << "impactcert-check: " << label << ": error: " << one_line(e.what()) << "\n";
         return impactcert_check::kMalformed;
     }
 }

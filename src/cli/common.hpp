@@ -11,6 +11,7 @@
 #include "law.hpp"
 #include "limits.hpp"
 #include "obligations.hpp"
+#include "shard.hpp"
 #include "system.hpp"
 
 #include <chrono>
@@ -77,6 +78,9 @@ struct DeriveArgs {
     bool json = false;
 };
 int run_derive_sequential(const DeriveArgs& a);
+
+int run_verify_shard(const std::string& law_path, const Shard& shard, bool json, Limits limits); // cli/shard.cpp
+int run_certify_shard(const std::string& law_path, const Shard& shard, const std::string& out_path, Limits limits);
 int run_derive_classical(const DeriveArgs& a, bool poisson);
 
 struct CradleArgs {

@@ -111,8 +111,6 @@ Outcome Prover::nonexpansive() {
     const std::size_t P = pieces_.size(), total = firsts.size() * P;
     if (symmetry())
         o.data["first_pieces"] = names_of(firsts);
-    if (limits_.evidence)
-        o.data["pairs"] = Json::array();
     const PairKernel kernel(m_, limits_.integer_kernels);
 
     auto decide_pair = [&](std::size_t k, PairKernel::Scratch& scratch, PairOutcome& out) {
@@ -146,57 +144,120 @@ Outcome Prover::nonexpansive() {
         }
     };
 
+    // The pairs [begin, end) in order, in sub-blocks decided by `jobs` threads and read in order:
+    // counts and evidence go to `checks`, `counts` and `pairs`; the first pair that is not
+    // copositive gives the witness, the first beyond a limit throws it.
     const std::size_t jobs = std::max<std::size_t>(1, limits_.jobs);
     const std::size_t block = jobs == 1 ? 1024 : 4096 * jobs;
     std::vector<PairOutcome> outcomes;
     std::vector<PairKernel::Scratch> scratch(jobs);
-    for (std::size_t start = 0; start < total; start += block) {
-        report_progress("nonexpansive", start, total);
-        const std::size_t count = std::min(block, total - start);
-        outcomes.assign(count, PairOutcome{});
-        if (jobs == 1) {
-            for (std::size_t k = 0; k < count; ++k)
-                decide_pair(start + k, scratch[0], outcomes[k]);
-        } else {
-            // Thread t takes the pairs t, t + jobs, ... of the block; results land in place.
-            std::vector<std::thread> threads;
-            std::vector<std::exception_ptr> errors(jobs);
-            for (std::size_t t = 0; t < jobs; ++t)
-                threads.emplace_back([&, t] {
-                    try {
-                        for (std::size_t k = t; k < count; k += jobs)
-                            decide_pair(start + k, scratch[t], outcomes[k]);
-                    } catch (...) {
-                        errors[t] = std::current_exception();
-                    }
-                });
-            for (auto& th : threads)
-                th.join();
-            for (auto& e : errors)
-                if (e)
-                    std::rethrow_exception(e);
+    auto run_range = [&](std::size_t begin, std::size_t end, std::size_t& checks, std::size_t (&counts)[4],
+                         Json& pairs) -> std::optional<Json> {
+        for (std::size_t start = begin; start < end; start += block) {
+            report_progress("nonexpansive", start, total);
+            const std::size_t count = std::min(block, end - start);
+            outcomes.assign(count, PairOutcome{});
+            if (jobs == 1) {
+                for (std::size_t k = 0; k < count; ++k)
+                    decide_pair(start + k, scratch[0], outcomes[k]);
+            } else {
+                // Thread t takes the pairs t, t + jobs, ... of the block; results land in place.
+                std::vector<std::thread> threads;
+                std::vector<std::exception_ptr> errors(jobs);
+                for (std::size_t t = 0; t < jobs; ++t)
+                    threads.emplace_back([&, t] {
+                        try {
+                            for (std::size_t k = t; k < count; k += jobs)
+                                decide_pair(start + k, scratch[t], outcomes[k]);
+                        } catch (...) {
+                            errors[t] = std::current_exception();
+                        }
+                    });
+                for (auto& th : threads)
+                    th.join();
+                for (auto& e : errors)
+                    if (e)
+                        std::rethrow_exception(e);
+            }
+            for (std::size_t k = 0; k < count; ++k) {
+                PairOutcome& r = outcomes[k];
+                if (r.limit)
+                    throw *r.limit;
+                checks += r.checks;
+                ++counts[static_cast<int>(r.method)];
+                if (limits_.evidence)
+                    pairs.push_back(std::move(r.evidence));
+                if (r.copositive)
+                    continue;
+                const std::size_t i = firsts[(start + k) / P], j = (start + k) % P;
+                const Vector z = interior_witness(r.A, r.witness);
+                const Vector s(z.begin(), z.begin() + static_cast<std::ptrdiff_t>(c_));
+                const Vector t(z.begin() + static_cast<std::ptrdiff_t>(c_), z.end());
+                return pair_witness(i, j, pieces_[i].R * s, pieces_[j].R * t);
+            }
         }
-        for (std::size_t k = 0; k < count; ++k) {
-            PairOutcome& r = outcomes[k];
-            if (r.limit)
-                throw *r.limit;
-            o.checks += r.checks;
-            ++by_method[static_cast<int>(r.method)];
-            if (limits_.evidence)
-                o.data["pairs"].push_back(std::move(r.evidence));
-            if (r.copositive)
-                continue;
-            o.method = method_summary(by_method);
-            const std::size_t i = firsts[(start + k) / P], j = (start + k) % P;
-            const Vector z = interior_witness(r.A, r.witness);
-            const Vector s(z.begin(), z.begin() + static_cast<std::ptrdiff_t>(c_));
-            const Vector t(z.begin() + static_cast<std::ptrdiff_t>(c_), z.end());
-            return refute(o, pair_witness(i, j, pieces_[i].R * s, pieces_[j].R * t));
+        return std::nullopt;
+    };
+
+    if (limits_.shard_count <= 1) {
+        Json pairs = Json::array();
+        std::optional<Json> witness = run_range(0, total, o.checks, by_method, pairs);
+        if (limits_.evidence)
+            o.data["pairs"] = std::move(pairs);
+        o.method = method_summary(by_method);
+        if (witness)
+            return refute(o, std::move(*witness));
+        if (fan_limit)
+            throw *fan_limit;
+        return o;
+    }
+    // One shard (--shard K/N, shard.hpp): the blocks b = K-1, K-1+N, ... of B = --shard-block
+    // pairs, each with its own counts and evidence, until one fails or reaches a limit (the
+    // later blocks cannot come first in the merged order). The slice is undecided when a block
+    // stopped at a limit, refuted when one failed.
+    const std::size_t B = std::max<std::size_t>(1, limits_.shard_block_pairs);
+    o.data.erase("pairs");
+    o.data["slice"] = Json{{"shard", limits_.shard_index + 1}, {"of", limits_.shard_count},
+                           {"block_pairs", B}, {"pairs", total},
+                           {"method_suffix", by_symmetries()}};
+    o.data["blocks"] = Json::array();
+    for (std::size_t b = limits_.shard_index; b * B < total; b += limits_.shard_count) {
+        std::size_t checks = 0, counts[4] = {0, 0, 0, 0};
+        Json entry = Json{{"block", b}};
+        Json pairs = Json::array();
+        std::optional<Json> witness;
+        std::optional<LimitExceeded> limit;
+        try {
+            witness = run_range(b * B, std::min(total, (b + 1) * B), checks, counts, pairs);
+        } catch (const LimitExceeded& e) {
+            limit = e;
         }
+        for (int m = 0; m < 4; ++m)
+            by_method[m] += counts[m];
+        o.checks += checks;
+        entry["checks"] = checks;
+        entry["by_method"] = Json{counts[0], counts[1], counts[2], counts[3]};
+        if (limits_.evidence)
+            entry["pairs"] = std::move(pairs);
+        if (limit)
+            entry["limit"] = std::string(limit->what()) + " (raise it with " + limit->option + ")";
+        if (witness)
+            entry["counterexample"] = *witness;
+        o.data["blocks"].push_back(std::move(entry));
+        o.method = method_summary(by_method);
+        if (limit) {
+            o.limit = std::string(limit->what()) + " (raise it with " + limit->option + ")";
+            return o;
+        }
+        if (witness)
+            return refute(o, std::move(*witness));
     }
     o.method = method_summary(by_method);
-    if (fan_limit)
-        throw *fan_limit;
+    if (fan_limit) {
+        // After every pair (a failing pair of any shard comes first when merged).
+        o.data["fan_limit"] = std::string(fan_limit->what()) + " (raise it with " + fan_limit->option + ")";
+        o.limit = o.data["fan_limit"].get<std::string>();
+    }
     return o;
 }
 

@@ -33,6 +33,7 @@ struct Outcome {
     std::string method;
     Json counterexample;
     Json data = Json::object();
+    std::string limit; // a shard's slice that stopped at a limit: undecided, keeping its evidence
 };
 
 Outcome refute(Outcome o, Json witness);

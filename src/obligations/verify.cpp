@@ -121,7 +121,8 @@ VerifyReport Prover::run() {
         } else {
             try {
                 Outcome o = dispatch(r.id);
-                r.verdict = o.proved ? Verdict::proved : Verdict::refuted;
+                r.verdict = o.proved ? (o.limit.empty() ? Verdict::proved : Verdict::undecided) : Verdict::refuted;
+                r.limit = o.limit;
                 r.checks = o.checks;
                 r.method = o.method;
                 r.counterexample = std::move(o.counterexample);

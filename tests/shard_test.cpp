@@ -1,0 +1,238 @@
+// shard_test.cpp -- issue 19: `--shard K/N` as separate processes, merged and checked: certify's
+// parts by impactcert-check PART..., the sweep's by `sweep --merge`. The merged result must be
+// the single run's (same verdicts, same certificate content), and a missing, duplicated, foreign
+// or forged part must be rejected.
+#include "checker.hpp"
+#include "support.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <unistd.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+using impactcert::test::read_file;
+using impactcert::test::run_cli;
+using impactcert::test::source_path;
+namespace fs = std::filesystem;
+using CJson = impactcert_check::detail::Json;
+
+namespace {
+
+std::string scratch_dir(const std::string& name) {
+    const std::string dir = (fs::temp_directory_path() / ("impactcert-shard-" + name + "-" + std::to_string(getpid()))).string();
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    return dir;
+}
+
+void write_text(const std::string& path, const std::string& text) {
+    std::ofstream out(path, std::ios::binary);
+    out << text;
+    REQUIRE(out.good());
+}
+
+// impactcert-check on the given files: exit status and its line.
+std::pair<int, std::string> check_files(const std::vector<std::string>& files) {
+    std::string cmd = std::string("'") + IMPACTCERT_CHECKER + "'";
+    for (const auto& f : files)
+        cmd += " '" + f + "'";
+    cmd += " 2>&1";
+    FILE* pipe = popen(cmd.c_str(), "r");
+    REQUIRE(pipe != nullptr);
+    std::string out;
+    char buf[4096];
+    for (std::size_t got; (got = fread(buf, 1, sizeof buf, pipe)) > 0;)
+        out.append(buf, got);
+    const int status = pclose(pipe);
+    return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
+}
+
+impactcert_check::Outcome check_parts(const std::vector<std::string>& texts, std::string* merged = nullptr) {
+    std::vector<std::string> names;
+    for (std::size_t k = 0; k < texts.size(); ++k)
+        names.push_back("part" + std::to_string(k + 1));
+    return impactcert_check::check_parts(texts, names, impactcert_check::detail::Limits{}, merged);
+}
+
+// certify --shard k/n for k = 1..n, each a separate process; returns the part texts.
+std::vector<std::string> certify_shards(const std::string& law, std::size_t n, const std::string& dir,
+                                        const std::string& extra = "") {
+    std::vector<std::string> texts;
+    for (std::size_t k = 1; k <= n; ++k) {
+        const std::string part = dir + "/part" + std::to_string(k) + ".json";
+        const auto run = run_cli("certify --law '" + law + "' --shard " + std::to_string(k) + "/" + std::to_string(n) +
+                                 " -o '" + part + "' " + extra);
+        INFO(run.err);
+        REQUIRE(run.status == 0);
+        texts.push_back(read_file(part));
+    }
+    return texts;
+}
+
+CJson& nonexpansive_of(CJson& part) {
+    for (auto& o : part["obligations"])
+        if (o["id"] == "nonexpansive")
+            return o;
+    throw std::logic_error("no nonexpansive in the part");
+}
+
+} // namespace
+
+TEST_CASE("shards: certify in three processes, merged by impactcert-check, is the single run's certificate",
+          "[shard][issue19]") {
+    const std::string dir = scratch_dir("certify");
+    // A continuous inelastic law whose pair forms take every route (A >= 0, PSD, PSD + N, KKT),
+    // cut into blocks of 7 pairs; a law refuted by a pair form; a law with symmetries; a law
+    // stopped by --max-faces in a block.
+    REQUIRE(run_cli("derive sequential --masses 1,1/3,1 --restitution 1/3 -o '" + dir + "/m13.json'").status == 0);
+    REQUIRE(run_cli("derive cradle --balls 5 -o '" + dir + "/c5.json'").status == 0);
+    const std::vector<std::pair<std::string, std::string>> runs = {
+        {dir + "/m13.json", "--shard-block 7"},
+        {source_path("proofs/controls/expansive-scaled.json"), "--shard-block 1"},
+        {dir + "/c5.json", "--shard-block 3"},
+        {dir + "/m13.json", "--shard-block 5 --max-faces 3"},
+    };
+    for (const auto& [law, extra] : runs) {
+        INFO(law << " " << extra);
+        const std::string limits = extra.find("--max-faces") != std::string::npos ? "--max-faces 3" : "";
+        const auto single = run_cli("certify --law '" + law + "' -o '" + dir + "/single.json' " + limits);
+        REQUIRE((single.status == 0 || single.status == 1 || single.status == 3));
+        const std::vector<std::string> texts = certify_shards(law, 3, dir, extra);
+        std::string merged;
+        impactcert_check::detail::Limits check_limits;
+        if (!limits.empty())
+            check_limits.max_faces = 3;
+        const auto outcome = impactcert_check::check_parts(texts, {"p1", "p2", "p3"}, check_limits, &merged);
+        INFO(outcome.message);
+        REQUIRE(outcome.status == impactcert_check::kVerified);
+        // Same content as one run (the parsed documents are equal, key for key).
+        CHECK(CJson::parse(merged) == CJson::parse(read_file(dir + "/single.json")));
+        // And the same verdict from the command line, given the parts in any order.
+        if (limits.empty()) {
+            const auto [status, line] = check_files({dir + "/part3.json", dir + "/part1.json", dir + "/part2.json"});
+            INFO(line);
+            CHECK(status == 0);
+            CHECK(line.find("3 parts merged") != std::string::npos);
+        }
+    }
+}
+
+TEST_CASE("shards: a missing, duplicated, foreign or forged part is rejected", "[shard][issue19]") {
+    const std::string dir = scratch_dir("forged");
+    REQUIRE(run_cli("derive sequential --masses 1,1/3,1 --restitution 1/3 -o '" + dir + "/m13.json'").status == 0);
+    REQUIRE(run_cli("derive sequential --masses 1,1/2,1 --restitution 1/2 -o '" + dir + "/m12.json'").status == 0);
+    const auto parts = certify_shards(dir + "/m13.json", 3, dir, "--shard-block 7");
+    const auto other = certify_shards(dir + "/m12.json", 3, dir + "/..", "--shard-block 7");
+    REQUIRE(check_parts(parts).status == impactcert_check::kVerified);
+    auto rejected = [](const impactcert_check::Outcome& o, const std::string& words) {
+        INFO(o.message);
+        CHECK(o.status != impactcert_check::kVerified);
+        CHECK(o.message.find(words) != std::string::npos);
+    };
+    rejected(check_parts({parts[0], parts[1]}), "3 shards, 2 parts given");          // missing
+    rejected(check_parts({parts[0], parts[1], parts[1]}), "given twice");            // duplicated
+    rejected(check_parts({parts[0], other[1], parts[2]}), "a part of another run");  // foreign
+    {
+        // Forged: a pair's certificate changed in a block.
+        CJson p = CJson::parse(parts[1]);
+        auto& blocks = nonexpansive_of(p)["data"]["blocks"];
+        REQUIRE(!blocks.empty());
+        bool changed = false;
+        for (auto& pair : blocks[0]["pairs"])
+            if (!changed && pair["certificate"]["method"] == "nonnegative entries") {
+                pair["certificate"]["method"] = "PSD";
+                changed = true;
+            }
+        if (!changed)
+            blocks[0]["pairs"].erase(0);
+        CHECK(check_parts({parts[0], p.dump(), parts[2]}).status != impactcert_check::kVerified);
+    }
+    {
+        // Forged: a block dropped, or taken from another shard.
+        CJson p = CJson::parse(parts[2]);
+        auto& blocks = nonexpansive_of(p)["data"]["blocks"];
+        REQUIRE(blocks.size() >= 2);
+        blocks.erase(0);
+        rejected(check_parts({parts[0], parts[1], p.dump()}), "is not the shard's next pair block");
+        CJson q = CJson::parse(parts[2]);
+        nonexpansive_of(q)["data"]["blocks"].erase(nonexpansive_of(q)["data"]["blocks"].size() - 1);
+        rejected(check_parts({parts[0], parts[1], q.dump()}), "is missing");
+    }
+    {
+        // Forged: an obligation moved to a shard that does not own it, or dropped.
+        CJson a = CJson::parse(parts[0]), b = CJson::parse(parts[1]);
+        b["obligations"].erase(0); // P1 (index 1) is shard 2's
+        rejected(check_parts({parts[0], b.dump(), parts[2]}), "missing from its shard");
+        CJson c = CJson::parse(parts[0]);
+        c["shard"]["index"] = 2;
+        rejected(check_parts({c.dump(), parts[1], parts[2]}), "given twice");
+        (void)a;
+    }
+    {
+        // Forged: a part of a run with another block size, or a pair count that does not fit.
+        CJson p = CJson::parse(parts[1]);
+        nonexpansive_of(p)["data"]["slice"]["block_pairs"] = 8;
+        rejected(check_parts({parts[0], p.dump(), parts[2]}), "differs between the parts");
+    }
+    // A certificate is not a part, and a part alone is not a certificate.
+    const auto single = run_cli("certify --law '" + dir + "/m13.json' -o '" + dir + "/single.json'");
+    REQUIRE(single.status <= 1);
+    rejected(check_parts({read_file(dir + "/single.json"), parts[1], parts[2]}), "not an impactcert-certificate-part/1");
+    CHECK(impactcert_check::check_text(parts[0]).status != impactcert_check::kVerified);
+    const auto [status, line] = check_files({dir + "/part1.json"});
+    INFO(line);
+    CHECK(status != 0); // one part of three
+}
+
+TEST_CASE("shards: sweep --shard in three processes, sweep --merge equals the single sweep", "[shard][sweep][issue19]") {
+    const std::string dir = scratch_dir("sweep");
+    const std::string spec = "--masses 1,m,1 --restitution e --vary m=1/2..2:3 --vary e=1/4..1:3 --jobs 1";
+    REQUIRE(run_cli("sweep " + spec + " -o '" + dir + "/single'").status == 0);
+    std::string merge;
+    for (int k = 1; k <= 3; ++k) {
+        const auto run = run_cli("sweep " + spec + " --shard " + std::to_string(k) + "/3 -o '" + dir + "/s" + std::to_string(k) + "'");
+        INFO(run.err);
+        REQUIRE(run.status == 0);
+        const std::string part = dir + "/s" + std::to_string(k) + "/sweep.part-" + std::to_string(k) + "-of-3.json";
+        REQUIRE(fs::exists(part));
+        CHECK(run.out == part + "\n");
+        merge += " '" + part + "'";
+    }
+    const auto merged = run_cli("sweep --merge" + merge + " -o '" + dir + "/merged'");
+    INFO(merged.err);
+    REQUIRE(merged.status == 0);
+    for (const char* file : {"sweep.csv", "sweep.json", "sweep.html"})
+        CHECK(read_file(dir + "/merged/" + file) == read_file(dir + "/single/" + file));
+
+    // Missing, duplicated, foreign (another grid) and forged (a verdict changed) parts.
+    const std::string p1 = dir + "/s1/sweep.part-1-of-3.json", p2 = dir + "/s2/sweep.part-2-of-3.json",
+                      p3 = dir + "/s3/sweep.part-3-of-3.json";
+    auto merge_fails = [&](const std::string& parts, const std::string& words) {
+        const auto run = run_cli("sweep --merge " + parts + " -o '" + dir + "/bad'");
+        INFO(run.err);
+        CHECK(run.status == 2);
+        CHECK(run.err.find(words) != std::string::npos);
+        CHECK(std::count(run.err.begin(), run.err.end(), '\n') == 1);
+    };
+    merge_fails("'" + p1 + "' '" + p2 + "'", "3 shards, 2 parts given");
+    merge_fails("'" + p1 + "' '" + p2 + "' '" + p2 + "'", "also given by");
+    REQUIRE(run_cli("sweep --masses 1,m,1 --restitution e --vary m=1/2..2:3 --vary e=0..1:3 --jobs 1 --shard 2/3 -o '" + dir +
+                    "/other'").status == 0);
+    merge_fails("'" + p1 + "' '" + dir + "/other/sweep.part-2-of-3.json' '" + p3 + "'", "a part of another run");
+    {
+        CJson p = CJson::parse(read_file(p2));
+        p["points"][0]["obligations"]["P1"]["verdict"] = "proved";
+        p["points"][0]["derive"] = "ok";
+        p["points"][0]["max_word"] = 99;
+        write_text(dir + "/forged.json", p.dump());
+        merge_fails("'" + p1 + "' '" + dir + "/forged.json' '" + p3 + "'", "does not match the part's content");
+    }
+    merge_fails("'" + p1 + "' '" + p2 + "' '" + p3 + "' --masses 1,2,1", "give no --masses");
+    const auto bad_shard = run_cli("sweep " + spec + " --shard 4/3 -o '" + dir + "/x'");
+    CHECK(bad_shard.status == 2);
+    CHECK(bad_shard.err.find("--shard") != std::string::npos);
+}
