@@ -87,8 +87,8 @@ TEST_CASE("derive newton and poisson agree with the LCP solved by active sets in
             const Model m(kind == 2 ? derive_poisson(o) : derive_newton(o));
             INFO(c.what << (kind == 0 ? ", newton" : kind == 1 ? ", newton approaching" : ", poisson"));
             // 10,000 or more per law for c = 2 (three systems) and for c = 3 (two systems).
-            const int samples = mech.contacts() == 2 ? 10000 / 3 + 1 : 5000;
-            for (int k = 0; k < samples; ++k) {
+            const std::size_t samples = test::samples(mech.contacts() == 2 ? 10000 / 3 + 1 : 5000);
+            for (std::size_t k = 0; k < samples; ++k) {
                 const Vector u = random_u(rng, mech.balls());
                 const Vector expected = kind == 2 ? simulate_poisson(mech, c.e, u) : simulate_newton(mech, c.e, o.on, u);
                 require_law_gives(m, u, expected);
@@ -135,7 +135,7 @@ TEST_CASE("derive sequential on a wall system and on planar disks agrees with th
             REQUIRE(r.law);
             const Model m(*r.law);
             INFO(system.name << ", " << to_string(rule));
-            for (int k = 0; k < 5000; ++k) {
+            for (std::size_t k = 0; k < test::samples(5000); ++k) {
                 const Vector u = random_u(rng, m.balls());
                 const auto sim = simulate_balls(system, e, rule, u, 10000);
                 REQUIRE(sim);

@@ -90,7 +90,7 @@ TEST_CASE("derive: three equal balls, e = 1, give the paper's law", "[derive]") 
     for (const auto& r : d.rays())
         require_same_values(d, paper, r);
     std::mt19937_64 rng(3);
-    for (int k = 0; k < 10000; ++k)
+    for (std::size_t k = 0; k < test::samples(10000); ++k)
         require_same_values(d, paper, Vector{random_rational(rng), random_rational(rng)});
     CHECK(all_proved(verify(d)));
     CHECK(d.law().outcomes.size() == 5);
@@ -108,7 +108,7 @@ TEST_CASE("derive: four and five equal balls, e = 1, give the sort law", "[deriv
             factorial *= k;
         CHECK(d.pieces().size() == factorial);
         std::mt19937_64 rng(n);
-        for (int k = 0; k < 10000; ++k) {
+        for (std::size_t k = 0; k < test::samples(10000); ++k) {
             Vector x(n - 1);
             for (auto& v : x)
                 v = random_rational(rng);
@@ -134,7 +134,7 @@ TEST_CASE("derive: unequal masses, restitutions and every rule agree with the ba
             const DeriveOptions o = options(masses, e, rule);
             INFO("masses " << masses.size() << " " << masses[1] << ", rule " << to_string(rule));
             const Model m = derived(o);
-            require_agrees_with_simulation(o, m, 10000, masses.size());
+            require_agrees_with_simulation(o, m, test::samples(10000), masses.size());
             // Every derivation is a valid law whose certificate the checker verifies, and whose
             // declared single impacts, factorisations and outcomes hold.
             // The declarations are made from the derivation itself, so "proved" alone would pass

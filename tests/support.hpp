@@ -17,6 +17,19 @@
 
 namespace impactcert::test {
 
+// Random samples per loop: the Release run takes n; the sanitizer run (ASan + UBSan, -O1, about
+// ten times slower) repeats every case, every boundary point and every assertion on n / 4 random
+// points (at least min(n, 250)), so that it stays a run of minutes.
+#ifdef IMPACTCERT_SANITIZER_BUILD
+inline constexpr std::size_t kSanitizerDivisor = 4;
+#else
+inline constexpr std::size_t kSanitizerDivisor = 1;
+#endif
+inline std::size_t samples(std::size_t n) {
+    const std::size_t floor = n < 250 ? n : 250;
+    return n / kSanitizerDivisor > floor ? n / kSanitizerDivisor : floor;
+}
+
 Rational q(const std::string& text);
 Vector vec(std::initializer_list<const char*> xs);
 Vector vec_of(const Json& j);
