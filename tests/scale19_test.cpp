@@ -193,3 +193,44 @@ TEST_CASE("derive: Galperin's billiard from a heavy ball - the planar derivation
     }
     CHECK(checked == 90);
 }
+
+TEST_CASE("P1 not face to face: a shared ray where two pieces differ comes before the intersections",
+          "[scale][issue19]") {
+    // The 4-ball chain 1,2,3,4 with e = 1/2 meets in T-junctions (fan by walls) and is discontinuous.
+    const Model m = derived({Rational(1), Rational(2), Rational(3), Rational(4)}, {Rational(1, 2), Rational(1, 2), Rational(1, 2)});
+    const VerifyReport r = verify(m);
+    REQUIRE(r.at("fan").method == "walls");
+    const auto& p1 = r.at("P1");
+    REQUIRE(p1.verdict == Verdict::refuted);
+    CHECK(p1.method == "a shared ray where two pieces differ, before the intersections");
+    test::revalidate(m, p1);
+    // The witness is an extreme ray of both pieces (a ray they share), where they differ.
+    const Vector v = test::vec_of(p1.counterexample["gamma"]);
+    for (const char* side : {"piece_a", "piece_b"}) {
+        const auto& piece = m.pieces()[piece_named(m, p1.counterexample[side])];
+        bool extreme = false;
+        for (std::size_t k = 0; k < m.contacts(); ++k)
+            extreme = extreme || primitive_ray(piece.R.column(k)) == primitive_ray(v);
+        CHECK(extreme);
+    }
+    test::require_sound(m, r);
+    const Json cert = make_certificate(m, verify(m, [] { Limits l; l.evidence = true; return l; }()));
+    REQUIRE(check(cert).status == impactcert_check::kVerified);
+    {
+        // The shared-ray list cut before its failure is not P1's evidence here.
+        Json bad = cert;
+        auto& shared = obligation(bad, "P1")["data"]["shared"];
+        REQUIRE(shared.size() >= 2);
+        shared.erase(shared.size() - 1);
+        CHECK(check(bad).status != impactcert_check::kVerified);
+    }
+    // Negative control: a continuous law whose cones meet in T-junctions (the 4-ball sort law with
+    // a cone split) is decided by the intersections: every shared ray agrees.
+    const Model c(load_law_file(source_path("tests/laws/tjunction-newton4-split.json")));
+    const VerifyReport rc = verify(c);
+    REQUIRE(rc.at("fan").method == "walls");
+    CHECK(rc.at("P1").verdict == Verdict::proved);
+    CHECK(rc.at("P1").method == "extreme rays of intersections across walls");
+    const Json cc = make_certificate(c, verify(c, [] { Limits l; l.evidence = true; return l; }()));
+    CHECK(check(cc).status == impactcert_check::kVerified);
+}

@@ -165,6 +165,7 @@ class Checker {
     bool next_distinct_pair(std::size_t& i, std::size_t& j) const;
     bool p1_intersections(const Json& data, const std::string& dp);
     std::vector<std::tuple<std::size_t, std::size_t, Vec>> shared_rays(std::size_t limit);
+    bool first_differing_shared_ray(); // any shared ray on which two pieces differ
 
     // ---- symmetries.cpp: the symmetries re-decided; firsts() is one piece per orbit when they
     // hold (the reduced lists of P1, P2, energetic, nonexpansive, nonexpansive-lemma), else all

@@ -94,8 +94,10 @@ void Checker::could_be_undecided(const std::string& id, const std::string& limit
             for (const auto& r : pc(p).rays)
                 require(nonneg(mul(pc(p).Q_, r)), path,
                         "a ray's image is negative: the prover refutes kinematic before it needs the fan");
-    if (id == "P1")
+    if (id == "P1") {
         require(!face_to_face(), path, "the cones meet face to face: P1 is decided on shared rays, without a limit");
+        require(!first_differing_shared_ray(), path, "two pieces differ on a shared ray: P1 is refuted without a limit");
+    }
     if (id == "nonexpansive" && option == "--max-faces" && holds("fan") != Truth::undecided)
         require(!domain_witness(), path, "S is not a function: the prover refutes nonexpansive by the domain witness");
     if (id == "nonexpansive")
@@ -134,8 +136,12 @@ bool Checker::evidence(const std::string& id, const Json& data, const std::strin
         expect_keys(data, dp, {"hyperplanes", "chamber_points"});
         return fan_chambers(data, dp);
     }
-    if (id == "P1" && !face_to_face()) {
+    if (id == "P1" && !face_to_face() && !data.contains("shared")) {
+        // The shared rays come first: the intersections are P1's evidence only when every
+        // shared ray agrees.
         expect_keys(data, dp, {"intersections"});
+        require(!first_differing_shared_ray(), at(dp, "intersections"),
+                "two pieces differ on a shared ray: that is P1's canonical witness");
         return p1_intersections(data, dp);
     }
     if (id == "P1") {
@@ -159,6 +165,8 @@ bool Checker::evidence(const std::string& id, const Json& data, const std::strin
             ok = ok && this_ok;
         }
         complete_unless_failed(!ok, l.size(), shared.size(), at(dp, "shared"));
+        require(face_to_face() || !ok, at(dp, "shared"),
+                "the cones do not meet face to face: agreeing shared rays are not P1's evidence");
         return ok;
     }
     if (id == "P2") {

@@ -197,4 +197,22 @@ std::vector<std::tuple<std::size_t, std::size_t, Vec>> Checker::shared_rays(std:
     return out;
 }
 
+// Whether two pieces differ on a ray they share (in the order of shared_rays), walked without
+// listing the pairs: the prover looks there first when the cones do not meet face to face.
+bool Checker::first_differing_shared_ray() {
+    std::vector<std::vector<std::size_t>> through(law_.distinct_rays.size());
+    for (std::size_t p = 0; p < P(); ++p)
+        for (const auto& r : pc(p).rays)
+            through[ray_id(r)].push_back(p);
+    const bool reduced = symmetry_check().hold;
+    for (const std::size_t i : firsts())
+        for (const auto& v : pc(i).rays) {
+            const Vec qi = mul(pc(i).Q_, v);
+            for (const std::size_t j : through[ray_id(v)])
+                if (j != i && (reduced || j > i) && mul(pc(j).Q_, v) != qi)
+                    return true;
+        }
+    return false;
+}
+
 } // namespace impactcert_check::detail

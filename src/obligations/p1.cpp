@@ -1,7 +1,8 @@
 // P1 -- proofs/README.md, "P1 (continuity)", with Lemma R (rays suffice for linear statements).
 // Claim: Q_i x = Q_j x for every x in C_i ∩ C_j (with S a function: S is continuous).
 // Check, face to face (the fan's fast path): Q_i v = Q_j v on every ray v shared by two pieces,
-// since then C_i ∩ C_j = cone(shared rays). Check, any cones: for every pair with Q_i != Q_j,
+// since then C_i ∩ C_j = cone(shared rays). Not face to face, the shared rays first too: a
+// shared ray where two pieces differ is a point of both cones, a witness. Check, any cones: for every pair with Q_i != Q_j,
 // the extreme rays of C_i ∩ C_j (every c-1 of its 2c constraints whose solutions form a line),
 // Q_i r = Q_j r on each (Minkowski-Weyl and Lemma R); with the fan proved by walls, only the
 // pairs across a common facet hyperplane. A ray where they differ is the witness.
@@ -40,7 +41,20 @@ Outcome Prover::p1() {
     } catch (const LimitExceeded&) {
     }
     try {
-        p1_ = face_to_face ? p1_shared_rays() : p1_intersections(walls);
+        if (face_to_face) {
+            p1_ = p1_shared_rays();
+        } else {
+            // Not face to face: the rays two pieces share come first (cheap, through the ray
+            // index); one where they differ lies in both cones and refutes P1 at once. Only
+            // when they all agree are the intersections enumerated.
+            Outcome shared = p1_shared_rays();
+            if (!shared.proved) {
+                shared.method = "a shared ray where two pieces differ, before the intersections";
+                p1_ = std::move(shared);
+            } else {
+                p1_ = p1_intersections(walls);
+            }
+        }
     } catch (const LimitExceeded& e) {
         p1_limit_ = e;
         throw;
