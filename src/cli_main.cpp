@@ -115,7 +115,11 @@ int run_sweep_command(const SweepArgs& a, const Limits& limits) {
     if (!a.merge.empty()) {
         if (!a.masses.empty() || !a.vary.empty() || !a.shard.empty())
             throw InputError("--merge: the run is described by its parts; give no --masses, --vary or --shard");
-        merge_sweep_parts(a.merge, a.out);
+        try {
+            merge_sweep_parts(a.merge, a.out, a.max_points);
+        } catch (const Json::exception& e) {
+            throw InputError(std::string("--merge: a part is not an impactcert-sweep-part/1 document (") + e.what() + ")");
+        }
         std::cout << a.out << "/sweep.csv\n" << a.out << "/sweep.json\n" << a.out << "/sweep.html\n";
         return kExitProved;
     }
@@ -352,6 +356,8 @@ int main(int argc, char** argv) {
         return status;
     };
     try {
+        if (verify_cmd->parsed() && !shard_text.empty() && !junit_path.empty())
+            throw InputError("--junit: not with --shard (a slice is not a verdict: merge certify's parts with impactcert-check)");
         if (verify_cmd->parsed())
             return finished(shard_text.empty() ? run_verify(law_path, json, junit_path, limits)
                                                : cli::run_verify_shard(law_path, parse_shard(shard_text), json, limits));

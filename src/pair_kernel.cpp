@@ -184,9 +184,11 @@ std::optional<CopositivityMethod> PairKernel::decide(std::size_t i, std::size_t 
     // bounds of the entries show that no partial sum can leave int64 (c terms of two products,
     // each below the bound), F is computed in plain int64 (the common case, vectorised);
     // otherwise in __int128 with every step checked.
-    const i128 bound = static_cast<i128>(c) * (a.max_R * b.max_HR + a.max_QR * b.max_HQR);
-    const bool small = a.max_R < (i128{1} << 62) && b.max_HR < (i128{1} << 62) && a.max_QR < (i128{1} << 62) &&
-                       b.max_HQR < (i128{1} << 62) && bound < (i128{1} << 62);
+    // With each maximum below 2^62, each product is below 2^124 and their sum below 2^125 (no
+    // __int128 overflow); c times the sum stays below 2^62 iff the sum is below floor(2^62 / c).
+    const i128 limit = i128{1} << 62;
+    const bool small = a.max_R < limit && b.max_HR < limit && a.max_QR < limit && b.max_HQR < limit &&
+                       a.max_R * b.max_HR + a.max_QR * b.max_HQR < limit / static_cast<i128>(c);
     s.F.assign(c * c, 0);
     bool nonnegative = a.E_nonnegative && b.E_nonnegative;
     for (std::size_t x = 0; x < c; ++x)

@@ -445,7 +445,47 @@ void write_sweep_part(const SweepSpec& spec, const std::vector<Json>& results, c
     write(sweep_part_path(dir, *spec.shard), part.dump(1) + "\n");
 }
 
-void merge_sweep_parts(const std::vector<std::string>& paths, const std::string& dir) {
+namespace {
+
+// A point's result as write_sweep_outputs reads it; InputError naming the place otherwise.
+void check_point_shape(const Json& r, const std::string& where) {
+    auto fail = [&](const std::string& what) { throw InputError(where + "." + what); };
+    if (!r.contains("point") || !r["point"].is_object())
+        fail("point: expected an object");
+    for (auto it = r["point"].begin(); it != r["point"].end(); ++it)
+        if (!it.value().is_string())
+            fail("point." + it.key() + ": expected a string");
+    if (!r.contains("derive") || !r["derive"].is_string())
+        fail("derive: expected a string");
+    const std::string derive = r["derive"].get<std::string>();
+    if (derive != "ok" && derive != "not-finite" && derive != "undecided")
+        fail("derive: expected ok, not-finite or undecided");
+    // Exactly the keys a single run writes for this kind of point.
+    const std::vector<std::string> keys = derive == "ok"           ? std::vector<std::string>{"point", "derive", "pieces", "max_word", "obligations"}
+                                          : derive == "not-finite" ? std::vector<std::string>{"point", "derive", "not_finite"}
+                                                                   : std::vector<std::string>{"point", "derive", "limit"};
+    for (auto it = r.begin(); it != r.end(); ++it)
+        if (std::find(keys.begin(), keys.end(), it.key()) == keys.end())
+            fail(it.key() + ": not written for a point whose derivation is " + derive);
+    for (const auto& key : keys)
+        if (!r.contains(key))
+            fail(key + ": missing");
+    if (derive != "ok")
+        return;
+    for (const char* key : {"pieces", "max_word"})
+        if (!r.contains(key) || !r[key].is_number_unsigned())
+            fail(std::string(key) + ": expected a non-negative integer");
+    if (!r.contains("obligations") || !r["obligations"].is_object())
+        fail("obligations: expected an object");
+    for (const char* id : kObligationIds)
+        if (!r["obligations"].contains(id) || !r["obligations"][id].is_object() ||
+            !r["obligations"][id].contains("verdict") || !r["obligations"][id]["verdict"].is_string())
+            fail(std::string("obligations.") + id + ".verdict: expected a string");
+}
+
+} // namespace
+
+void merge_sweep_parts(const std::vector<std::string>& paths, const std::string& dir, std::size_t max_points) {
     if (paths.empty())
         throw InputError("--merge: no part files given");
     std::vector<Json> parts;
@@ -468,6 +508,11 @@ void merge_sweep_parts(const std::vector<std::string>& paths, const std::string&
                 throw InputError(path + ": $." + key + ": missing");
         if (!part["sha256"].is_string() || part["sha256"] != part_digest(part))
             throw InputError(path + ": $.sha256: does not match the part's content (changed or cut short)");
+        if (!part["shard"].is_object() || !part["shard"].contains("index") || !part["shard"].contains("count") ||
+            !part["shard"]["index"].is_number_unsigned() || !part["shard"]["count"].is_number_unsigned())
+            throw InputError(path + ": $.shard: expected {\"index\": K, \"count\": N}");
+        if (!part["run"].is_object() || !part["points"].is_array())
+            throw InputError(path + ": $.run / $.points: expected an object and an array");
         parts.push_back(std::move(part));
     }
     // One run, every shard exactly once.
@@ -512,8 +557,15 @@ void merge_sweep_parts(const std::vector<std::string>& paths, const std::string&
     if (spec.parameters.empty() || spec.parameters.size() > 2)
         throw InputError(paths[0] + ": $.run.parameters: one or two parameters");
     std::size_t total = 1;
-    for (const auto& p : spec.parameters)
-        total *= std::max<std::size_t>(1, p.values.size());
+    for (const auto& p : spec.parameters) {
+        if (p.values.empty() || p.values.size() > 10000)
+            throw InputError(paths[0] + ": $.run.parameters: " + p.name + " needs 1 to 10000 values, has " +
+                             std::to_string(p.values.size()));
+        total *= p.values.size(); // at most 10,000^2: no overflow
+    }
+    if (total > max_points)
+        throw SweepLimit("the merged grid has " + std::to_string(total) + " points, more than " +
+                         std::to_string(max_points) + " (raise it with --max-points)");
     std::vector<Json> results(total);
     const std::size_t n1 = spec.parameters.size() > 1 ? spec.parameters[1].values.size() : 1;
     for (std::size_t p = 0; p < parts.size(); ++p) {
@@ -522,7 +574,8 @@ void merge_sweep_parts(const std::vector<std::string>& paths, const std::string&
         std::size_t expected = shard.index;
         for (std::size_t e = 0; e < points.size(); ++e, expected += n) {
             const std::string where = paths[p] + ": $.points[" + std::to_string(e) + "]";
-            if (!points[e].is_object() || points[e].value("index", total) != expected || expected >= total)
+            if (!points[e].is_object() || !points[e].contains("index") || !points[e]["index"].is_number_unsigned() ||
+                points[e]["index"].get<std::size_t>() != expected || expected >= total)
                 throw InputError(where + ".index: expected grid point " + std::to_string(expected) + " (shard " +
                                  std::to_string(shard.index + 1) + " of " + std::to_string(n) + " owns k mod " +
                                  std::to_string(n) + " = " + std::to_string(shard.index) + ")");
@@ -536,6 +589,7 @@ void merge_sweep_parts(const std::vector<std::string>& paths, const std::string&
                 throw InputError(where + ".point: is not the grid point at index " + std::to_string(expected));
             Json result = points[e];
             result.erase("index");
+            check_point_shape(result, where);
             results[expected] = std::move(result);
         }
         if (expected < total)

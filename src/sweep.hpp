@@ -70,7 +70,8 @@ void write_sweep_part(const SweepSpec& spec, const std::vector<Json>& results, c
 // sweep --merge: parts of one run (same run, same N), every shard exactly once, each holding
 // exactly its points in order, at the grid's coordinates, intact (digest); then the three files
 // as a single run writes them. InputError naming the part and the place otherwise.
-void merge_sweep_parts(const std::vector<std::string>& paths, const std::string& dir);
+// A merged grid larger than max_points is refused before any allocation (SweepLimit, exit 3).
+void merge_sweep_parts(const std::vector<std::string>& paths, const std::string& dir, std::size_t max_points);
 void write_sweep_outputs(const SweepSpec& spec, const std::vector<Json>& results, const std::string& dir);
 
 } // namespace impactcert

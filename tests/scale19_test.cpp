@@ -234,3 +234,37 @@ TEST_CASE("P1 not face to face: a shared ray where two pieces differ comes befor
     const Json cc = make_certificate(c, verify(c, [] { Limits l; l.evidence = true; return l; }()));
     CHECK(check(cc).status == impactcert_check::kVerified);
 }
+
+TEST_CASE("Lemma D: the eps found from the quadratic is the first of 1/2, 1/4, ... (by the halving loop)",
+          "[scale][issue19]") {
+    // Second route: the loop the quadratic replaced, with the energies of the two points.
+    std::vector<Model> laws;
+    laws.push_back(derived({Rational(1), Rational(2), Rational(3), Rational(4)}, {Rational(1, 2), Rational(1, 2), Rational(1, 2)}));
+    laws.push_back(derived({Rational(2), Rational(1), Rational(3), Rational(1), Rational(2)},
+                           {Rational(9, 10), Rational(9, 10), Rational(9, 10), Rational(9, 10)}));
+    laws.push_back(derived({Rational(1), Rational(2), Rational(1)}, {Rational(1), Rational(1)}));
+    for (const char* c : {"discontinuous-isometric", "newton-simultaneous", "perturbed-entry", "swapped-pieces"})
+        laws.emplace_back(load_law_file(source_path(std::string("proofs/controls/") + c + ".json")));
+    std::size_t seen = 0;
+    for (const Model& m : laws) {
+        INFO(m.law().name);
+        const VerifyReport r = verify(m);
+        const Json& w = r.at("nonexpansive").counterexample;
+        if (!w.contains("discontinuity"))
+            continue;
+        ++seen;
+        const std::size_t a = piece_named(m, w["piece_a"]), b = piece_named(m, w["piece_b"]);
+        const Vector v = test::vec_of(w["discontinuity"]);
+        const Vector ones(m.contacts(), Rational(1));
+        const Vector da = m.pieces()[a].R * ones, db = m.pieces()[b].R * ones;
+        Rational eps(1, 2);
+        for (;; eps = eps / 2) {
+            const Vector ga = v + eps * da, gb = v + eps * db;
+            if (m.energy(m.pieces()[a].Q * ga - m.pieces()[b].Q * gb) > m.energy(ga - gb))
+                break;
+        }
+        CHECK(test::vec_of(w["gamma_a"]) == v + eps * da);
+        CHECK(test::vec_of(w["gamma_b"]) == v + eps * db);
+    }
+    CHECK(seen >= 5);
+}

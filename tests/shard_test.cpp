@@ -3,6 +3,7 @@
 // the single run's (same verdicts, same certificate content), and a missing, duplicated, foreign
 // or forged part must be rejected.
 #include "checker.hpp"
+#include "sha256.hpp"
 #include "support.hpp"
 
 #include <catch2/catch.hpp>
@@ -11,6 +12,7 @@
 
 #include <cstdlib>
 #include <filesystem>
+#include <functional>
 #include <fstream>
 #include <string>
 
@@ -235,4 +237,69 @@ TEST_CASE("shards: sweep --shard in three processes, sweep --merge equals the si
     const auto bad_shard = run_cli("sweep " + spec + " --shard 4/3 -o '" + dir + "/x'");
     CHECK(bad_shard.status == 2);
     CHECK(bad_shard.err.find("--shard") != std::string::npos);
+}
+
+TEST_CASE("shards: a certificate is routed by its top-level format, whatever its names say", "[shard][issue19]") {
+    // A law named like the part format, with a piece named "shard": still a certificate.
+    const std::string dir = scratch_dir("route");
+    CJson law = CJson::parse(read_file(source_path("proofs/newton3/law.json")));
+    law["name"] = "impactcert-certificate-part/1";
+    write_text(dir + "/law.json", law.dump());
+    REQUIRE(run_cli("certify --law '" + dir + "/law.json' -o '" + dir + "/c.json'").status == 0);
+    const auto [status, line] = check_files({dir + "/c.json"});
+    INFO(line);
+    CHECK(status == 0);
+    CHECK_FALSE(impactcert_check::is_part_text(read_file(dir + "/c.json")));
+    const auto parts = certify_shards(source_path("proofs/newton3/law.json"), 2, dir);
+    CHECK(impactcert_check::is_part_text(parts[0]));
+}
+
+TEST_CASE("shards: sweep --merge refuses malformed parts with one line, and oversized grids before allocating",
+          "[shard][sweep][issue19]") {
+    const std::string dir = scratch_dir("malformed");
+    REQUIRE(run_cli("sweep --masses 1,1,1 --restitution e,f --vary e=0..1:2 --vary f=0..1:2 --jobs 1 --shard 1/1 -o '" + dir +
+                    "/R'").status == 0);
+    const CJson source = CJson::parse(read_file(dir + "/R/sweep.part-1-of-1.json"));
+    // The digest a forger would recompute (the part's own SHA-256 of its compact text).
+    auto resealed = [&](CJson part) {
+        part.erase("sha256");
+        const std::string digest = impactcert_check::detail::sha256_hex(part.dump());
+        part["sha256"] = digest;
+        write_text(dir + "/mut.json", part.dump());
+        return run_cli("sweep --merge '" + dir + "/mut.json' -o '" + dir + "/out'");
+    };
+    REQUIRE(resealed(source).status == 0);
+    struct Case {
+        const char* what;
+        std::function<void(CJson&)> change;
+        int status;
+    };
+    const std::vector<Case> cases = {
+        {"no values", [](CJson& p) { p["run"]["parameters"][0]["values"] = CJson::array(); }, 2},
+        {"no values of the second", [](CJson& p) { p["run"]["parameters"][1]["values"] = CJson::array(); }, 2},
+        {"shard not an object", [](CJson& p) { p["shard"] = "x"; }, 2},
+        {"index a string", [](CJson& p) { p["points"][0]["index"] = "0"; }, 2},
+        {"junk on a point", [](CJson& p) { p["points"][0]["obligations"] = "x"; }, 2},
+        {"no derive", [](CJson& p) { p["points"][1].erase("derive"); }, 2},
+        {"a verdict not a string", [](CJson& p) { p["points"][3]["obligations"]["P1"]["verdict"] = 1; }, 2},
+        {"a 36 M point grid",
+         [](CJson& p) {
+             for (int k = 0; k < 2; ++k) {
+                 CJson values = CJson::array();
+                 for (int i = 0; i < 6000; ++i)
+                     values.push_back(std::to_string(i));
+                 p["run"]["parameters"][k]["values"] = values;
+             }
+         },
+         3},
+    };
+    for (const auto& c : cases) {
+        INFO(c.what);
+        CJson part = source;
+        c.change(part);
+        const auto run = resealed(part);
+        INFO(run.err);
+        CHECK(run.status == c.status);
+        CHECK(std::count(run.err.begin(), run.err.end(), '\n') == 1);
+    }
 }

@@ -224,9 +224,58 @@ Json assemble(std::vector<Part>& parts) {
 } // namespace
 } // namespace detail
 
-bool is_part_text(const std::string& text) {
-    return text.find(detail::kPartFormat) != std::string::npos && text.find("\"shard\"") != std::string::npos;
+// The string value of the top-level "format" key, found in one pass without parsing the document
+// (a certificate may be gigabytes); "" when there is none. Only routes the file: whatever it
+// says, the document is then read and checked in full.
+std::string top_level_format(const std::string& text) {
+    int depth = 0;
+    bool in_string = false, escaped = false, key_pending = false, want_format = false;
+    std::string token, last;
+    for (const char ch : text) {
+        if (in_string) {
+            if (escaped) {
+                escaped = false;
+                token += ch;
+            } else if (ch == '\\') {
+                escaped = true;
+                token += ch;
+            } else if (ch == '"') {
+                in_string = false;
+                if (depth == 1) {
+                    if (want_format)
+                        return token;
+                    last = token;
+                    key_pending = true;
+                }
+            } else if (depth == 1) {
+                token += ch;
+            }
+            continue;
+        }
+        if (ch == '"') {
+            in_string = true;
+            token.clear();
+        } else if (ch == '{' || ch == '[') {
+            if (want_format)
+                return "";
+            ++depth;
+        } else if (ch == '}' || ch == ']') {
+            --depth;
+        } else if (ch == ':' && depth == 1 && key_pending) {
+            want_format = last == "format";
+            key_pending = false;
+        } else if (ch == ',' && depth == 1) {
+            if (want_format)
+                return "";
+            key_pending = false;
+        } else if (want_format && ch != ' ' && ch != '\n' && ch != '\t' && ch != '\r') {
+            return ""; // a number, true, false or null
+        }
+    }
+    return "";
 }
+
+bool is_part_text(const std::string& text) { return top_level_format(text) == detail::kPartFormat; }
 
 Outcome check_parts(const std::vector<std::string>& texts, const std::vector<std::string>& names,
                     const detail::Limits& limits, std::string* merged) {

@@ -141,16 +141,37 @@ void Checker::check_witness(const std::string& id, const Json& w, const std::str
                     "are not the pieces of P1's counterexample");
             const Vec v = vec(p1w.at("gamma"), "$.obligations[1].counterexample.gamma");
             expect_vec(w, wp, "discontinuity", v, "P1's ray");
+            // The first k >= 1 with A 4^k + B 2^k + C > 0, where lhs - rhs at eps = 2^-k is
+            // A + B eps + C eps^2 (A = |D|^2, B = 2 D.H delta, C = |delta|^2 - |rho|^2), in integers.
             const Vec da = mul(pc(a).R, Vec(law_.c, Q(1))), db = mul(pc(b).R, Vec(law_.c, Q(1)));
-            for (Q eps = Q(1) / 2;; eps /= 2) {
-                ca = v;
-                cb = v;
-                for (std::size_t k = 0; k < law_.c; ++k) {
-                    ca[k] += eps * da[k];
-                    cb[k] += eps * db[k];
-                }
-                if (law_.energy(sub(mul(pc(a).Q_, ca), mul(pc(b).Q_, cb))) > law_.energy(sub(ca, cb)))
+            const Vec D = sub(mul(pc(a).Q_, v), mul(pc(b).Q_, v));
+            const Vec delta = sub(mul(pc(a).Q_, da), mul(pc(b).Q_, db)), rho = sub(da, db);
+            const Q A = law_.energy(D), C = law_.energy(delta) - law_.energy(rho);
+            Q B = 0;
+            const Vec Hdelta = mul(law_.H, delta);
+            for (std::size_t k = 0; k < law_.c; ++k)
+                B += 2 * D[k] * Hdelta[k];
+            require(sgn(A) > 0, at(wp, "discontinuity"), "the pieces agree on P1's ray");
+            mpz_class L = 1;
+            for (const Q* x : std::initializer_list<const Q*>{&A, &B, &C})
+                mpz_lcm(L.get_mpz_t(), L.get_mpz_t(), x->get_den_mpz_t());
+            const mpz_class ia = L / A.get_den() * A.get_num(), ib = L / B.get_den() * B.get_num(),
+                            ic = L / C.get_den() * C.get_num();
+            std::size_t k = 1;
+            for (mpz_class value, term;; ++k) {
+                mpz_mul_2exp(value.get_mpz_t(), ia.get_mpz_t(), 2 * k);
+                mpz_mul_2exp(term.get_mpz_t(), ib.get_mpz_t(), k);
+                value += term + ic;
+                if (sgn(value) > 0)
                     break;
+            }
+            Q eps = 1;
+            mpz_mul_2exp(eps.get_den_mpz_t(), eps.get_den_mpz_t(), k); // 1 / 2^k
+            ca = v;
+            cb = v;
+            for (std::size_t i = 0; i < law_.c; ++i) {
+                ca[i] += eps * da[i];
+                cb[i] += eps * db[i];
             }
         } else if (id == "nonexpansive") {
             require(!across, at(wp, "discontinuity"), "P1 is not refuted");
