@@ -300,7 +300,7 @@ Outcome check_parts(const std::vector<std::string>& texts, const std::vector<std
             check(cert, limits);
             return {kVerified, one_line("verified (" + cert.at("law").at("name").get<std::string>() + ": " +
                                         cert.at("verdict").get<std::string>() + ", " + std::to_string(parts.size()) +
-                                        " parts merged)")};
+                                        (parts.size() == 1 ? " part" : " parts") + " merged)")};
         } catch (const Rejected& r) {
             return {kRejected, one_line("rejected: " + r.path + ": " + r.why)};
         } catch (const Malformed& m) {
