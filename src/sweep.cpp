@@ -63,6 +63,27 @@ struct Point {
     std::vector<Rational> values; // one per parameter
 };
 
+} // namespace
+
+// The sweep's inputs, in the order sweep.json and the parts write them: masses, restitution,
+// rule, max_impacts, parameters with their grid values.
+void put_inputs(Json& j, const SweepSpec& spec) {
+    j["masses"] = spec.masses;
+    j["restitution"] = spec.restitution;
+    j["rule"] = to_string(spec.rule);
+    j["max_impacts"] = spec.max_impacts;
+    Json params = Json::array();
+    for (const auto& p : spec.parameters) {
+        Json values = Json::array();
+        for (const auto& v : p.values)
+            values.push_back(to_string(v));
+        params.push_back(Json{{"name", p.name}, {"values", values}});
+    }
+    j["parameters"] = params;
+}
+
+namespace {
+
 // Derive and verify one grid point.
 Json evaluate(const SweepSpec& spec, const Point& point) {
     auto resolve = [&](const std::string& item, const std::string& option) {
@@ -397,18 +418,7 @@ namespace {
 // What identifies a run: every input that can change a verdict (not --jobs).
 Json run_json(const SweepSpec& spec) {
     Json run;
-    run["masses"] = spec.masses;
-    run["restitution"] = spec.restitution;
-    run["rule"] = to_string(spec.rule);
-    run["max_impacts"] = spec.max_impacts;
-    Json params = Json::array();
-    for (const auto& p : spec.parameters) {
-        Json values = Json::array();
-        for (const auto& v : p.values)
-            values.push_back(to_string(v));
-        params.push_back(Json{{"name", p.name}, {"values", values}});
-    }
-    run["parameters"] = params;
+    put_inputs(run, spec);
     run["limits"] = Json{{"max_faces", spec.limits.max_faces},     {"max_chambers", spec.limits.max_chambers},
                          {"max_subsets", spec.limits.max_subsets}, {"max_pieces", spec.limits.max_pieces},
                          {"max_memory", spec.limits.max_memory_mb}};
@@ -626,18 +636,7 @@ void write_sweep_outputs(const SweepSpec& spec, const std::vector<Json>& results
     // sweep.json
     Json doc;
     doc["format"] = "impactcert-sweep/1";
-    doc["masses"] = spec.masses;
-    doc["restitution"] = spec.restitution;
-    doc["rule"] = to_string(spec.rule);
-    doc["max_impacts"] = spec.max_impacts;
-    Json params_json = Json::array();
-    for (const auto& p : spec.parameters) {
-        Json values = Json::array();
-        for (const auto& v : p.values)
-            values.push_back(to_string(v));
-        params_json.push_back(Json{{"name", p.name}, {"values", values}});
-    }
-    doc["parameters"] = params_json;
+    put_inputs(doc, spec);
     doc["points"] = results;
     write(dir + "/sweep.json", doc.dump(1) + "\n");
 

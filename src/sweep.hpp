@@ -73,5 +73,6 @@ void write_sweep_part(const SweepSpec& spec, const std::vector<Json>& results, c
 // A merged grid larger than max_points is refused before any allocation (SweepLimit, exit 3).
 void merge_sweep_parts(const std::vector<std::string>& paths, const std::string& dir, std::size_t max_points);
 void write_sweep_outputs(const SweepSpec& spec, const std::vector<Json>& results, const std::string& dir);
+void put_inputs(Json& j, const SweepSpec& spec); // masses ... parameters, as sweep.json writes them
 
 } // namespace impactcert

@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <unistd.h>
 #include <exception>
+#include <functional>
 #include <new>
 #include <set>
 #include <string>
@@ -236,24 +237,29 @@ Outcome check_text(const std::string& text, const Limits& limits) {
                 return {kMalformed, one_line("malformed: " + d.path + ": more than 4096 keys in one object")};
             return {kMalformed, one_line("malformed: " + d.path + ": duplicate key \"" + d.key + "\"")};
         }
-        try {
+        return outcome_of([&] {
             check(cert, limits);
-            return {kVerified, one_line("verified (" + cert.at("law").at("name").get<std::string>() + ": " +
-                                        cert.at("verdict").get<std::string>() + ")")};
-        } catch (const Rejected& r) {
-            return {kRejected, one_line("rejected: " + r.path + ": " + r.why)};
-        } catch (const Malformed& m) {
-            return {kMalformed, one_line("malformed: " + m.path + ": " + m.why)};
-        } catch (const Undecided& u) {
-            return {kUndecided, one_line("undecided: " + u.option.substr(2) + " exceeded: " + u.path + ": " + u.why +
-                                         " (raise it with " + u.option + ")")};
-        } catch (const Json::exception& e) {
-            return {kMalformed, one_line(std::string("malformed: ") + e.what())};
-        }
+            return cert.at("law").at("name").get<std::string>() + ": " + cert.at("verdict").get<std::string>();
+        });
     } catch (const std::bad_alloc&) {
         return {kMalformed, "error: out of memory while checking (status 2: not checked)"};
     } catch (const std::exception& e) {
         return {kMalformed, one_line(std::string("error: internal: ") + e.what() + " (status 2: not checked)")};
+    }
+}
+
+Outcome outcome_of(const std::function<std::string()>& checks) {
+    try {
+        return {kVerified, one_line("verified (" + checks() + ")")};
+    } catch (const Rejected& r) {
+        return {kRejected, one_line("rejected: " + r.path + ": " + r.why)};
+    } catch (const Malformed& m) {
+        return {kMalformed, one_line("malformed: " + m.path + ": " + m.why)};
+    } catch (const Undecided& u) {
+        return {kUndecided, one_line("undecided: " + u.option.substr(2) + " exceeded: " + u.path + ": " + u.why +
+                                     " (raise it with " + u.option + ")")};
+    } catch (const Json::exception& e) {
+        return {kMalformed, one_line(std::string("malformed: ") + e.what())};
     }
 }
 

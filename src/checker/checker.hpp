@@ -25,6 +25,7 @@
 
 #include <algorithm>
 #include <cstddef>
+#include <functional>
 #include <map>
 #include <optional>
 #include <string>
@@ -200,6 +201,10 @@ struct DuplicateKey {
     std::string path, key;
 };
 detail::Json parse_unique_keys(const std::string& text);
+
+// check.cpp: runs `checks` (which returns the text after "verified (") and turns a rejection,
+// a malformed or undecided document into its status and one-line message (check_text, check_parts).
+Outcome outcome_of(const std::function<std::string()>& checks);
 
 // parts.cpp: the parts of a sharded certify run, assembled (coverage checked) and checked; the
 // assembled certificate in `merged` when given (the content of a single run's certificate).

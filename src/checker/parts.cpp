@@ -293,24 +293,14 @@ Outcome check_parts(const std::vector<std::string>& texts, const std::vector<std
                 return {kMalformed, one_line(names[k] + ": malformed: " + d.path + ": duplicate key \"" + d.key + "\"")};
             }
         }
-        try {
+        return outcome_of([&] {
             const Json cert = assemble(parts);
             if (merged)
                 *merged = cert.dump(1) + "\n";
             check(cert, limits);
-            return {kVerified, one_line("verified (" + cert.at("law").at("name").get<std::string>() + ": " +
-                                        cert.at("verdict").get<std::string>() + ", " + std::to_string(parts.size()) +
-                                        (parts.size() == 1 ? " part" : " parts") + " merged)")};
-        } catch (const Rejected& r) {
-            return {kRejected, one_line("rejected: " + r.path + ": " + r.why)};
-        } catch (const Malformed& m) {
-            return {kMalformed, one_line("malformed: " + m.path + ": " + m.why)};
-        } catch (const Undecided& u) {
-            return {kUndecided, one_line("undecided: " + u.option.substr(2) + " exceeded: " + u.path + ": " + u.why +
-                                         " (raise it with " + u.option + ")")};
-        } catch (const Json::exception& e) {
-            return {kMalformed, one_line(std::string("malformed: ") + e.what())};
-        }
+            return cert.at("law").at("name").get<std::string>() + ": " + cert.at("verdict").get<std::string>() + ", " +
+                   std::to_string(parts.size()) + (parts.size() == 1 ? " part" : " parts") + " merged";
+        });
     } catch (const std::bad_alloc&) {
         return {kMalformed, "error: out of memory while checking (status 2: not checked)"};
     } catch (const std::exception& e) {
