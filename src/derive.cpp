@@ -23,7 +23,7 @@ ImpactRule parse_rule(const std::string& text) {
         return ImpactRule::left_first;
     if (text == "right-first")
         return ImpactRule::right_first;
-    throw InputError("--rule: unknown rule \"" + text + "\" (most-negative, left-first or right-first)");
+    throw InputError("--rule: unknown rule \"" + text + "\" (most-negative, left-first, right-first; derive sequential also takes any)");
 }
 
 const char* to_string(ImpactRule rule) {
@@ -78,6 +78,10 @@ std::string word_name(const std::vector<std::size_t>& word, std::size_t c) {
 }
 
 } // namespace
+
+std::string word_text(const std::vector<std::size_t>& word, std::size_t contacts) {
+    return word_name(word, contacts);
+}
 
 std::pair<std::vector<std::size_t>, bool> sequential_word(const System& system,
                                                           const std::vector<Rational>& restitution,

@@ -84,6 +84,40 @@ std::optional<Vector> simulate_balls(const std::vector<Rational>& masses,
 ImpactRule parse_rule(const std::string& text); // InputError on an unknown rule
 const char* to_string(ImpactRule rule);
 
+// A word as the law names its pieces: "none", "121"; with more than nine contacts "1-12-3".
+std::string word_text(const std::vector<std::size_t>& word, std::size_t contacts);
+
+// ---- Order independence (`derive sequential --rule any`), derive_order.cpp.
+//
+// The sequential process with every admissible order: at each step any approaching contact
+// (gamma_k < 0) may take the next impact. The admissible words are found by cutting cones
+// (PPL, not necessarily closed, exact): the cell of a word w = k1..kL is the set of gamma- where
+// (A_{i-1} gamma-)_{k_i} < 0 for every i (A_i the map of the first i letters), its final cell
+// adds A_L gamma- >= 0. The result does not depend on the order exactly when every two final
+// cells with different maps meet only where the maps agree; otherwise a point of their
+// intersection where they differ is the witness (proofs/README.md, "Order independence").
+struct OrderWitness {
+    Vector gamma_minus;                      // primitive integer
+    std::vector<std::size_t> word_a, word_b; // two admissible words (contacts from 0)
+    Vector gamma_a, gamma_b;                 // their gamma+ (different)
+};
+struct OrderResult {
+    std::optional<OrderWitness> witness;  // the result depends on the order, or ...
+    std::optional<Vector> not_finite;     // ... an admissible order longer than max_impacts here
+    std::vector<std::size_t> long_word;   // that order's first max_impacts + 1 letters
+    std::size_t words = 0;                // admissible words with a non-empty final cell
+    std::size_t max_word = 0;             // the longest of them
+    std::size_t pairs = 0;                // pairs of final cells with different maps compared
+    bool independent() const { return !witness && !not_finite; }
+};
+inline constexpr std::size_t kDefaultMaxWords = 200000;
+// DeriveLimit (naming --max-words) when the process has more than max_words cells; the rule
+// of `options` is ignored.
+OrderResult order_independence(const DeriveOptions& options, std::size_t max_words = kDefaultMaxWords);
+// The witness re-checked by simulation (no cones): each word admissible at gamma- (its contact
+// approaching at every step), ending with gamma >= 0 at the listed gamma+, and the two differ.
+bool order_witness_holds(const System& system, const std::vector<Rational>& restitution, const OrderWitness& w);
+
 // ---- The classical simultaneous laws (SPEC section 8), derive_classical.cpp.
 
 enum class RestitutionOn { all, approaching };

@@ -21,14 +21,6 @@ Vector vector_of(const Row& g, std::size_t c) {
     return v;
 }
 
-PPL::Linear_Expression form(const Vector& a) {
-    const Vector p = primitive_ray(a); // a positive multiple with integer entries
-    PPL::Linear_Expression e;
-    for (std::size_t k = 0; k < p.size(); ++k)
-        if (sign_of(p[k]) != Sign::zero)
-            e += PPL::Coefficient(mpz_class(mpq_numref(p[k].mpq()))) * PPL::Variable(static_cast<PPL::dimension_type>(k));
-    return e;
-}
 
 struct Cone {
     std::vector<Vector> rays;        // extreme rays, primitive, sorted
@@ -141,7 +133,18 @@ PplScope::PplScope() {
 
 PplScope::~PplScope() { PPL::restore_pre_PPL_rounding(); }
 
+PPL::Linear_Expression form(const Vector& a) {
+    const Vector p = primitive_ray(a); // a positive multiple with integer entries
+    PPL::Linear_Expression e;
+    for (std::size_t k = 0; k < p.size(); ++k)
+        if (sign_of(p[k]) != Sign::zero)
+            e += PPL::Coefficient(mpz_class(mpq_numref(p[k].mpq()))) * PPL::Variable(static_cast<PPL::dimension_type>(k));
+    return e;
+}
+
 PPL::Constraint nonneg(const Vector& a) { return form(a) >= 0; }
+
+Vector generator_vector(const PPL::Generator& g, std::size_t c) { return vector_of(g, c); }
 
 PPL::C_Polyhedron cone_of(std::size_t c, const std::vector<Vector>& constraints) {
     PPL::C_Polyhedron p(static_cast<PPL::dimension_type>(c), PPL::UNIVERSE);

@@ -43,6 +43,10 @@ class PplScope {
     PplScope& operator=(const PplScope&) = delete;
 };
 
+// The linear form a . x with integer coefficients (a positive multiple of a).
+PPL::Linear_Expression form(const Vector& a);
+// A generator's integer coefficients on the c space dimensions (its divisor not applied).
+Vector generator_vector(const PPL::Generator& g, std::size_t c);
 // The constraint a . x >= 0 (a != 0).
 PPL::Constraint nonneg(const Vector& a);
 // A region: the intersection of {a . x >= 0} for the given a (zero vectors are ignored).

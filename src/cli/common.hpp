@@ -74,7 +74,7 @@ struct DeriveArgs {
     SystemArgs system;
     std::string restitution = "1", rule = "most-negative", out, outcomes_from;
     std::string restitution_on = "all";
-    std::size_t max_impacts = 100, max_bits = kDefaultMaxBits;
+    std::size_t max_impacts = 100, max_bits = kDefaultMaxBits, max_words = kDefaultMaxWords;
     bool json = false;
 };
 int run_derive_sequential(const DeriveArgs& a);

@@ -52,7 +52,8 @@ int run_derive_sequential(const DeriveArgs& a) {
     static_cast<System&>(o) = system_from(a.system);
     const Mechanics mech = make_mechanics(o);
     o.restitution = restitution_list(a.restitution, mech.contacts());
-    o.rule = parse_rule(a.rule);
+    const bool any_order = a.rule == "any";
+    o.rule = any_order ? ImpactRule::most_negative : parse_rule(a.rule);
     o.max_impacts = a.max_impacts;
     o.max_bits = a.max_bits;
     o.outcomes_override = outcomes_from(a.outcomes_from, mech.balls());
@@ -61,7 +62,50 @@ int run_derive_sequential(const DeriveArgs& a) {
         o.progress = [show](const char* phase, std::size_t done, std::size_t total) {
             show(std::string("derive ") + phase, std::to_string(done) + (total ? "/" + std::to_string(total) : ""));
         };
-    const DeriveResult r = derive_sequential(o);
+    std::string order_note;
+    if (any_order) {
+        const OrderResult order = order_independence(o, a.max_words);
+        if (order.not_finite) {
+            std::cerr << "impactcert: derive: no finite law: at gamma- = " << short_text(*order.not_finite)
+                      << " an admissible order takes more than " << o.max_impacts << " impacts (word "
+                      << word_text(order.long_word, mech.contacts()).substr(0, 60) << "...)\n";
+            if (a.json) {
+                Json j;
+                j["format"] = "impactcert-derive/1";
+                j["verdict"] = "not-finite";
+                j["rule"] = "any";
+                j["gamma_minus"] = to_json(*order.not_finite);
+                j["max_impacts"] = o.max_impacts;
+                j["word"] = word_text(order.long_word, mech.contacts()) + "...";
+                write_stdout(j.dump(2) + "\n");
+            }
+            return kExitRefuted;
+        }
+        if (order.witness) {
+            const OrderWitness& w = *order.witness;
+            const std::size_t c = mech.contacts();
+            std::cerr << "impactcert: derive: the order matters: at gamma- = " << short_text(w.gamma_minus)
+                      << " the admissible words " << word_text(w.word_a, c) << " and " << word_text(w.word_b, c)
+                      << " end at " << short_text(w.gamma_a) << " and " << short_text(w.gamma_b) << "\n";
+            if (a.json) {
+                Json j;
+                j["format"] = "impactcert-derive/1";
+                j["verdict"] = "order-dependent";
+                j["rule"] = "any";
+                j["gamma_minus"] = to_json(w.gamma_minus);
+                j["words"] = Json::array({word_text(w.word_a, c), word_text(w.word_b, c)});
+                j["gamma_plus"] = Json::array({to_json(w.gamma_a), to_json(w.gamma_b)});
+                write_stdout(j.dump(2) + "\n");
+            }
+            return kExitRefuted;
+        }
+        order_note = "; order independent: every admissible order of impacts gives this law (" +
+                     std::to_string(order.words) + " admissible words, the longest " + std::to_string(order.max_word) +
+                     " impacts; impactcert derive sequential --rule any)";
+    }
+    DeriveResult r = derive_sequential(o);
+    if (r.law && any_order)
+        r.law->description += order_note;
     if (r.not_finite) {
         // One line, shortened; the exact witness in full with --json.
         std::string word = r.word.size() > 60 ? r.word.substr(0, 60) : r.word;
