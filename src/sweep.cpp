@@ -22,6 +22,9 @@ namespace impactcert {
 
 namespace {
 
+// The sweep's column for order independence (sweep.csv header, the phase map's title).
+constexpr const char* kOrderColumn = "order-independent";
+
 bool is_name(const std::string& s) {
     if (s.empty() || !(std::isalpha(static_cast<unsigned char>(s[0])) || s[0] == '_'))
         return false;
@@ -84,6 +87,29 @@ void put_inputs(Json& j, const SweepSpec& spec) {
 
 namespace {
 
+// Order independence at a point (derive.hpp, `--rule any`): proved, refuted with the witness (two
+// admissible words, or an admissible order longer than --max-impacts), or undecided at a limit.
+Json order_entry(const DeriveOptions& o) {
+    try {
+        const OrderResult r = order_independence(o);
+        if (r.not_finite)
+            return Json{{"verdict", "refuted"},
+                        {"counterexample",
+                         Json{{"gamma", to_json(*r.not_finite)}, {"word", word_text(r.long_word, o.restitution.size()) + "..."}}}};
+        if (r.witness) {
+            const std::size_t c = o.restitution.size();
+            return Json{{"verdict", "refuted"},
+                        {"counterexample",
+                         Json{{"gamma", to_json(r.witness->gamma_minus)},
+                              {"words", Json::array({word_text(r.witness->word_a, c), word_text(r.witness->word_b, c)})},
+                              {"gamma_plus", Json::array({to_json(r.witness->gamma_a), to_json(r.witness->gamma_b)})}}}};
+        }
+        return Json{{"verdict", "proved"}};
+    } catch (const DeriveLimit& e) {
+        return Json{{"verdict", "undecided"}, {"limit", e.what()}};
+    }
+}
+
 // Derive and verify one grid point.
 Json evaluate(const SweepSpec& spec, const Point& point) {
     auto resolve = [&](const std::string& item, const std::string& option) {
@@ -134,6 +160,7 @@ Json evaluate(const SweepSpec& spec, const Point& point) {
         obligations[ob.id] = item;
     }
     out["obligations"] = obligations;
+    out["order"] = order_entry(o);
     return out;
 }
 
@@ -149,7 +176,7 @@ std::string svg_map(const SweepSpec& spec, const std::vector<Json>& results, con
             const Json& r = results[i * n1 + j];
             std::string verdict = "no finite law", detail;
             if (r["derive"] == "ok") {
-                const Json& o = r["obligations"][id];
+                const Json& o = id == kOrderColumn ? r["order"] : r["obligations"][id];
                 verdict = o["verdict"].get<std::string>();
                 if (o.contains("counterexample"))
                     detail = " " + o["counterexample"].dump();
@@ -471,7 +498,7 @@ void check_point_shape(const Json& r, const std::string& where) {
     if (derive != "ok" && derive != "not-finite" && derive != "undecided")
         fail("derive: expected ok, not-finite or undecided");
     // Exactly the keys a single run writes for this kind of point.
-    const std::vector<std::string> keys = derive == "ok"           ? std::vector<std::string>{"point", "derive", "pieces", "max_word", "obligations"}
+    const std::vector<std::string> keys = derive == "ok"           ? std::vector<std::string>{"point", "derive", "pieces", "max_word", "obligations", "order"}
                                           : derive == "not-finite" ? std::vector<std::string>{"point", "derive", "not_finite"}
                                                                    : std::vector<std::string>{"point", "derive", "limit"};
     for (auto it = r.begin(); it != r.end(); ++it)
@@ -491,6 +518,8 @@ void check_point_shape(const Json& r, const std::string& where) {
         if (!r["obligations"].contains(id) || !r["obligations"][id].is_object() ||
             !r["obligations"][id].contains("verdict") || !r["obligations"][id]["verdict"].is_string())
             fail(std::string("obligations.") + id + ".verdict: expected a string");
+    if (!r["order"].is_object() || !r["order"].contains("verdict") || !r["order"]["verdict"].is_string())
+        fail("order.verdict: expected a string");
 }
 
 } // namespace
@@ -620,13 +649,14 @@ void write_sweep_outputs(const SweepSpec& spec, const std::vector<Json>& results
         csv += csv_field(p.name) + ",";
     for (const char* id : kObligationIds)
         csv += std::string(id) + ",";
-    csv += "pieces,max_word,derive\n";
+    csv += std::string(kOrderColumn) + ",pieces,max_word,derive\n";
     for (const auto& r : results) {
         for (auto it = r["point"].begin(); it != r["point"].end(); ++it)
             csv += it.value().get<std::string>() + ",";
         const bool ok = r["derive"] == "ok";
         for (const char* id : kObligationIds)
             csv += (ok ? r["obligations"][id]["verdict"].get<std::string>() : std::string()) + ",";
+        csv += (ok ? r["order"]["verdict"].get<std::string>() : std::string()) + ",";
         csv += (ok ? std::to_string(r["pieces"].get<std::size_t>()) : std::string()) + "," +
                (ok ? std::to_string(r["max_word"].get<std::size_t>()) : std::string()) + "," +
                r["derive"].get<std::string>() + "\n";
@@ -664,6 +694,8 @@ void write_sweep_outputs(const SweepSpec& spec, const std::vector<Json>& results
                        "<span style=\"background:#24292f\"></span>no finite law</p>\n<div class=\"maps\">\n";
     for (const char* id : kObligationIds)
         html += "<div class=\"map\"><h3>" + std::string(id) + "</h3>\n" + svg_map(spec, results, id) + "</div>\n";
+    html += "<div class=\"map\"><h3>" + std::string(kOrderColumn) +
+            " (every admissible order, whatever the rule)</h3>\n" + svg_map(spec, results, kOrderColumn) + "</div>\n";
     html += "</div>\n</body>\n</html>\n";
     write(dir + "/sweep.html", html);
 }

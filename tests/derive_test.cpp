@@ -248,7 +248,7 @@ TEST_CASE("sweep: the CSV holds the verdicts computed one by one, whatever the n
             cells.push_back(cell);
         if (!line.empty() && line.back() == ',')
             cells.push_back("");
-        REQUIRE(cells.size() == 2 + kObligationIds.size() + 3);
+        REQUIRE(cells.size() == 2 + kObligationIds.size() + 4); // + order-independent, pieces, max_word, derive
         DeriveOptions o;
         o.masses = {Rational(1), q(cells[0]), Rational(1)};
         o.restitution = {q(cells[1]), q(cells[1])};
@@ -260,7 +260,13 @@ TEST_CASE("sweep: the CSV holds the verdicts computed one by one, whatever the n
         const VerifyReport r = verify(m);
         for (std::size_t k = 0; k < kObligationIds.size(); ++k)
             CHECK(cells[2 + k] == to_string(r.at(kObligationIds[k]).verdict));
-        CHECK(cells[2 + kObligationIds.size()] == std::to_string(m.pieces().size()));
+        // The order column: --rule any's decision. On this grid the order does not matter exactly
+        // at (1, 1) (the braid angle pi/3) and at (1/2, 1/2), the two continuous laws.
+        const OrderResult order = order_independence(o);
+        CHECK(cells[2 + kObligationIds.size()] == (order.independent() ? "proved" : "refuted"));
+        CHECK(order.independent() == ((o.masses[1] == Rational(1) && o.restitution[0] == Rational(1)) ||
+                                      (o.masses[1] == q("1/2") && o.restitution[0] == q("1/2"))));
+        CHECK(cells[3 + kObligationIds.size()] == std::to_string(m.pieces().size()));
         ++rows;
     }
     CHECK(rows == 9);
@@ -283,7 +289,7 @@ TEST_CASE("sweep: e = 0 is recorded as no finite law - bad grids are one line an
     const auto run = test::run_cli("sweep --masses 1,1,1 --restitution e --vary e=0..1:2 --jobs 1 -o " + dir);
     REQUIRE(run.status == 0);
     const std::string csv = test::read_file(dir + "/sweep.csv");
-    CHECK(csv.find("\n0,,,,,,,,,,,,,,,,not-finite\n") != std::string::npos); // e, 13 obligations, pieces, max_word
+    CHECK(csv.find("\n0,,,,,,,,,,,,,,,,,not-finite\n") != std::string::npos); // e, 13 obligations, order, pieces, max_word
     CHECK(csv.find("\n1,proved,proved,") != std::string::npos);
     std::filesystem::remove_all(dir);
     for (const char* bad : {"--masses 1,m,1 --vary x=1..2:3", "--masses 1,m,1 --vary m=1..2:3 --vary e=0..1:2",
