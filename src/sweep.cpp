@@ -1,4 +1,5 @@
 #include "sweep.hpp"
+#include "exact_conditions.hpp"
 
 #include "errors.hpp"
 #include "json.hpp"
@@ -16,6 +17,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <set>
 #include <sstream>
 
 namespace impactcert {
@@ -164,7 +166,68 @@ Json evaluate(const SweepSpec& spec, const Point& point) {
     return out;
 }
 
-std::string svg_map(const SweepSpec& spec, const std::vector<Json>& results, const std::string& id) {
+// x rounded down to `digits` decimals, as text (exact: integer arithmetic).
+std::string decimal_text(const Rational& x, int digits) {
+    mpz_class scale = 1;
+    for (int i = 0; i < digits; ++i)
+        scale *= 10;
+    mpz_class q;
+    const mpz_class num = mpz_class(mpq_numref(x.mpq())) * scale;
+    mpz_fdiv_q(q.get_mpz_t(), num.get_mpz_t(), mpq_denref(x.mpq()));
+    const bool negative = q < 0;
+    if (negative)
+        q = -q;
+    std::string t = q.get_str();
+    if (digits > 0) {
+        if (t.size() <= static_cast<std::size_t>(digits))
+            t.insert(0, static_cast<std::size_t>(digits) + 1 - t.size(), '0');
+        t.insert(t.size() - static_cast<std::size_t>(digits), ".");
+    }
+    return (negative ? "-" : "") + t;
+}
+
+// The exact continuity conditions of the sweep's family (exact_conditions.hpp), when it is a
+// three-ball chain under most-negative; curves with the crossings of every line, checks at the
+// rational crossings of grid lines.
+struct SweepConditions {
+    ConditionFamily family;
+    ConditionsResult result;
+};
+
+SweepConditions sweep_conditions(const SweepSpec& spec) {
+    SweepConditions c;
+    c.family.masses = spec.masses;
+    c.family.restitution = spec.restitution;
+    c.family.max_impacts = spec.max_impacts;
+    for (const auto& p : spec.parameters)
+        c.family.parameters.push_back({p.name, p.values});
+    if (spec.rule != ImpactRule::most_negative) {
+        c.result.why_not = "the rule is not most-negative (index rules have no tie jump)";
+        return c;
+    }
+    c.result = continuity_conditions(c.family);
+    return c;
+}
+
+// A parameter value's horizontal (or vertical) position on a map: the grid values sit at the
+// cells' centres, values between them linearly in between; tenths of a pixel, exact.
+Rational map_position(const std::vector<Rational>& values, const Rational& v, int cell) {
+    std::size_t i = 0;
+    while (i + 2 < values.size() && values[i + 1] < v)
+        ++i;
+    Rational t(0);
+    if (values.size() > 1 && values[i + 1] != values[i])
+        t = (v - values[i]) / (values[i + 1] - values[i]);
+    return (Rational(static_cast<long>(i)) + t) * Rational(cell) + Rational(cell, 2);
+}
+
+std::string curve_label(const ConditionCurve& curve) {
+    return "after the tie: " + curve.word_a + " / " + curve.word_b + " (" + std::to_string(curve.word_a.size()) + " and " +
+           std::to_string(curve.word_b.size()) + " impacts): " + curve.polynomial + " = 0";
+}
+
+std::string svg_map(const SweepSpec& spec, const std::vector<Json>& results, const std::string& id,
+                    const SweepConditions* conditions = nullptr) {
     const int cell = 22, margin = 60;
     const std::size_t n0 = spec.parameters[0].values.size();
     const std::size_t n1 = spec.parameters.size() > 1 ? spec.parameters[1].values.size() : 1;
@@ -198,6 +261,28 @@ std::string svg_map(const SweepSpec& spec, const std::vector<Json>& results, con
                  std::to_string(cell - 1) + "\" height=\"" + std::to_string(cell - 1) + "\" fill=\"" +
                  colour_of(verdict) + "\"><title>" + xml_escape(where + ": " + verdict + detail) + "</title></rect>\n";
         }
+    if (conditions && conditions->result.computed) {
+        // The continuity set: dots at the certified crossings of every grid and drawing line.
+        for (const auto& curve : conditions->result.curves) {
+            if (curve.whole_cell)
+                continue;
+            s += "<g fill=\"#0969da\"><title>" + xml_escape(curve_label(curve)) + "</title>\n";
+            for (const auto& x : curve.crossings) {
+                const Rational mid = (x.lo + x.hi) / Rational(2);
+                const Rational v0 = x.varies == 0 ? mid : x.at;
+                const Rational px = Rational(margin) + map_position(spec.parameters[0].values, v0, cell);
+                Rational py = Rational(10 + cell / 2);
+                if (spec.parameters.size() > 1) {
+                    const Rational v1 = x.varies == 1 ? mid : x.at;
+                    py = Rational(10 + static_cast<int>(n1) * cell) -
+                         map_position(spec.parameters[1].values, v1, cell);
+                }
+                s += "<circle cx=\"" + decimal_text(px, 1) + "\" cy=\"" + decimal_text(py, 1) + "\" r=\"" +
+                     (x.exact ? "3" : "1.6") + "\"/>";
+            }
+            s += "</g>\n";
+        }
+    }
     const auto& p0 = spec.parameters[0];
     const int bottom = 10 + static_cast<int>(n1) * cell + 14;
     s += "<text x=\"" + std::to_string(margin) + "\" y=\"" + std::to_string(bottom) + "\">" +
@@ -663,11 +748,77 @@ void write_sweep_outputs(const SweepSpec& spec, const std::vector<Json>& results
     }
     write(dir + "/sweep.csv", csv);
 
+    // The exact conditions (P1 only; see proofs/README.md, "Where continuity holds").
+    const SweepConditions conditions = sweep_conditions(spec);
+    Json exact = Json::object();
+    exact["computed"] = conditions.result.computed;
+    if (!conditions.result.computed) {
+        exact["why_not"] = conditions.result.why_not;
+    } else {
+        exact["cells"] = conditions.result.cells;
+        exact["cells_not_computed"] = conditions.result.cells_not_computed;
+        Json curves = Json::array();
+        std::set<std::vector<std::string>> checked;
+        for (const auto& curve : conditions.result.curves) {
+            Json c;
+            c["words"] = Json::array({curve.word_a, curve.word_b});
+            c["impacts"] = Json::array({curve.word_a.size(), curve.word_b.size()});
+            if (curve.whole_cell) {
+                c["whole_cell"] = true;
+                curves.push_back(c);
+                continue;
+            }
+            c["polynomial"] = curve.polynomial;
+            c["degree"] = curve.degree;
+            Json crossings = Json::array(), checks = Json::array();
+            for (const auto& x : curve.crossings) {
+                if (!x.grid_line)
+                    continue;
+                Json item;
+                if (spec.parameters.size() > 1)
+                    item["line"] = spec.parameters[1 - x.varies].name + " = " + to_string(x.at);
+                item["root"] = spec.parameters[x.varies].name;
+                item["in"] = Json::array({to_string(x.lo), to_string(x.hi)});
+                item["approx"] = decimal_text(x.lo, 6);
+                if (x.exact) {
+                    item["exact"] = to_string(*x.exact);
+                    // A law exactly on the curve: derived and verified at the rational point.
+                    Point at;
+                    at.values.assign(spec.parameters.size(), Rational(0));
+                    at.values[x.varies] = *x.exact;
+                    if (spec.parameters.size() > 1)
+                        at.values[1 - x.varies] = x.at;
+                    std::vector<std::string> key;
+                    for (const auto& v : at.values)
+                        key.push_back(to_string(v));
+                    if (checked.insert(key).second) {
+                        const Json r = evaluate(spec, at);
+                        Json check;
+                        check["point"] = r["point"];
+                        check["derive"] = r["derive"];
+                        if (r["derive"] == "ok") {
+                            check["P1"] = r["obligations"]["P1"]["verdict"];
+                            check["nonexpansive"] = r["obligations"]["nonexpansive"]["verdict"];
+                            check["order-independent"] = r["order"]["verdict"];
+                        }
+                        checks.push_back(check);
+                    }
+                }
+                crossings.push_back(item);
+            }
+            c["grid_crossings"] = crossings;
+            c["checks"] = checks;
+            curves.push_back(c);
+        }
+        exact["curves"] = curves;
+    }
+
     // sweep.json
     Json doc;
     doc["format"] = "impactcert-sweep/1";
     put_inputs(doc, spec);
     doc["points"] = results;
+    doc["exact_conditions"] = Json{{"P1", exact}};
     write(dir + "/sweep.json", doc.dump(1) + "\n");
 
     // sweep.html
@@ -692,11 +843,34 @@ void write_sweep_outputs(const SweepSpec& spec, const std::vector<Json>& results
                        "<span style=\"background:#2da44e\"></span>proved<span style=\"background:#cf222e\"></span>refuted"
                        "<span style=\"background:#bf8700\"></span>undecided<span style=\"background:#8c959f\"></span>skipped"
                        "<span style=\"background:#24292f\"></span>no finite law</p>\n<div class=\"maps\">\n";
-    for (const char* id : kObligationIds)
-        html += "<div class=\"map\"><h3>" + std::string(id) + "</h3>\n" + svg_map(spec, results, id) + "</div>\n";
+    for (const char* id : kObligationIds) {
+        const bool overlay = std::string(id) == "P1" || std::string(id) == "nonexpansive";
+        html += "<div class=\"map\"><h3>" + std::string(id) + (overlay && conditions.result.computed ? " (blue: where P1 holds exactly)" : "") +
+                "</h3>\n" + svg_map(spec, results, id, overlay ? &conditions : nullptr) + "</div>\n";
+    }
     html += "<div class=\"map\"><h3>" + std::string(kOrderColumn) +
             " (every admissible order, whatever the rule)</h3>\n" + svg_map(spec, results, kOrderColumn) + "</div>\n";
-    html += "</div>\n</body>\n</html>\n";
+    html += "</div>\n";
+    if (conditions.result.computed) {
+        html += "<h2>Where P1 holds exactly</h2>\n<p>Continuity holds where the jump at the tie gamma- = (-1, -1) "
+                "vanishes: on each cell of fixed words after the tie, the zero set of the polynomial below (blue dots: "
+                "certified crossings of the grid lines and of " + std::to_string(ConditionFamily{}.subdivisions - 1) +
+                " lines between them; large dots: rational points, derived and verified). " +
+                std::to_string(conditions.result.cells) + " cells found, " +
+                std::to_string(conditions.result.cells_not_computed) + " beyond " +
+                std::to_string(ConditionFamily{}.max_word) + " impacts not computed.</p>\n<ul>\n";
+        for (const auto& curve : conditions.result.curves) {
+            std::size_t grid = 0;
+            for (const auto& x : curve.crossings)
+                grid += x.grid_line;
+            html += "<li>" + (curve.whole_cell ? xml_escape("after the tie: " + curve.word_a + " / " + curve.word_b + ": the whole cell") : xml_escape(curve_label(curve))) +
+                    (curve.whole_cell ? std::string() : " (" + std::to_string(grid) + " grid-line crossings)") + "</li>\n";
+        }
+        html += "</ul>\n";
+    } else {
+        html += "<p>Exact conditions not computed: " + xml_escape(conditions.result.why_not) + ".</p>\n";
+    }
+    html += "</body>\n</html>\n";
     write(dir + "/sweep.html", html);
 }
 

@@ -267,3 +267,153 @@ TEST_CASE("derive sequential --rule any on the command line", "[research][order]
     CHECK(run.err.find("--max-words") != std::string::npos);
     CHECK(test::run_cli("derive sequential --masses 1,1,1 --rule sideways").status == 2);
 }
+
+// ---- Where continuity holds exactly (exact_conditions.hpp).
+
+#include "exact_conditions.hpp"
+#include "obligations.hpp"
+
+namespace {
+
+ConditionFamily one_m_one() {
+    ConditionFamily f;
+    f.masses = {"1", "m", "1"};
+    f.restitution = {"e"};
+    f.parameters.push_back({"m", {q("1/4"), q("1/2"), q("1"), q("3/2"), q("4")}});
+    std::vector<Rational> es;
+    for (int k = 0; k <= 8; ++k)
+        es.push_back(Rational(k, 8));
+    f.parameters.push_back({"e", es});
+    return f;
+}
+
+DeriveResult derive_at(const Rational& m, const Rational& e) {
+    DeriveOptions o;
+    o.masses = {Rational(1), m, Rational(1)};
+    o.restitution = {e, e};
+    return derive_sequential(o);
+}
+
+// The jump at the tie read off the derived law (a second route, no polynomials): the limits of
+// S at (-1, -1) from the side where contact 1 is more negative and from the other side, each by
+// linear extrapolation inside one piece (2 S(d + h v) - S(d + 2 h v) = A d when both points lie in
+// the piece of matrix A).
+Vector law_jump(const Model& model) {
+    const Rational h(1, 1000000000);
+    auto one = [&](const Vector& x) {
+        const auto v = model.values_at(x);
+        REQUIRE(v.size() == 1);
+        return v[0];
+    };
+    auto limit = [&](std::size_t k) {
+        Vector a{Rational(-1), Rational(-1)}, b = a;
+        a[k] = a[k] - h;
+        b[k] = b[k] - h - h;
+        return Rational(2) * one(a) - one(b);
+    };
+    return limit(0) - limit(1);
+}
+
+Verdict p1_of(const Model& m) { return verify(m).at("P1").verdict; }
+
+} // namespace
+
+TEST_CASE("exact conditions: the continuity curves of 1,m,1 cross m = 1/2 at 0.276712 and 0.220789",
+          "[research][conditions]") {
+    const ConditionFamily family = one_m_one();
+    const ConditionsResult r = continuity_conditions(family);
+    REQUIRE(r.computed);
+    std::vector<const Crossing*> on_half;
+    std::vector<const ConditionCurve*> owner;
+    for (const auto& curve : r.curves)
+        for (const auto& x : curve.crossings)
+            if (x.varies == 1 && x.at == q("1/2") && x.grid_line) {
+                on_half.push_back(&x);
+                owner.push_back(&curve);
+                // Certified: g changes sign across the enclosure, or the root is exact.
+                if (x.exact) {
+                    CHECK(evaluate_condition(curve, {x.at, *x.exact}) == Rational(0));
+                } else {
+                    CHECK(x.hi - x.lo <= Rational(1, 1000000000));
+                    CHECK(sign_of(evaluate_condition(curve, {x.at, x.lo})) !=
+                          sign_of(evaluate_condition(curve, {x.at, x.hi})));
+                }
+            }
+    auto find = [&](const char* approx) -> std::size_t {
+        const Rational a = q(approx);
+        for (std::size_t i = 0; i < on_half.size(); ++i)
+            if (on_half[i]->lo - a < Rational(1, 2000000) && a - on_half[i]->hi < Rational(1, 2000000))
+                return i;
+        FAIL("no crossing of m = 1/2 near e = " << approx);
+        return 0;
+    };
+    const std::size_t five = find("0.276712"), six = find("0.220789");
+    CHECK(owner[five]->word_a == "12121"); // five impacts after the tie
+    CHECK(owner[six]->word_a == "121212");
+    // The derived laws on both sides of each crossing say the same: discontinuous on both sides,
+    // with a jump that changes sign (read off the law itself), in the same cell.
+    for (const std::size_t i : {five, six}) {
+        const Rational below = on_half[i]->lo - Rational(1, 100000), above = on_half[i]->hi + Rational(1, 100000);
+        INFO("crossing near e = " << to_string(on_half[i]->lo));
+        CHECK(tie_words(family, {q("1/2"), below}) == tie_words(family, {q("1/2"), above}));
+        const DeriveResult a = derive_at(q("1/2"), below), b = derive_at(q("1/2"), above);
+        REQUIRE(a.law);
+        REQUIRE(b.law);
+        const Model ma(*a.law), mb(*b.law);
+        CHECK(p1_of(ma) == Verdict::refuted);
+        CHECK(p1_of(mb) == Verdict::refuted);
+        const Vector ja = law_jump(ma), jb = law_jump(mb);
+        CHECK(sign_of(ja[0]) != Sign::zero);
+        CHECK(static_cast<int>(sign_of(ja[0])) == -static_cast<int>(sign_of(jb[0])));
+        // The symmetric family: J = (a - b, b - a).
+        CHECK(ja[1] == Rational(-1) * ja[0]);
+    }
+    // (1/2, 1/2) is an exact crossing of the four-impact curve.
+    bool half = false;
+    for (const auto* x : on_half)
+        half = half || (x->exact && *x->exact == q("1/2"));
+    CHECK(half);
+}
+
+TEST_CASE("exact conditions: rational points on the curves are continuous laws; points off them are not",
+          "[research][conditions]") {
+    const ConditionFamily family = one_m_one();
+    const ConditionsResult r = continuity_conditions(family);
+    REQUIRE(r.computed);
+    auto curve_at = [&](const Rational& m, const Rational& e) -> const ConditionCurve* {
+        const auto words = tie_words(family, {m, e});
+        if (!words)
+            return nullptr; // on a cell wall
+        for (const auto& c : r.curves)
+            if (c.word_a == words->first && c.word_b == words->second)
+                return &c;
+        return nullptr;
+    };
+    for (const auto& [m, e] : std::vector<std::pair<const char*, const char*>>{{"1/2", "1/2"}, {"1/3", "1/3"}, {"3/2", "1/4"}, {"5/4", "1/8"}, {"1", "1"}}) {
+        INFO("(m, e) = (" << m << ", " << e << ")");
+        const ConditionCurve* c = curve_at(q(m), q(e));
+        REQUIRE(c);
+        CHECK(evaluate_condition(*c, {q(m), q(e)}) == Rational(0));
+        const DeriveResult d = derive_at(q(m), q(e));
+        REQUIRE(d.law);
+        const Model model(*d.law);
+        CHECK(p1_of(model) == Verdict::proved);
+        CHECK(law_jump(model) == Vector{Rational(0), Rational(0)});
+    }
+    // Negative controls from the issue: not on a curve, and the derived law jumps.
+    for (const auto& [m, e] : std::vector<std::pair<const char*, const char*>>{{"2/5", "2/5"}, {"3/5", "3/5"}, {"2/3", "2/3"}}) {
+        INFO("(m, e) = (" << m << ", " << e << ")");
+        const ConditionCurve* c = curve_at(q(m), q(e));
+        if (c)
+            CHECK(evaluate_condition(*c, {q(m), q(e)}) != Rational(0));
+        const DeriveResult d = derive_at(q(m), q(e));
+        REQUIRE(d.law);
+        const Model model(*d.law);
+        CHECK(p1_of(model) == Verdict::refuted);
+        CHECK_FALSE(law_jump(model) == Vector{Rational(0), Rational(0)});
+    }
+    // Outside the scope: four balls, or a parameter that is not in the family.
+    ConditionFamily four = family;
+    four.masses = {"1", "m", "1", "1"};
+    CHECK_FALSE(continuity_conditions(four).computed);
+}
