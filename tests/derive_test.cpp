@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <random>
+#include <set>
 #include <sstream>
 
 using namespace impactcert;
@@ -280,6 +281,21 @@ TEST_CASE("sweep: the CSV holds the verdicts computed one by one, whatever the n
     const std::string html = test::read_file(dir + "/sweep.html");
     CHECK(std::count(html.begin(), html.end(), '<') > 100);
     CHECK(html.find("<title>m = 1, e = 1: proved</title>") != std::string::npos);
+    // The exact conditions: the curves through (1/2, 1/2) and (1, 1), derived and verified there,
+    // drawn as dots on the P1 map.
+    const Json doc = Json::parse(test::read_file(dir + "/sweep.json"));
+    const Json& exact = doc.at("exact_conditions").at("P1");
+    REQUIRE(exact.at("computed") == true);
+    std::set<std::string> continuous;
+    for (const auto& curve : exact.at("curves"))
+        for (const auto& check : curve.value("checks", Json::array())) {
+            CHECK(check.at("P1") == "proved");
+            continuous.insert(check.at("point").at("m").get<std::string>() + "," + check.at("point").at("e").get<std::string>());
+        }
+    CHECK(continuous.count("1/2,1/2") == 1);
+    CHECK(continuous.count("1,1") == 1);
+    CHECK(html.find("<circle") != std::string::npos);
+    CHECK(html.find("Where P1 holds exactly") != std::string::npos);
     std::filesystem::remove_all(dir);
     std::filesystem::remove_all(one);
 }

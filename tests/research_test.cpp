@@ -183,7 +183,7 @@ TEST_CASE("three elastic balls: order independent exactly at the angles pi / k (
     CHECK(independent == 9); // (1,1,1) and its multiples, (2,3,5), (5,3,2), (2,1,3), (3,1,2), ... on this grid
 }
 
-TEST_CASE("collision counts: left-first and right-first reach ceil(pi / theta); most-negative one less or equal",
+TEST_CASE("collision counts: left-first and right-first reach ceil(pi / theta), most-negative one less or equal",
           "[research][counts]") {
     std::size_t below = 0, at = 0;
     for (int a : {1, 2, 3, 7, 20})
@@ -375,7 +375,7 @@ TEST_CASE("exact conditions: the continuity curves of 1,m,1 cross m = 1/2 at 0.2
     CHECK(half);
 }
 
-TEST_CASE("exact conditions: rational points on the curves are continuous laws; points off them are not",
+TEST_CASE("exact conditions: rational points on the curves are continuous laws, points off them are not",
           "[research][conditions]") {
     const ConditionFamily family = one_m_one();
     const ConditionsResult r = continuity_conditions(family);
