@@ -40,23 +40,21 @@ std::vector<double> scaled_doubles(const Vector& v) {
                                     static_cast<long>(mpz_sizeinbase(mpq_denref(q.mpq()), 2)));
     std::vector<double> out;
     for (const auto& q : v) {
-        Rational r = q;
+        // A fresh number: a copy of q would share q's GMP value (CGAL's Gmpq is a reference-counted
+        // handle), and writing into it would change the caller's law (it did: the rays of the
+        // Model and, once H was drawn too, H itself, which verify then found non-symmetric).
+        Rational r;
         if (top > 0)
             mpq_div_2exp(r.mpq(), q.mpq(), static_cast<mp_bitcnt_t>(top));
         else if (top != LONG_MIN && top < 0)
             mpq_mul_2exp(r.mpq(), q.mpq(), static_cast<mp_bitcnt_t>(-top));
+        else
+            mpq_set(r.mpq(), q.mpq());
         out.push_back(mpq_get_d(r.mpq())); // |r| < 4 for the largest: finite
     }
     return out;
 }
 
-Dir direction(const Vector& v) {
-    const auto d = scaled_doubles(v);
-    const double n = std::hypot(d[0], d[1]);
-    if (!(n > 0))
-        return {1, 0};
-    return {d[0] / n, d[1] / n};
-}
 
 // A wedge from direction a counter-clockwise to b (angle < pi), centred at (cx, cy) with
 // radius r (drawn long and clipped by the panel).
@@ -88,6 +86,7 @@ std::string verdict_word(const ObligationResult& o) { return to_string(o.verdict
 struct Marked {
     std::string id;
     std::vector<std::vector<double>> points;
+    std::vector<Vector> exact; // the same points, exactly
 };
 
 std::vector<Marked> marked_points(const VerifyReport* report, std::size_t c) {
@@ -121,14 +120,16 @@ std::vector<Marked> marked_points(const VerifyReport* report, std::size_t c) {
         if (o.verdict != Verdict::refuted || !o.counterexample.is_object())
             continue;
         const Json& w = o.counterexample;
-        Marked m{o.id, {}};
+        Marked m{o.id, {}, {}};
         if (w.contains("gamma_a") && w.contains("gamma_b")) {
-            m.points = scaled({read(w["gamma_a"]), read(w["gamma_b"])});
+            m.exact = {read(w["gamma_a"]), read(w["gamma_b"])};
         } else if (w.contains("gamma") && w["gamma"].is_array()) {
-            m.points = scaled({read(w["gamma"])});
+            m.exact = {read(w["gamma"])};
         } else if (w.contains("ray") && w["ray"].is_array()) {
-            m.points = scaled({read(w["ray"])});
+            m.exact = {read(w["ray"])};
         }
+        if (!m.exact.empty())
+            m.points = scaled(m.exact);
         if (!m.points.empty() && m.points[0].size() == c)
             out.push_back(std::move(m));
     }
@@ -310,99 +311,6 @@ std::string sphere_svg(const Model& model, const VerifyReport* report) {
 
 } // namespace
 
-std::string cones_svg(const Model& model, const VerifyReport* report) {
-    if (model.contacts() == 3)
-        return sphere_svg(model, report);
-    if (model.contacts() != 2)
-        return "";
-    const auto& pieces = model.pieces();
-    const std::size_t P = pieces.size(), cols = 3, rows = (P + cols - 1) / cols;
-    const double main = 380, cell = 130, width = main + 20 + cols * cell,
-                 height = std::max(main, 30 + rows * cell) + 10;
-    std::string s = "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" + fmt(width) + "\" height=\"" +
-                    fmt(height) + "\" viewBox=\"0 0 " + fmt(width) + " " + fmt(height) +
-                    "\" font-family=\"sans-serif\" role=\"img\" aria-label=\"cones of " + xml_escape(model.law().name) +
-                    "\">\n";
-    s += "<title>" + xml_escape(model.law().name) + ": the cones C_i in the (gamma1-, gamma2-) plane and their images "
-         "Q_i C_i</title>\n";
-    // Main panel: the cones.
-    const double cx = main / 2, cy = main / 2 + 10, r = 160;
-    s += "<defs><clipPath id=\"main\"><rect x=\"" + fmt(cx - r) + "\" y=\"" + fmt(cy - r) + "\" width=\"" +
-         fmt(2 * r) + "\" height=\"" + fmt(2 * r) + "\"/></clipPath>\n";
-    for (std::size_t p = 0; p < P; ++p) {
-        const double x0 = main + 20 + static_cast<double>(p % cols) * cell, y0 = 30 + static_cast<double>(p / cols) * cell;
-        s += "<clipPath id=\"img" + std::to_string(p) + "\"><rect x=\"" + fmt(x0 + 5) + "\" y=\"" + fmt(y0 + 5) +
-             "\" width=\"" + fmt(cell - 10) + "\" height=\"" + fmt(cell - 10) + "\"/></clipPath>\n";
-    }
-    s += "</defs>\n";
-    s += "<text x=\"" + fmt(cx) + "\" y=\"16\" text-anchor=\"middle\" font-size=\"14\">cones C_i in the (&#947;1-, "
-         "&#947;2-) plane</text>\n";
-    s += "<rect x=\"" + fmt(cx - r) + "\" y=\"" + fmt(cy - r) + "\" width=\"" + fmt(2 * r) + "\" height=\"" +
-         fmt(2 * r) + "\" fill=\"#fafafa\" stroke=\"#999\"/>\n";
-    for (std::size_t p = 0; p < P; ++p) {
-        const auto [a, b] = ccw(pieces[p].R.column(0), pieces[p].R.column(1));
-        s += wedge(direction(a), direction(b), cx, cy, r, kPalette[p % 10], "main", 0.55);
-    }
-    s += "<line x1=\"" + fmt(cx - r) + "\" y1=\"" + fmt(cy) + "\" x2=\"" + fmt(cx + r) + "\" y2=\"" + fmt(cy) +
-         "\" stroke=\"#888\" stroke-dasharray=\"4 3\"/>\n";
-    s += "<line x1=\"" + fmt(cx) + "\" y1=\"" + fmt(cy - r) + "\" x2=\"" + fmt(cx) + "\" y2=\"" + fmt(cy + r) +
-         "\" stroke=\"#888\" stroke-dasharray=\"4 3\"/>\n";
-    for (const auto& ray : model.rays())
-        s += ray_line(direction(ray), cx, cy, r, "main");
-    for (std::size_t p = 0; p < P; ++p) {
-        const auto [a, b] = ccw(pieces[p].R.column(0), pieces[p].R.column(1));
-        const Dir da = direction(a), db = direction(b);
-        Dir mid{da.x + db.x, da.y + db.y};
-        const double n = std::hypot(mid.x, mid.y);
-        mid = {mid.x / n, mid.y / n};
-        s += "<text x=\"" + fmt(cx + mid.x * r * 0.62) + "\" y=\"" + fmt(cy - mid.y * r * 0.62 + 5) +
-             "\" text-anchor=\"middle\" font-size=\"16\" font-weight=\"bold\" class=\"cone-label\">" +
-             xml_escape(pieces[p].name) + "</text>\n";
-    }
-    // Counterexamples: a point in its direction, a pair as a segment at a common scale.
-    for (const auto& mk : marked_points(report, 2)) {
-        double longest = 0;
-        for (const auto& pt : mk.points)
-            longest = std::max(longest, std::hypot(pt[0], pt[1]));
-        if (longest <= 0)
-            continue;
-        std::vector<std::pair<double, double>> shown;
-        for (const auto& pt : mk.points)
-            shown.push_back({cx + pt[0] / longest * r * 0.85, cy - pt[1] / longest * r * 0.85});
-        s += marks_svg(shown, mk.id);
-    }
-    s += "<text x=\"" + fmt(cx + r - 4) + "\" y=\"" + fmt(cy - 6) + "\" text-anchor=\"end\" font-size=\"12\">&#947;1-</text>\n";
-    s += "<text x=\"" + fmt(cx + 6) + "\" y=\"" + fmt(cy - r + 14) + "\" font-size=\"12\">&#947;2-</text>\n";
-
-    // Small panels: the image of each cone.
-    s += "<text x=\"" + fmt(main + 20 + cols * cell / 2) + "\" y=\"16\" text-anchor=\"middle\" font-size=\"14\">"
-         "images Q_i C_i in the (&#947;1+, &#947;2+) plane</text>\n";
-    for (std::size_t p = 0; p < P; ++p) {
-        const double x0 = main + 20 + static_cast<double>(p % cols) * cell, y0 = 30 + static_cast<double>(p / cols) * cell;
-        const double icx = x0 + cell / 2, icy = y0 + cell / 2, ir = cell / 2 - 5;
-        const std::string clip = "img" + std::to_string(p);
-        s += "<rect x=\"" + fmt(x0 + 5) + "\" y=\"" + fmt(y0 + 5) + "\" width=\"" + fmt(cell - 10) + "\" height=\"" +
-             fmt(cell - 10) + "\" fill=\"#fafafa\" stroke=\"#999\"/>\n";
-        const Vector u = pieces[p].Q * pieces[p].R.column(0), v = pieces[p].Q * pieces[p].R.column(1);
-        const Rational area = u[0] * v[1] - u[1] * v[0];
-        if (sign_of(area) != Sign::zero) {
-            const auto [a, b] = ccw(u, v);
-            s += wedge(direction(a), direction(b), icx, icy, ir, kPalette[p % 10], clip, 0.7);
-        }
-        for (const Vector* w : {&u, &v})
-            if (!is_zero(*w))
-                s += ray_line(direction(*w), icx, icy, ir, clip);
-        s += "<line x1=\"" + fmt(x0 + 5) + "\" y1=\"" + fmt(icy) + "\" x2=\"" + fmt(x0 + cell - 5) + "\" y2=\"" +
-             fmt(icy) + "\" stroke=\"#888\" stroke-dasharray=\"3 3\"/>\n";
-        s += "<line x1=\"" + fmt(icx) + "\" y1=\"" + fmt(y0 + 5) + "\" x2=\"" + fmt(icx) + "\" y2=\"" +
-             fmt(y0 + cell - 5) + "\" stroke=\"#888\" stroke-dasharray=\"3 3\"/>\n";
-        s += "<text x=\"" + fmt(x0 + 10) + "\" y=\"" + fmt(y0 + cell - 10) + "\" font-size=\"12\" class=\"image-label\">" +
-             xml_escape("Q_" + pieces[p].name + " C_" + pieces[p].name) + "</text>\n";
-    }
-    s += "</svg>\n";
-    return s;
-}
-
 namespace {
 
 std::string matrix_text(const Matrix& m) {
@@ -422,6 +330,247 @@ std::string rays_text(const Piece& p) {
         s += (k ? ", " : "") + to_string(p.R.column(k));
     return s;
 }
+
+// A non-negative rational as a double for drawing: beyond 2^1000 it is 2^1000, below 2^-1000 zero.
+double display_double(const Rational& r) {
+    const long bits = static_cast<long>(mpz_sizeinbase(mpq_numref(r.mpq()), 2)) -
+                      static_cast<long>(mpz_sizeinbase(mpq_denref(r.mpq()), 2));
+    if (sign_of(r) == Sign::zero || bits < -1000)
+        return 0;
+    if (bits > 1000)
+        return std::ldexp(1.0, 1000);
+    return mpq_get_d(r.mpq());
+}
+
+// The angle of gamma in the metric of the kinetic energy H = G^-1 (in (-pi, pi]): the Euclidean
+// angle of L^T gamma, H = L L^T. With H = [[a, b], [b, c]], L^T gamma is proportional to
+// (a g1 + b g2, sqrt(det H) g2), so the angle is atan2(sqrt(det H) g2, u), u = a g1 + b g2, taken
+// from the exact ratio t = u / g2 as atan2(sign g2, sign(g2 t) sqrt(t^2 / det H)): no overflow at
+// any scale. In this metric an elastic impact is a reflection, and the cones of a derived law of a
+// heavy and a light ball, squeezed against one line in gamma coordinates, open up.
+double h_angle(const Matrix& H, const Vector& g) {
+    const double pi = std::acos(-1.0);
+    const Rational u = H(0, 0) * g[0] + H(0, 1) * g[1];
+    if (sign_of(g[1]) == Sign::zero)
+        return sign_of(u) == Sign::negative ? pi : 0.0;
+    const Rational det = H(0, 0) * H(1, 1) - H(0, 1) * H(0, 1);
+    const Rational t = u / g[1];
+    const double s = std::sqrt(display_double(t * t / det));
+    const bool g2_positive = sign_of(g[1]) == Sign::positive;
+    const bool x_positive = (sign_of(t) == Sign::positive) == g2_positive;
+    return std::atan2(g2_positive ? 1.0 : -1.0, sign_of(t) == Sign::zero ? 0.0 : (x_positive ? s : -s));
+}
+
+Dir h_direction(const Matrix& H, const Vector& g) {
+    const double a = h_angle(H, g);
+    return {std::cos(a), std::sin(a)};
+}
+
+// Counter-clockwise span from a to b in radians, in [0, 2 pi).
+double span(double a, double b) {
+    const double two_pi = 2 * std::acos(-1.0);
+    double d = b - a;
+    while (d < 0)
+        d += two_pi;
+    while (d >= two_pi)
+        d -= two_pi;
+    return d;
+}
+
+std::string piece_title(const Piece& p) {
+    return p.name + ": rays " + rays_text(p) + "; Q = " + matrix_text(p.Q);
+}
+
+// The cones unrolled on a strip: the H-angle from -pi to pi left to right, one band per cone with
+// its name where it fits and everything on hover; ticks at the axes and the tie.
+std::string angle_strip(const Model& model, double x0, double y0, double width) {
+    const double pi = std::acos(-1.0), height = 34;
+    auto at = [&](double angle) { return x0 + (angle + pi) / (2 * pi) * width; };
+    std::string s = "<text x=\"" + fmt(x0) + "\" y=\"" + fmt(y0 - 6) + "\" font-size=\"12\">cones unrolled by "
+                    "their angle in the metric H, -180&#176; to 180&#176; (hover: word, rays, matrix)</text>\n";
+    s += "<rect x=\"" + fmt(x0) + "\" y=\"" + fmt(y0) + "\" width=\"" + fmt(width) + "\" height=\"" + fmt(height) +
+         "\" fill=\"#fafafa\" stroke=\"#999\"/>\n";
+    const auto& pieces = model.pieces();
+    for (std::size_t p = 0; p < pieces.size(); ++p) {
+        const auto [ra, rb] = ccw(pieces[p].R.column(0), pieces[p].R.column(1));
+        const double a = h_angle(model.H(), ra), d = span(a, h_angle(model.H(), rb));
+        std::vector<std::pair<double, double>> bands;
+        if (a + d <= pi)
+            bands.push_back({a, a + d});
+        else {
+            bands.push_back({a, pi});
+            bands.push_back({-pi, a + d - 2 * pi});
+        }
+        s += "<g class=\"cone-band\"><title>" + xml_escape(piece_title(pieces[p])) + "</title>";
+        for (const auto& [lo, hi] : bands)
+            s += "<rect x=\"" + fmt(at(lo)) + "\" y=\"" + fmt(y0) + "\" width=\"" + fmt(std::max(at(hi) - at(lo), 0.6)) +
+                 "\" height=\"" + fmt(height) + "\" fill=\"" + kPalette[p % 10] + "\" fill-opacity=\"0.7\" stroke=\"#fff\" stroke-width=\"0.5\"/>";
+        s += "</g>\n";
+        for (const auto& [lo, hi] : bands)
+            if ((at(hi) - at(lo)) >= 7.0 * static_cast<double>(pieces[p].name.size()) + 4)
+                s += "<text x=\"" + fmt((at(lo) + at(hi)) / 2) + "\" y=\"" + fmt(y0 + height / 2 + 4) +
+                     "\" text-anchor=\"middle\" font-size=\"11\" class=\"strip-label\">" + xml_escape(pieces[p].name) + "</text>\n";
+    }
+    const std::vector<std::pair<Vector, const char*>> ticks = {
+        {{Rational(1), Rational(0)}, "+&#947;1"}, {{Rational(0), Rational(1)}, "+&#947;2"},
+        {{Rational(-1), Rational(0)}, "-&#947;1"}, {{Rational(0), Rational(-1)}, "-&#947;2"},
+        {{Rational(-1), Rational(-1)}, "tie"}};
+    // Ticks left to right; a label closer than 30 px to the previous one goes one row lower.
+    std::vector<std::pair<double, const char*>> placed;
+    for (const auto& [v, label] : ticks)
+        placed.push_back({at(h_angle(model.H(), v)), label});
+    std::sort(placed.begin(), placed.end());
+    double last = -1e9;
+    int row = 0;
+    for (const auto& [x, label] : placed) {
+        row = x - last < 30 ? row + 1 : 0;
+        last = x;
+        s += "<line x1=\"" + fmt(x) + "\" y1=\"" + fmt(y0 + height) + "\" x2=\"" + fmt(x) + "\" y2=\"" +
+             fmt(y0 + height + 5 + 10 * row) + "\" stroke=\"#444\"/><text x=\"" + fmt(x) + "\" y=\"" +
+             fmt(y0 + height + 16 + 10 * row) + "\" text-anchor=\"middle\" font-size=\"10\">" + label + "</text>\n";
+    }
+    return s;
+}
+
+} // namespace
+
+std::string cones_svg(const Model& model, const VerifyReport* report) {
+    if (model.contacts() == 3)
+        return sphere_svg(model, report);
+    if (model.contacts() != 2)
+        return "";
+    const auto& pieces = model.pieces();
+    const Matrix& H = model.H();
+    // Up to 12 pieces: one thumbnail per image; more: all images in one panel (hover for names).
+    const std::size_t P = pieces.size(), cols = 3;
+    const bool thumbnails = P <= 12;
+    const std::size_t rows = thumbnails ? (P + cols - 1) / cols : 0;
+    const double main = 380, cell = 130, width = main + 20 + (thumbnails ? static_cast<double>(cols) * cell : main),
+                 panels = std::max(main, 30 + static_cast<double>(rows) * cell), strip_y = panels + 34,
+                 height = strip_y + 90;
+    std::string s = "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" + fmt(width) + "\" height=\"" +
+                    fmt(height) + "\" viewBox=\"0 0 " + fmt(width) + " " + fmt(height) +
+                    "\" font-family=\"sans-serif\" role=\"img\" aria-label=\"cones of " + xml_escape(model.law().name) +
+                    "\">\n";
+    s += "<title>" + xml_escape(model.law().name) + ": the cones C_i and their images Q_i C_i, drawn in the "
+         "kinetic-energy metric H = G^-1</title>\n";
+    // Main panel: the cones, in coordinates where H is the Euclidean metric.
+    const double cx = main / 2, cy = main / 2 + 10, r = 160;
+    s += "<defs><clipPath id=\"main\"><rect x=\"" + fmt(cx - r) + "\" y=\"" + fmt(cy - r) + "\" width=\"" +
+         fmt(2 * r) + "\" height=\"" + fmt(2 * r) + "\"/></clipPath>\n";
+    if (thumbnails)
+        for (std::size_t p = 0; p < P; ++p) {
+            const double x0 = main + 20 + static_cast<double>(p % cols) * cell, y0 = 30 + static_cast<double>(p / cols) * cell;
+            s += "<clipPath id=\"img" + std::to_string(p) + "\"><rect x=\"" + fmt(x0 + 5) + "\" y=\"" + fmt(y0 + 5) +
+                 "\" width=\"" + fmt(cell - 10) + "\" height=\"" + fmt(cell - 10) + "\"/></clipPath>\n";
+        }
+    else
+        s += "<clipPath id=\"images\"><rect x=\"" + fmt(main + 20 + cx - r) + "\" y=\"" + fmt(cy - r) +
+             "\" width=\"" + fmt(2 * r) + "\" height=\"" + fmt(2 * r) + "\"/></clipPath>\n";
+    s += "</defs>\n";
+    s += "<text x=\"" + fmt(cx) + "\" y=\"16\" text-anchor=\"middle\" font-size=\"14\">cones C_i, pre-impact "
+         "(&#947;1-, &#947;2-), metric H</text>\n";
+    auto axes = [&](double ox, double oy, double rr, const char* x_label, const char* y_label, const std::string& clip) {
+        std::string t = "<rect x=\"" + fmt(ox - rr) + "\" y=\"" + fmt(oy - rr) + "\" width=\"" + fmt(2 * rr) +
+                        "\" height=\"" + fmt(2 * rr) + "\" fill=\"#fafafa\" stroke=\"#999\"/>\n";
+        // The coordinate axes of gamma, drawn where they lie in the metric H (dashed).
+        for (const Vector& axis : {Vector{Rational(1), Rational(0)}, Vector{Rational(0), Rational(1)}}) {
+            const Dir d = h_direction(H, axis);
+            t += "<line x1=\"" + fmt(ox - d.x * rr * 3) + "\" y1=\"" + fmt(oy + d.y * rr * 3) + "\" x2=\"" +
+                 fmt(ox + d.x * rr * 3) + "\" y2=\"" + fmt(oy - d.y * rr * 3) +
+                 "\" stroke=\"#888\" stroke-dasharray=\"4 3\" clip-path=\"url(#" + clip + ")\"/>\n";
+        }
+        const Dir dx = h_direction(H, {Rational(1), Rational(0)}), dy = h_direction(H, {Rational(0), Rational(1)});
+        t += "<text x=\"" + fmt(ox + dx.x * rr * 0.9) + "\" y=\"" + fmt(oy - dx.y * rr * 0.9 - 6) +
+             "\" text-anchor=\"end\" font-size=\"12\">" + x_label + "</text>\n";
+        // Close axes (a heavy and a light ball: the quadrant is a thin wedge in H): the second label below its line.
+        const bool close = std::fabs(dx.x * dy.y - dx.y * dy.x) < 0.3 && dx.x * dy.x + dx.y * dy.y > 0;
+        t += "<text x=\"" + fmt(ox + dy.x * rr * (close ? 0.6 : 0.9) + 6) + "\" y=\"" +
+             fmt(oy - dy.y * rr * (close ? 0.6 : 0.9) + (close ? 16 : 4)) + "\" font-size=\"12\">" + y_label + "</text>\n";
+        return t;
+    };
+    s += axes(cx, cy, r, "&#947;1-", "&#947;2-", "main");
+    for (std::size_t p = 0; p < P; ++p) {
+        const auto [a, b] = ccw(pieces[p].R.column(0), pieces[p].R.column(1));
+        s += "<g><title>" + xml_escape(piece_title(pieces[p])) + "</title>" +
+             wedge(h_direction(H, a), h_direction(H, b), cx, cy, r, kPalette[p % 10], "main", 0.55) + "</g>\n";
+    }
+    for (const auto& ray : model.rays())
+        s += ray_line(h_direction(H, ray), cx, cy, r, "main");
+    // Labels only where they fit: the wedge's opening at 62% of the radius must hold the name.
+    for (std::size_t p = 0; p < P; ++p) {
+        const auto [a, b] = ccw(pieces[p].R.column(0), pieces[p].R.column(1));
+        const double aa = h_angle(H, a), opening = span(aa, h_angle(H, b));
+        if (opening * r * 0.62 < 9.0 * static_cast<double>(pieces[p].name.size()) + 6 && opening < 0.9)
+            continue;
+        const double mid = aa + opening / 2;
+        s += "<text x=\"" + fmt(cx + std::cos(mid) * r * 0.62) + "\" y=\"" + fmt(cy - std::sin(mid) * r * 0.62 + 5) +
+             "\" text-anchor=\"middle\" font-size=\"16\" font-weight=\"bold\" class=\"cone-label\">" +
+             xml_escape(pieces[p].name) + "</text>\n";
+    }
+    // Counterexamples: a point in its direction, a pair as a segment at a common scale, both in
+    // the metric H: each point at its H-angle and at its H-length relative to the longest
+    // (sqrt of an exact ratio of quadratic forms), so any scale stays finite.
+    for (const auto& mk : marked_points(report, 2)) {
+        std::vector<Rational> norms;
+        Rational longest(0);
+        for (const auto& pt : mk.exact) {
+            norms.push_back(bilinear(pt, H, pt));
+            longest = std::max(longest, norms.back());
+        }
+        if (sign_of(longest) != Sign::positive)
+            continue;
+        std::vector<std::pair<double, double>> shown;
+        for (std::size_t i = 0; i < mk.exact.size(); ++i) {
+            const double a = h_angle(H, mk.exact[i]), len = std::sqrt(display_double(norms[i] / longest));
+            shown.push_back({cx + std::cos(a) * len * r * 0.85, cy - std::sin(a) * len * r * 0.85});
+        }
+        s += marks_svg(shown, mk.id);
+    }
+
+    // The images.
+    if (thumbnails) {
+        s += "<text x=\"" + fmt(main + 20 + static_cast<double>(cols) * cell / 2) + "\" y=\"16\" text-anchor=\"middle\" font-size=\"14\">"
+             "images Q_i C_i (&#947;1+, &#947;2+), metric H</text>\n";
+        for (std::size_t p = 0; p < P; ++p) {
+            const double x0 = main + 20 + static_cast<double>(p % cols) * cell, y0 = 30 + static_cast<double>(p / cols) * cell;
+            const double icx = x0 + cell / 2, icy = y0 + cell / 2, ir = cell / 2 - 5;
+            const std::string clip = "img" + std::to_string(p);
+            s += axes(icx, icy, ir, "", "", clip);
+            const Vector u = pieces[p].Q * pieces[p].R.column(0), v = pieces[p].Q * pieces[p].R.column(1);
+            const Rational area = u[0] * v[1] - u[1] * v[0];
+            if (sign_of(area) != Sign::zero) {
+                const auto [a, b] = ccw(u, v);
+                s += "<g><title>" + xml_escape("image of " + pieces[p].name) + "</title>" +
+                     wedge(h_direction(H, a), h_direction(H, b), icx, icy, ir, kPalette[p % 10], clip, 0.7) + "</g>\n";
+            }
+            for (const Vector* w : {&u, &v})
+                if (!is_zero(*w))
+                    s += ray_line(h_direction(H, *w), icx, icy, ir, clip);
+            s += "<text x=\"" + fmt(x0 + 10) + "\" y=\"" + fmt(y0 + cell - 10) + "\" font-size=\"12\" class=\"image-label\">" +
+                 xml_escape("Q_" + pieces[p].name + " C_" + pieces[p].name) + "</text>\n";
+        }
+    } else {
+        const double icx = main + 20 + cx;
+        s += "<text x=\"" + fmt(icx) + "\" y=\"16\" text-anchor=\"middle\" font-size=\"14\">all images Q_i C_i "
+             "(&#947;1+, &#947;2+), metric H (hover)</text>\n";
+        s += axes(icx, cy, r, "&#947;1+", "&#947;2+", "images");
+        for (std::size_t p = 0; p < P; ++p) {
+            const Vector u = pieces[p].Q * pieces[p].R.column(0), v = pieces[p].Q * pieces[p].R.column(1);
+            const Rational area = u[0] * v[1] - u[1] * v[0];
+            if (sign_of(area) == Sign::zero)
+                continue;
+            const auto [a, b] = ccw(u, v);
+            s += "<g><title>" + xml_escape("image of " + piece_title(pieces[p])) + "</title>" +
+                 wedge(h_direction(H, a), h_direction(H, b), icx, cy, r, kPalette[p % 10], "images", 0.45) + "</g>\n";
+        }
+    }
+    s += angle_strip(model, 20, strip_y, width - 40);
+    s += "</svg>\n";
+    return s;
+}
+
+namespace {
 
 std::size_t claimed_count(const VerifyReport& r, bool proved_only) {
     std::size_t n = 0;
@@ -489,9 +638,11 @@ std::string report_html(const Model& model, const VerifyReport& report) {
     if (model.contacts() == 2)
         s += "<figure>\n" + cones_svg(model, &report) +
              "<figcaption>Left: the cones of the law in the plane of pre-impact contact velocities (compare "
-             "Leine &amp; Winandy, Fig. 1(b)); black lines are the boundary rays; red: counterexamples (a point "
-             "in its direction, a pair joined at a common scale). Right: each cone's image under "
-             "its matrix.</figcaption>\n</figure>\n";
+             "Leine &amp; Winandy, Fig. 1(b)), drawn in the kinetic-energy metric H = G<sup>-1</sup>, where an elastic "
+             "impact is a reflection and thin cones open up (dashed: the coordinate axes); black lines are the "
+             "boundary rays; red: counterexamples (a point in its direction, a pair joined at a common scale). "
+             "Right: each cone's image under its matrix. Below: the cones unrolled by angle. Names are written "
+             "where they fit; hover any cone for its word, rays and matrix.</figcaption>\n</figure>\n";
     if (model.contacts() == 3)
         s += "<figure>\n" + cones_svg(model, &report) +
              "<figcaption>The cones of the law on the unit sphere of pre-impact contact velocities, in two "
@@ -516,9 +667,13 @@ std::string report_html(const Model& model, const VerifyReport& report) {
     for (const auto& o : report.obligations)
         if (o.verdict == Verdict::undecided)
             s += "<p><code>" + xml_escape(o.id) + "</code> is undecided: " + xml_escape(o.limit) + "</p>\n";
-    s += "<h2>The law</h2>\n<table>\n<tr><th>piece</th><th>rays</th><th>Q</th></tr>\n";
+    s += "<h2>The law</h2>\n<p><input id=\"filter\" type=\"search\" size=\"50\" placeholder=\"filter the " +
+         std::to_string(model.pieces().size()) + " pieces: a word, a ray or a matrix entry\" "
+         "oninput=\"var q=this.value;document.querySelectorAll('#pieces tr.piece').forEach(function(r){"
+         "r.style.display=r.textContent.indexOf(q)>=0?'':'none';});\"></p>\n<table id=\"pieces\">\n"
+         "<tr><th>piece</th><th>rays</th><th>Q</th></tr>\n";
     for (const auto& p : model.pieces())
-        s += "<tr><td>" + xml_escape(p.name) + "</td><td>" + xml_escape(rays_text(p)) + "</td><td><code>" +
+        s += "<tr class=\"piece\"><td>" + xml_escape(p.name) + "</td><td>" + xml_escape(rays_text(p)) + "</td><td><code>" +
              xml_escape(matrix_text(p.Q)) + "</code></td></tr>\n";
     s += "</table>\n<p>H = G<sup>-1</sup> = <code>" + xml_escape(matrix_text(model.H())) +
          "</code>. Every check is exact (GMP rationals); the reductions are argued in proofs/README.md.</p>\n";

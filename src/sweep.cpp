@@ -186,6 +186,18 @@ std::string decimal_text(const Rational& x, int digits) {
     return (negative ? "-" : "") + t;
 }
 
+// A grid value for an axis tick: an integer as it is, else three decimals without trailing zeros.
+std::string tick_text(const Rational& v) {
+    if (v.denominator() == CGAL::Gmpz(1))
+        return to_string(v);
+    std::string t = decimal_text(v, 3);
+    while (!t.empty() && t.back() == '0')
+        t.pop_back();
+    if (!t.empty() && t.back() == '.')
+        t.pop_back();
+    return t;
+}
+
 // The exact continuity conditions of the sweep's family (exact_conditions.hpp), when it is a
 // three-ball chain under most-negative; curves with the crossings of every line, checks at the
 // rational crossings of grid lines.
@@ -231,7 +243,7 @@ std::string svg_map(const SweepSpec& spec, const std::vector<Json>& results, con
     const int cell = 22, margin = 60;
     const std::size_t n0 = spec.parameters[0].values.size();
     const std::size_t n1 = spec.parameters.size() > 1 ? spec.parameters[1].values.size() : 1;
-    const int width = margin + static_cast<int>(n0) * cell + 20, height = static_cast<int>(n1) * cell + 50;
+    const int width = margin + static_cast<int>(n0) * cell + 20, height = static_cast<int>(n1) * cell + 46;
     std::string s = "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" + std::to_string(width) + "\" height=\"" +
                     std::to_string(height) + "\" font-family=\"sans-serif\" font-size=\"11\">\n";
     for (std::size_t i = 0; i < n0; ++i)
@@ -263,10 +275,12 @@ std::string svg_map(const SweepSpec& spec, const std::vector<Json>& results, con
         }
     if (conditions && conditions->result.computed) {
         // The continuity set: dots at the certified crossings of every grid and drawing line.
+        std::vector<std::pair<Rational, Rational>> labels;
         for (const auto& curve : conditions->result.curves) {
             if (curve.whole_cell)
                 continue;
             s += "<g fill=\"#0969da\"><title>" + xml_escape(curve_label(curve)) + "</title>\n";
+            std::optional<std::pair<Rational, Rational>> label_at;
             for (const auto& x : curve.crossings) {
                 const Rational mid = (x.lo + x.hi) / Rational(2);
                 const Rational v0 = x.varies == 0 ? mid : x.at;
@@ -277,28 +291,55 @@ std::string svg_map(const SweepSpec& spec, const std::vector<Json>& results, con
                     py = Rational(10 + static_cast<int>(n1) * cell) -
                          map_position(spec.parameters[1].values, v1, cell);
                 }
+                // Large: a rational point on a grid line, derived and verified (sweep.json "checks").
                 s += "<circle cx=\"" + decimal_text(px, 1) + "\" cy=\"" + decimal_text(py, 1) + "\" r=\"" +
-                     (x.exact ? "3" : "1.6") + "\"/>";
+                     (x.exact && x.grid_line ? "3" : "1.6") + "\"/>";
+                if (!label_at || py < label_at->second)
+                    label_at = std::make_pair(px, py);
             }
             s += "</g>\n";
+            // The curve's label, its impact count after the tie, at its highest dot, where no other
+            // label is within 12 pixels (the rest on hover).
+            bool room = label_at.has_value();
+            for (const auto& [lx, ly] : labels)
+                room = room && (abs_of(lx - label_at->first) > Rational(12) || abs_of(ly - label_at->second) > Rational(12));
+            if (room) {
+                labels.push_back(*label_at);
+                s += "<text x=\"" + decimal_text(label_at->first + Rational(4), 1) + "\" y=\"" +
+                     decimal_text(label_at->second - Rational(2), 1) + "\" font-size=\"10\" fill=\"#0969da\" class=\"curve-label\">" +
+                     std::to_string(curve.word_a.size()) + "</text>\n";
+            }
         }
     }
+    // Axes with ticks: every k-th grid value (at most about eight labels per axis), exact values on hover.
     const auto& p0 = spec.parameters[0];
-    const int bottom = 10 + static_cast<int>(n1) * cell + 14;
-    s += "<text x=\"" + std::to_string(margin) + "\" y=\"" + std::to_string(bottom) + "\">" +
-         xml_escape(to_string(p0.values.front())) + "</text>\n";
-    s += "<text x=\"" + std::to_string(margin + static_cast<int>(n0) * cell) + "\" y=\"" + std::to_string(bottom) +
-         "\" text-anchor=\"end\">" + xml_escape(to_string(p0.values.back())) + "</text>\n";
+    const int bottom = 10 + static_cast<int>(n1) * cell;
+    const std::size_t k0 = std::max<std::size_t>(1, (n0 + 7) / 8);
+    for (std::size_t i = 0; i < n0; ++i) {
+        if (i % k0 != 0 && i + 1 != n0)
+            continue;
+        const int x = margin + static_cast<int>(i) * cell + cell / 2;
+        s += "<line x1=\"" + std::to_string(x) + "\" y1=\"" + std::to_string(bottom) + "\" x2=\"" + std::to_string(x) +
+             "\" y2=\"" + std::to_string(bottom + 4) + "\" stroke=\"#444\"/><text x=\"" + std::to_string(x) + "\" y=\"" +
+             std::to_string(bottom + 14) + "\" text-anchor=\"middle\" font-size=\"9\"><title>" +
+             xml_escape(p0.name + " = " + to_string(p0.values[i])) + "</title>" + xml_escape(tick_text(p0.values[i])) + "</text>\n";
+    }
     s += "<text x=\"" + std::to_string(margin + static_cast<int>(n0) * cell / 2) + "\" y=\"" +
-         std::to_string(bottom + 14) + "\" text-anchor=\"middle\" font-weight=\"bold\">" + xml_escape(p0.name) + "</text>\n";
+         std::to_string(bottom + 28) + "\" text-anchor=\"middle\" font-weight=\"bold\">" + xml_escape(p0.name) + "</text>\n";
     if (spec.parameters.size() > 1) {
         const auto& p1 = spec.parameters[1];
-        s += "<text x=\"" + std::to_string(margin - 4) + "\" y=\"" + std::to_string(10 + static_cast<int>(n1) * cell - 6) +
-             "\" text-anchor=\"end\">" + xml_escape(to_string(p1.values.front())) + "</text>\n";
-        s += "<text x=\"" + std::to_string(margin - 4) + "\" y=\"22\" text-anchor=\"end\">" +
-             xml_escape(to_string(p1.values.back())) + "</text>\n";
-        s += "<text x=\"12\" y=\"" + std::to_string(10 + static_cast<int>(n1) * cell / 2) +
-             "\" font-weight=\"bold\">" + xml_escape(p1.name) + "</text>\n";
+        const std::size_t k1 = std::max<std::size_t>(1, (n1 + 7) / 8);
+        for (std::size_t j = 0; j < n1; ++j) {
+            if (j % k1 != 0 && j + 1 != n1)
+                continue;
+            const int y = 10 + static_cast<int>(n1 - 1 - j) * cell + cell / 2;
+            s += "<line x1=\"" + std::to_string(margin - 4) + "\" y1=\"" + std::to_string(y) + "\" x2=\"" +
+                 std::to_string(margin) + "\" y2=\"" + std::to_string(y) + "\" stroke=\"#444\"/><text x=\"" +
+                 std::to_string(margin - 6) + "\" y=\"" + std::to_string(y + 3) + "\" text-anchor=\"end\" font-size=\"9\"><title>" +
+                 xml_escape(p1.name + " = " + to_string(p1.values[j])) + "</title>" + xml_escape(tick_text(p1.values[j])) + "</text>\n";
+        }
+        s += "<text x=\"4\" y=\"" + std::to_string(10 + static_cast<int>(n1) * cell / 2) + "\" font-weight=\"bold\">" +
+             xml_escape(p1.name) + "</text>\n";
     }
     return s + "</svg>\n";
 }
@@ -855,7 +896,8 @@ void write_sweep_outputs(const SweepSpec& spec, const std::vector<Json>& results
         html += "<h2>Where P1 holds exactly</h2>\n<p>Continuity holds where the jump at the tie gamma- = (-1, -1) "
                 "vanishes: on each cell of fixed words after the tie, the zero set of the polynomial below (blue dots: "
                 "certified crossings of the grid lines and of " + std::to_string(ConditionFamily{}.subdivisions - 1) +
-                " lines between them; large dots: rational points, derived and verified). " +
+                " lines between them; large dots: rational points on grid lines, derived and verified; numbers: "
+                "impacts after the tie). " +
                 std::to_string(conditions.result.cells) + " cells found, " +
                 std::to_string(conditions.result.cells_not_computed) + " beyond " +
                 std::to_string(ConditionFamily{}.max_word) + " impacts not computed.</p>\n<ul>\n";

@@ -296,6 +296,8 @@ TEST_CASE("sweep: the CSV holds the verdicts computed one by one, whatever the n
     CHECK(continuous.count("1,1") == 1);
     CHECK(html.find("<circle") != std::string::npos);
     CHECK(html.find("Where P1 holds exactly") != std::string::npos);
+    CHECK(html.find("class=\"curve-label\"") != std::string::npos); // curves labelled by their impact count
+    CHECK(html.find("<title>m = 1/2</title>") != std::string::npos);  // axis ticks, exact values on hover
     std::filesystem::remove_all(dir);
     std::filesystem::remove_all(one);
 }
