@@ -221,6 +221,31 @@ SweepConditions sweep_conditions(const SweepSpec& spec) {
     return c;
 }
 
+// Where the derived laws conserve energy (P2), exactly: a sequential law conserves energy iff
+// every contact's restitution is 1 (an impact at contact k loses (1 - e_k^2) gamma_k^2 / (2 G_kk),
+// and every contact of a chain takes the first impact on an open set of gamma-: proofs/README.md,
+// "Where continuity holds"). So: everywhere, nowhere, or where each restitution parameter is 1.
+Json energy_condition(const SweepSpec& spec) {
+    std::vector<std::string> lines;
+    for (const auto& e : spec.restitution) {
+        bool is_parameter = false;
+        for (const auto& p : spec.parameters)
+            is_parameter = is_parameter || p.name == e;
+        if (is_parameter) {
+            if (std::find(lines.begin(), lines.end(), e + " = 1") == lines.end())
+                lines.push_back(e + " = 1");
+        } else if (number(e, "--restitution") != Rational(1)) {
+            return Json{{"holds", "nowhere"}, {"why", "restitution " + e + " < 1"}};
+        }
+    }
+    if (lines.empty())
+        return Json{{"holds", "everywhere"}};
+    std::string where;
+    for (const auto& l : lines)
+        where += (where.empty() ? "" : " and ") + l;
+    return Json{{"holds", "where " + where}};
+}
+
 // A parameter value's horizontal (or vertical) position on a map: the grid values sit at the
 // cells' centres, values between them linearly in between; tenths of a pixel, exact.
 Rational map_position(const std::vector<Rational>& values, const Rational& v, int cell) {
@@ -859,7 +884,7 @@ void write_sweep_outputs(const SweepSpec& spec, const std::vector<Json>& results
     doc["format"] = "impactcert-sweep/1";
     put_inputs(doc, spec);
     doc["points"] = results;
-    doc["exact_conditions"] = Json{{"P1", exact}};
+    doc["exact_conditions"] = Json{{"P1", exact}, {"P2", energy_condition(spec)}};
     write(dir + "/sweep.json", doc.dump(1) + "\n");
 
     // sweep.html

@@ -292,6 +292,11 @@ TEST_CASE("sweep: the CSV holds the verdicts computed one by one, whatever the n
             CHECK(check.at("P1") == "proved");
             continuous.insert(check.at("point").at("m").get<std::string>() + "," + check.at("point").at("e").get<std::string>());
         }
+    CHECK(doc.at("exact_conditions").at("P2").at("holds") == "where e = 1");
+    // ... and it agrees with the P2 column at every grid point.
+    for (const auto& point : doc.at("points"))
+        if (point.at("derive") == "ok")
+            CHECK((point.at("obligations").at("P2").at("verdict") == "proved") == (point.at("point").at("e") == "1"));
     CHECK(continuous.count("1/2,1/2") == 1);
     CHECK(continuous.count("1,1") == 1);
     CHECK(html.find("<circle") != std::string::npos);
