@@ -97,7 +97,7 @@ int run_report(const std::string& law_path, const std::string& dir, const Limits
 struct SweepArgs {
     std::string masses, restitution = "1", rule = "most-negative", out, shard;
     std::vector<std::string> vary, merge;
-    std::size_t max_impacts = 100, max_points = 100000;
+    std::size_t max_impacts = 100, max_points = 100000, max_words = 2000;
     unsigned jobs = 1;
 };
 
@@ -134,6 +134,7 @@ int run_sweep_command(const SweepArgs& a, const Limits& limits) {
     spec.restitution = items(a.restitution);
     spec.rule = parse_rule(a.rule);
     spec.max_impacts = a.max_impacts;
+    spec.max_words = a.max_words;
     spec.limits = limits;
     spec.jobs = a.jobs;
     spec.max_points = a.max_points;
@@ -278,6 +279,7 @@ int main(int argc, char** argv) {
     sweep_cmd->add_option("--restitution", sweep_args.restitution, "E or E1,...,E(n-1), numbers or parameter names")->capture_default_str();
     sweep_cmd->add_option("--rule", sweep_args.rule, "most-negative, left-first or right-first")->capture_default_str();
     sweep_cmd->add_option("--max-impacts", sweep_args.max_impacts, "longest impact sequence allowed")->check(natural)->capture_default_str();
+    sweep_cmd->add_option("--max-words", sweep_args.max_words, "the order-independent column: cells walked per point (and 100 pairs per cell); undecided beyond")->check(natural)->capture_default_str();
     sweep_cmd->add_option("--vary", sweep_args.vary, "NAME=LO..HI:COUNT[:log], once or twice");
     sweep_cmd->add_option("--shard", sweep_args.shard, "K/N: only the grid points k with k mod N = K-1, written to DIR/sweep.part-K-of-N.json (merge with --merge)");
     sweep_cmd->add_option("--merge", sweep_args.merge, "PART...: merge the part files of one sharded run (each shard once, every point covered) into DIR");

@@ -110,9 +110,12 @@ struct OrderResult {
     std::size_t pairs = 0;                // pairs of final cells with different maps compared
     bool independent() const { return !witness && !not_finite; }
 };
-inline constexpr std::size_t kDefaultMaxWords = 200000;
-// DeriveLimit (naming --max-words) when the process has more than max_words cells; the rule
-// of `options` is ignored.
+inline constexpr std::size_t kDefaultMaxWords = 20000;
+// The work is bounded by max_words: at most that many cells are walked, and at most
+// kPairsPerWord * max_words pairs of final cells are compared (each pair first by an exact
+// separation test, then, if not separated, by intersection); beyond either, DeriveLimit naming
+// --max-words (undecided). The rule of `options` is ignored.
+inline constexpr std::size_t kPairsPerWord = 100;
 OrderResult order_independence(const DeriveOptions& options, std::size_t max_words = kDefaultMaxWords);
 // The witness re-checked by simulation (no cones): each word admissible at gamma- (its contact
 // approaching at every step), ending with gamma >= 0 at the listed gamma+, and the two differ.

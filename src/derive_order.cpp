@@ -11,7 +11,6 @@
 
 #include <gmpxx.h>
 
-#include <map>
 
 namespace impactcert {
 
@@ -21,11 +20,58 @@ namespace {
 
 using Cell = PPL::NNC_Polyhedron;
 
+// A final cell with its minimized constraints and generators as exact vectors, for the
+// separation test.
 struct Final {
     Cell cell;
     Matrix map;
     std::vector<std::size_t> word;
+    std::vector<std::pair<Vector, bool>> constraints; // a . x >= 0, or > 0 when the flag is set
+    std::vector<std::pair<Vector, int>> generators;   // 0 point, 1 closure point, 2 ray, 3 line
 };
+
+Final make_final(Cell cell, const Matrix& map, const std::vector<std::size_t>& word, std::size_t c) {
+    Final f{std::move(cell), map, word, {}, {}};
+    for (const auto& k : f.cell.minimized_constraints()) {
+        const auto v = constraint_vector(k, c);
+        if (!v || is_zero(*v))
+            continue; // holds everywhere (a non-empty cell has no 0 > 0)
+        const Vector& a = *v;
+        if (k.is_equality()) {
+            f.constraints.push_back({a, false});
+            f.constraints.push_back({Rational(-1) * a, false});
+        } else {
+            f.constraints.push_back({a, k.is_strict_inequality()});
+        }
+    }
+    for (const auto& g : f.cell.minimized_generators())
+        f.generators.push_back({generator_vector(g, c), g.is_point() ? 0 : g.is_closure_point() ? 1 : g.is_ray() ? 2 : 3});
+    return f;
+}
+
+// True when some constraint of `a` excludes every point of `b`: b lies in {x : not (a . x >= 0)}
+// (or not (a . x > 0) for a strict one). Every point of b is a combination of its generators with
+// a positive weight on some point: if every generator has a . g <= 0 (0 on lines) and every point
+// generator a . g < 0, then a . x < 0 on b; for a strict constraint a . g <= 0 everywhere suffices.
+bool separated(const Final& a, const Final& b) {
+    for (const auto& [n, strict] : a.constraints) {
+        bool out = true;
+        for (const auto& [g, kind] : b.generators) {
+            const Sign s = sign_of(dot(n, g));
+            if (kind == 3 ? s != Sign::zero : s == Sign::positive) {
+                out = false;
+                break;
+            }
+            if (kind == 0 && !strict && s == Sign::zero) {
+                out = false;
+                break;
+            }
+        }
+        if (out)
+            return true;
+    }
+    return false;
+}
 
 // A point of a non-empty cell, as a primitive integer vector (cells are cones: any positive
 // multiple of a point is a point), with the other generators: x0 + g lies in the cell for every
@@ -75,6 +121,38 @@ OrderResult order_independence(const DeriveOptions& options, std::size_t max_wor
 
     OrderResult result;
     std::vector<Final> finals;
+    std::vector<std::string> keys; // each final cell's map, as text (cells of one map never disagree)
+    // Compares final cell j with every earlier one of a different map, as soon as j is found (a
+    // refutation ends the walk early). True when a witness was found.
+    auto compare_new = [&](std::size_t j) {
+        for (std::size_t i = 0; i < j; ++i) {
+            if (keys[i] == keys[j])
+                continue;
+            if (++result.pairs > kPairsPerWord * max_words)
+                throw DeriveLimit("derive --rule any: more than " + std::to_string(kPairsPerWord * max_words) +
+                                  " pairs of final cells to compare (--max-words " + std::to_string(max_words) + ")");
+            if (options.progress && result.pairs % 65536 == 0)
+                options.progress("order pairs", result.pairs, 0);
+            if (separated(finals[i], finals[j]) || separated(finals[j], finals[i]))
+                continue;
+            Cell meet = finals[i].cell;
+            meet.intersection_assign(finals[j].cell);
+            if (meet.is_empty())
+                continue;
+            for (const Vector& x : probes(meet, c)) {
+                if (finals[i].map * x == finals[j].map * x)
+                    continue;
+                OrderWitness w{primitive_ray(x), finals[i].word, finals[j].word, {}, {}};
+                w.gamma_a = finals[i].map * w.gamma_minus;
+                w.gamma_b = finals[j].map * w.gamma_minus;
+                if (!order_witness_holds(options, options.restitution, w))
+                    throw std::logic_error("derive --rule any: a witness the simulation does not confirm");
+                result.witness = std::move(w);
+                return true;
+            }
+        }
+        return false;
+    };
     struct Node {
         Cell cell;
         Matrix map;
@@ -98,7 +176,15 @@ OrderResult order_independence(const DeriveOptions& options, std::size_t max_wor
                 end.add_constraint(form(row) >= 0);
         if (!end.is_empty()) {
             result.max_word = std::max(result.max_word, node.word.size());
-            finals.push_back({std::move(end), node.map, node.word});
+            finals.push_back(make_final(std::move(end), node.map, node.word, c));
+            std::string key;
+            for (const auto& row : outcome_rows(node.map, c))
+                key += to_string(row) + ";";
+            keys.push_back(key);
+            if (compare_new(finals.size() - 1)) {
+                result.words = finals.size();
+                return result;
+            }
         }
         // The children: contact k approaches after the word (a zero row never does).
         for (std::size_t k = c; k-- > 0;) {
@@ -122,40 +208,6 @@ OrderResult order_independence(const DeriveOptions& options, std::size_t max_wor
         }
     }
     result.words = finals.size();
-
-    // Final cells grouped by map; cells of one map never disagree.
-    std::map<std::string, std::vector<std::size_t>> by_map;
-    std::vector<std::string> keys;
-    for (std::size_t i = 0; i < finals.size(); ++i) {
-        std::string key;
-        for (const auto& row : outcome_rows(finals[i].map, c))
-            key += to_string(row) + ";";
-        if (!by_map.count(key))
-            keys.push_back(key);
-        by_map[key].push_back(i);
-    }
-    for (std::size_t a = 0; a < keys.size(); ++a)
-        for (std::size_t b = a + 1; b < keys.size(); ++b)
-            for (const std::size_t i : by_map[keys[a]])
-                for (const std::size_t j : by_map[keys[b]]) {
-                    ++result.pairs;
-                    Cell meet = finals[i].cell;
-                    meet.intersection_assign(finals[j].cell);
-                    if (meet.is_empty())
-                        continue;
-                    for (const Vector& x : probes(meet, c)) {
-                        const Vector ya = finals[i].map * x, yb = finals[j].map * x;
-                        if (ya == yb)
-                            continue;
-                        OrderWitness w{primitive_ray(x), finals[i].word, finals[j].word, {}, {}};
-                        w.gamma_a = finals[i].map * w.gamma_minus;
-                        w.gamma_b = finals[j].map * w.gamma_minus;
-                        if (!order_witness_holds(options, options.restitution, w))
-                            throw std::logic_error("derive --rule any: a witness the simulation does not confirm");
-                        result.witness = std::move(w);
-                        return result;
-                    }
-                }
     return result;
 }
 

@@ -146,6 +146,14 @@ PPL::Constraint nonneg(const Vector& a) { return form(a) >= 0; }
 
 Vector generator_vector(const PPL::Generator& g, std::size_t c) { return vector_of(g, c); }
 
+std::optional<Vector> constraint_vector(const PPL::Constraint& k, std::size_t c) {
+    if (k.is_tautological())
+        return std::nullopt; // e.g. PPL's 1 > 0 of a not-necessarily-closed polyhedron
+    if (k.inhomogeneous_term() != 0)
+        throw std::logic_error("derive: a cone with an inhomogeneous constraint");
+    return vector_of(k, c);
+}
+
 PPL::C_Polyhedron cone_of(std::size_t c, const std::vector<Vector>& constraints) {
     PPL::C_Polyhedron p(static_cast<PPL::dimension_type>(c), PPL::UNIVERSE);
     for (const auto& a : constraints)

@@ -47,6 +47,9 @@ class PplScope {
 PPL::Linear_Expression form(const Vector& a);
 // A generator's integer coefficients on the c space dimensions (its divisor not applied).
 Vector generator_vector(const PPL::Generator& g, std::size_t c);
+// A constraint's integer coefficients a (it reads a . x >= 0, > 0 or = 0: every cell here is a
+// cone), or nothing for a tautology (PPL's 1 > 0 of a not-necessarily-closed polyhedron).
+std::optional<Vector> constraint_vector(const PPL::Constraint& k, std::size_t c);
 // The constraint a . x >= 0 (a != 0).
 PPL::Constraint nonneg(const Vector& a);
 // A region: the intersection of {a . x >= 0} for the given a (zero vectors are ignored).

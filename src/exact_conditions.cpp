@@ -314,11 +314,15 @@ ConditionsResult continuity_conditions(const ConditionFamily& family) {
 
     // Cells, by their two words, each with a sample point.
     std::map<std::pair<std::string, std::string>, std::pair<Rational, Rational>> cells;
+    std::map<std::pair<std::string, std::string>, std::vector<std::pair<Rational, Rational>>> members;
     for (const auto& x : xs)
         for (const auto& y : ys) {
             const auto a = f->numeric(0, x, y), b = f->numeric(1, x, y);
-            if (a && b && !cells.count({a->word, b->word}))
+            if (!a || !b)
+                continue;
+            if (!cells.count({a->word, b->word}))
                 cells[{a->word, b->word}] = {x, y};
+            members[{a->word, b->word}].push_back({x, y});
         }
     result.cells = cells.size();
     AK ak;
@@ -349,8 +353,23 @@ ConditionsResult continuity_conditions(const ConditionFamily& family) {
             continue;
         }
         const P2 g = primitive(CGAL::is_zero(J0) ? J1 : CGAL::is_zero(J1) ? J0 : CGAL::gcd(J0, J1));
-        if (is_constant(g))
-            continue; // J never vanishes in this cell
+        if (is_constant(g)) {
+            // No common curve. Both components may still vanish at isolated points (the 1,1,1
+            // chain with two restitutions e, f at (1, 1)); those among the probes are listed.
+            bool j0_constant = true, j1_constant = true;
+            for (int i = 0; i <= J0.degree(); ++i)
+                j0_constant = j0_constant && (i == 0 ? J0[0].degree() == 0 : CGAL::is_zero(J0[i]));
+            for (int i = 0; i <= J1.degree(); ++i)
+                j1_constant = j1_constant && (i == 0 ? J1[0].degree() == 0 : CGAL::is_zero(J1[i]));
+            if (j0_constant || j1_constant)
+                continue; // one component is a non-zero constant: J never vanishes in this cell
+            curve.isolated = true;
+            for (const auto& [px, py] : members[words])
+                if (CGAL::is_zero(evaluate(J0, px, py)) && CGAL::is_zero(evaluate(J1, px, py)))
+                    curve.points.push_back(two ? std::vector<Rational>{px, py} : std::vector<Rational>{px});
+            result.curves.push_back(std::move(curve));
+            continue;
+        }
         curve.terms = terms_of(g);
         curve.polynomial = text_of(curve.terms, family.parameters);
         for (const auto& t : curve.terms)
@@ -377,7 +396,23 @@ ConditionsResult continuity_conditions(const ConditionFamily& family) {
                 }
                 if (!inside)
                     continue;
-                const auto box = ak.approximate_absolute_1_object()(root, 48);
+                // An enclosure of width 2^-48 that holds no other root of u (refined further if needed).
+                auto box = ak.approximate_absolute_1_object()(root, 48);
+                for (int bits = 48;; bits *= 2) {
+                    bool alone = true;
+                    for (const auto& other : roots) {
+                        if (ak.compare_1_object()(other.first, root) == CGAL::EQUAL)
+                            continue;
+                        if (ak.compare_1_object()(other.first, Root(box.first)) != CGAL::SMALLER &&
+                            ak.compare_1_object()(other.first, Root(box.second)) != CGAL::LARGER)
+                            alone = false;
+                    }
+                    if (alone)
+                        break;
+                    if (bits > 4096)
+                        throw std::logic_error("exact conditions: a root that no enclosure separates");
+                    box = ak.approximate_absolute_1_object()(root, bits * 2);
+                }
                 Crossing x;
                 x.varies = two ? 1 - fixed : 0;
                 x.at = two ? v : Rational(0);

@@ -9,7 +9,8 @@
 // strictly positive end), a finite set of strict polynomial sign conditions -- J is a vector of
 // rational functions of p; its numerators' greatest common divisor g is the curve (two parameters)
 // or the points (one parameter) of continuity in that cell, and J = 0 identically makes the cell
-// continuous as a whole. Polynomials are CGAL's (Polynomial<Polynomial<Gmpq>>), roots are
+// continuous as a whole. When g is constant but neither numerator is, continuity holds at most at
+// isolated common zeros: the cell is listed (`isolated`) with the probe points where both vanish. Polynomials are CGAL's (Polynomial<Polynomial<Gmpq>>), roots are
 // isolated by CGAL's algebraic kernel (Descartes' rule, exact), and every crossing reported is
 // a root of g on the line whose every cell condition was decided exactly at the algebraic root.
 // Cells are found at the grid points and at `subdivisions` points between grid values.
@@ -56,6 +57,11 @@ struct ConditionCurve {
     std::string word_a, word_b;   // the words after the tie, forced 1 and forced 2 (first letter included)
     std::string polynomial;       // g in the parameter names, integer coefficients, primitive
     bool whole_cell = false;      // J vanishes identically: the cell is continuous as a whole
+    // The two components of J are coprime (no common curve): continuity only at their isolated
+    // common zeros, which are not computed; the probe points (grid points and the points between
+    // them) of this cell where both vanish are listed.
+    bool isolated = false;
+    std::vector<std::vector<Rational>> points; // with `isolated`: exact common zeros among the probes
     std::size_t degree = 0;       // total degree of g
     std::vector<Crossing> crossings;
 };

@@ -77,6 +77,7 @@ void put_inputs(Json& j, const SweepSpec& spec) {
     j["restitution"] = spec.restitution;
     j["rule"] = to_string(spec.rule);
     j["max_impacts"] = spec.max_impacts;
+    j["max_words"] = spec.max_words;
     Json params = Json::array();
     for (const auto& p : spec.parameters) {
         Json values = Json::array();
@@ -91,9 +92,9 @@ namespace {
 
 // Order independence at a point (derive.hpp, `--rule any`): proved, refuted with the witness (two
 // admissible words, or an admissible order longer than --max-impacts), or undecided at a limit.
-Json order_entry(const DeriveOptions& o) {
+Json order_entry(const DeriveOptions& o, std::size_t max_words) {
     try {
-        const OrderResult r = order_independence(o);
+        const OrderResult r = order_independence(o, max_words);
         if (r.not_finite)
             return Json{{"verdict", "refuted"},
                         {"counterexample",
@@ -162,7 +163,7 @@ Json evaluate(const SweepSpec& spec, const Point& point) {
         obligations[ob.id] = item;
     }
     out["obligations"] = obligations;
-    out["order"] = order_entry(o);
+    out["order"] = order_entry(o, spec.max_words);
     return out;
 }
 
@@ -302,6 +303,19 @@ std::string svg_map(const SweepSpec& spec, const std::vector<Json>& results, con
         // The continuity set: dots at the certified crossings of every grid and drawing line.
         std::vector<std::pair<Rational, Rational>> labels;
         for (const auto& curve : conditions->result.curves) {
+            if (curve.isolated) {
+                for (const auto& at : curve.points) {
+                    const Rational px = Rational(margin) + map_position(spec.parameters[0].values, at[0], cell);
+                    Rational py = Rational(10 + cell / 2);
+                    if (at.size() > 1)
+                        py = Rational(10 + static_cast<int>(n1) * cell) - map_position(spec.parameters[1].values, at[1], cell);
+                    s += "<circle cx=\"" + decimal_text(px, 1) + "\" cy=\"" + decimal_text(py, 1) +
+                         "\" r=\"3\" fill=\"#0969da\"><title>" +
+                         xml_escape("after the tie: " + curve.word_a + " / " + curve.word_b +
+                                    ": an isolated point where the jump vanishes") + "</title></circle>\n";
+                }
+                continue;
+            }
             if (curve.whole_cell)
                 continue;
             s += "<g fill=\"#0969da\"><title>" + xml_escape(curve_label(curve)) + "</title>\n";
@@ -733,6 +747,7 @@ void merge_sweep_parts(const std::vector<std::string>& paths, const std::string&
         spec.restitution = run.at("restitution").get<std::vector<std::string>>();
         spec.rule = parse_rule(run.at("rule").get<std::string>());
         spec.max_impacts = run.at("max_impacts").get<std::size_t>();
+        spec.max_words = run.at("max_words").get<std::size_t>();
         for (const auto& pj : run.at("parameters")) {
             SweepParameter param;
             param.name = pj.at("name").get<std::string>();
@@ -834,6 +849,32 @@ void write_sweep_outputs(const SweepSpec& spec, const std::vector<Json>& results
                 curves.push_back(c);
                 continue;
             }
+            if (curve.isolated) {
+                // Coprime jump components: continuity only at isolated points, not computed; the
+                // probe points where both vanish, derived and verified.
+                c["isolated"] = "the two components of the jump have no common factor: continuity holds at most at "
+                                "isolated points (not computed); listed: grid points and points between them where both vanish";
+                Json points = Json::array(), checks = Json::array();
+                for (const auto& at_values : curve.points) {
+                    Point at;
+                    at.values = at_values;
+                    const Json r = evaluate(spec, at);
+                    points.push_back(r["point"]);
+                    Json check;
+                    check["point"] = r["point"];
+                    check["derive"] = r["derive"];
+                    if (r["derive"] == "ok") {
+                        check["P1"] = r["obligations"]["P1"]["verdict"];
+                        check["nonexpansive"] = r["obligations"]["nonexpansive"]["verdict"];
+                        check["order-independent"] = r["order"]["verdict"];
+                    }
+                    checks.push_back(check);
+                }
+                c["points"] = points;
+                c["checks"] = checks;
+                curves.push_back(c);
+                continue;
+            }
             c["polynomial"] = curve.polynomial;
             c["degree"] = curve.degree;
             Json crossings = Json::array(), checks = Json::array();
@@ -930,6 +971,13 @@ void write_sweep_outputs(const SweepSpec& spec, const std::vector<Json>& results
             std::size_t grid = 0;
             for (const auto& x : curve.crossings)
                 grid += x.grid_line;
+            if (curve.isolated) {
+                html += "<li>" + xml_escape("after the tie: " + curve.word_a + " / " + curve.word_b +
+                                            ": no common curve; continuity at most at isolated points (not computed), " +
+                                            std::to_string(curve.points.size()) + " found among the grid and probe points") +
+                        "</li>\n";
+                continue;
+            }
             html += "<li>" + (curve.whole_cell ? xml_escape("after the tie: " + curve.word_a + " / " + curve.word_b + ": the whole cell") : xml_escape(curve_label(curve))) +
                     (curve.whole_cell ? std::string() : " (" + std::to_string(grid) + " grid-line crossings)") + "</li>\n";
         }

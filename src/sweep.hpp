@@ -42,6 +42,7 @@ struct SweepSpec {
     std::vector<std::string> restitution; // one item (every contact) or one per contact
     ImpactRule rule = ImpactRule::most_negative;
     std::size_t max_impacts = 100;
+    std::size_t max_words = 2000; // --max-words: the order column's budget per point (derive.hpp)
     std::vector<SweepParameter> parameters; // one or two
     Limits limits;
     unsigned jobs = 1;

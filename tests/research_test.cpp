@@ -11,6 +11,7 @@
 
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <unistd.h>
@@ -416,4 +417,54 @@ TEST_CASE("exact conditions: rational points on the curves are continuous laws, 
     ConditionFamily four = family;
     four.masses = {"1", "m", "1", "1"};
     CHECK_FALSE(continuity_conditions(four).computed);
+}
+
+TEST_CASE("exact conditions: coprime jump components are listed with their isolated zeros, not dropped",
+          "[research][conditions]") {
+    // The chain 1,1,1 with one restitution per contact: in the cell 121 / 212 the two components of
+    // the jump are coprime cubics that both vanish at (e, f) = (1, 1), the paper's law.
+    ConditionFamily f;
+    f.masses = {"1", "1", "1"};
+    f.restitution = {"e", "f"};
+    f.parameters.push_back({"e", {q("1/4"), q("1/2"), q("3/4"), q("1")}});
+    f.parameters.push_back({"f", {q("1/4"), q("1/2"), q("3/4"), q("1")}});
+    const ConditionsResult r = continuity_conditions(f);
+    REQUIRE(r.computed);
+    const auto words = tie_words(f, {Rational(1), Rational(1)});
+    REQUIRE(words);
+    const ConditionCurve* cell = nullptr;
+    for (const auto& c : r.curves)
+        if (c.word_a == words->first && c.word_b == words->second)
+            cell = &c;
+    REQUIRE(cell);
+    CHECK(cell->isolated);
+    CHECK(std::find(cell->points.begin(), cell->points.end(), std::vector<Rational>{Rational(1), Rational(1)}) !=
+          cell->points.end());
+    // Every listed point is a continuous law; a point of the same cell not listed is not.
+    for (const auto& p : cell->points) {
+        DeriveOptions o;
+        o.masses = {Rational(1), Rational(1), Rational(1)};
+        o.restitution = p;
+        const DeriveResult d = derive_sequential(o);
+        REQUIRE(d.law);
+        CHECK(p1_of(Model(*d.law)) == Verdict::proved);
+    }
+    CHECK(tie_words(f, {q("1"), q("3/4")}) == words);
+    DeriveOptions o;
+    o.masses = {Rational(1), Rational(1), Rational(1)};
+    o.restitution = {q("1"), q("3/4")};
+    const DeriveResult d = derive_sequential(o);
+    REQUIRE(d.law);
+    CHECK(p1_of(Model(*d.law)) == Verdict::refuted);
+}
+
+TEST_CASE("derive --rule any: the pair stage is bounded by --max-words too", "[research][order][cli]") {
+    // Four balls and a wall: thousands of final cells; the default limits answer undecided quickly.
+    auto run = test::run_cli("derive sequential --masses 1,1,1,1 --walls left --rule any --max-words 3000");
+    CHECK(run.status == 3);
+    CHECK(run.err.find("--max-words") != std::string::npos);
+    // Five equal balls need 2 to 4 million pairs; 400 cells (40,000 pairs) stop short: undecided, naming the option.
+    run = test::run_cli("derive sequential --masses 1,1,1,1,1 --rule any --max-words 400");
+    CHECK(run.status == 3);
+    CHECK(run.err.find("--max-words") != std::string::npos);
 }
