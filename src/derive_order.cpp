@@ -9,9 +9,6 @@
 #include "derive_regions.hpp"
 #include "errors.hpp"
 
-#include <gmpxx.h>
-
-
 namespace impactcert {
 
 using namespace derive_detail;
