@@ -427,15 +427,19 @@ ConditionsResult continuity_conditions(const ConditionFamily& family) {
                 curve.crossings.push_back(x);
             }
         };
-        const auto& px = family.parameters[0].values;
+        // The range of each parameter (a grid may run either way).
+        auto range = [](const std::vector<Rational>& v) {
+            return std::make_pair(std::min(v.front(), v.back()), std::max(v.front(), v.back()));
+        };
+        const auto [x_lo, x_hi] = range(family.parameters[0].values);
         if (!two) {
-            scan(1, Rational(0), true, px.front(), px.back());
+            scan(1, Rational(0), true, x_lo, x_hi);
         } else {
-            const auto& py = family.parameters[1].values;
+            const auto [y_lo, y_hi] = range(family.parameters[1].values);
             for (std::size_t i = 0; i < xs.size(); ++i)
-                scan(0, xs[i], grid_x[i], py.front(), py.back());
+                scan(0, xs[i], grid_x[i], y_lo, y_hi);
             for (std::size_t j = 0; j < ys.size(); ++j)
-                scan(1, ys[j], grid_y[j], px.front(), px.back());
+                scan(1, ys[j], grid_y[j], x_lo, x_hi);
         }
         result.curves.push_back(std::move(curve));
     }

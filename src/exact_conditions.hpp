@@ -27,7 +27,7 @@ namespace impactcert {
 
 struct ConditionParameter {
     std::string name;
-    std::vector<Rational> values; // the grid, increasing
+    std::vector<Rational> values; // the grid (increasing or decreasing)
 };
 
 struct ConditionFamily {

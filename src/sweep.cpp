@@ -250,8 +250,10 @@ Json energy_condition(const SweepSpec& spec) {
 // A parameter value's horizontal (or vertical) position on a map: the grid values sit at the
 // cells' centres, values between them linearly in between; tenths of a pixel, exact.
 Rational map_position(const std::vector<Rational>& values, const Rational& v, int cell) {
+    // A grid may run either way (--vary m=2..1/2:3).
+    const bool down = values.size() > 1 && values.back() < values.front();
     std::size_t i = 0;
-    while (i + 2 < values.size() && values[i + 1] < v)
+    while (i + 2 < values.size() && (down ? v < values[i + 1] : values[i + 1] < v))
         ++i;
     Rational t(0);
     if (values.size() > 1 && values[i + 1] != values[i])

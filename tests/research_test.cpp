@@ -468,3 +468,21 @@ TEST_CASE("derive --rule any: the pair stage is bounded by --max-words too", "[r
     CHECK(run.status == 3);
     CHECK(run.err.find("--max-words") != std::string::npos);
 }
+
+TEST_CASE("exact conditions: a grid that runs downwards finds the same crossings", "[research][conditions]") {
+    ConditionFamily up = one_m_one(), down = up;
+    for (auto& p : down.parameters)
+        std::reverse(p.values.begin(), p.values.end());
+    auto half_line = [](const ConditionsResult& r) {
+        std::vector<std::pair<std::string, std::string>> found; // (words, lo) on m = 1/2
+        for (const auto& c : r.curves)
+            for (const auto& x : c.crossings)
+                if (x.varies == 1 && x.at == q("1/2"))
+                    found.push_back({c.word_a, to_string(x.lo)});
+        std::sort(found.begin(), found.end());
+        return found;
+    };
+    const auto a = half_line(continuity_conditions(up)), b = half_line(continuity_conditions(down));
+    CHECK(a.size() >= 3);
+    CHECK(a == b);
+}
