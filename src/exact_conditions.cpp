@@ -377,6 +377,29 @@ ConditionsResult continuity_conditions(const ConditionFamily& family) {
         // Crossings with the lines x = const (roots in y) and, for two parameters, y = const.
         auto scan = [&](std::size_t fixed, const Rational& v, bool grid, const Rational& lo, const Rational& hi) {
             const P1 u = two ? restrict(g, fixed, v) : restrict(g, 1, Rational(0));
+            if (two && CGAL::is_zero(u)) {
+                // The whole line lies on the curve (g has the factor of the line, e.g. (1 - e^2)):
+                // its probe points inside the cell (every condition's sign exact there) are listed.
+                const std::vector<Rational>& ts = fixed == 0 ? ys : xs;
+                const std::vector<bool>& on_grid = fixed == 0 ? grid_y : grid_x;
+                for (std::size_t i = 0; i < ts.size(); ++i) {
+                    const Rational px = fixed == 0 ? v : ts[i], py = fixed == 0 ? ts[i] : v;
+                    bool inside = true;
+                    for (const auto& c : conditions)
+                        inside = inside && sign_of(evaluate(c.poly, px, py)) == c.sign;
+                    if (!inside)
+                        continue;
+                    Crossing x;
+                    x.varies = 1 - fixed;
+                    x.at = v;
+                    x.lo = x.hi = ts[i];
+                    x.exact = ts[i];
+                    x.along = true;
+                    x.grid_line = grid && on_grid[i];
+                    curve.crossings.push_back(x);
+                }
+                return;
+            }
             if (CGAL::is_zero(u) || u.degree() == 0)
                 return;
             std::vector<std::pair<Root, AK::Multiplicity_type>> roots;

@@ -44,7 +44,8 @@ struct Crossing {
     Rational at;              // ... is fixed at this value (a grid or drawing line)
     Rational lo, hi;          // exactly one root of g on the line lies in [lo, hi]
     std::optional<Rational> exact; // the root, when it is rational (lo = hi = exact)
-    bool grid_line = false;   // at a grid value (else a drawing line)
+    bool grid_line = false;   // at a grid value (else a drawing line); with `along`: a grid point
+    bool along = false;       // the whole line lies on the curve here; `exact` is one of its probe points
 };
 
 struct PolynomialTerm {

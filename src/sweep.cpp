@@ -889,6 +889,8 @@ void write_sweep_outputs(const SweepSpec& spec, const std::vector<Json>& results
                 item["root"] = spec.parameters[x.varies].name;
                 item["in"] = Json::array({to_string(x.lo), to_string(x.hi)});
                 item["approx"] = decimal_text(x.lo, 6);
+                if (x.along)
+                    item["along"] = true; // the whole grid line lies on the curve; one of its grid points
                 if (x.exact) {
                     item["exact"] = to_string(*x.exact);
                     // A law exactly on the curve: derived and verified at the rational point.

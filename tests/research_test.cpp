@@ -463,7 +463,7 @@ TEST_CASE("derive --rule any: the pair stage is bounded by --max-words too", "[r
     auto run = test::run_cli("derive sequential --masses 1,1,1,1 --walls left --rule any --max-words 3000");
     CHECK(run.status == 3);
     CHECK(run.err.find("--max-words") != std::string::npos);
-    // Five equal balls need 2 to 4 million pairs; 400 cells (40,000 pairs) stop short: undecided, naming the option.
+    // Five equal balls need 4 to 5 million pairs; 400 cells (40,000 pairs) stop short: undecided, naming the option.
     run = test::run_cli("derive sequential --masses 1,1,1,1,1 --rule any --max-words 400");
     CHECK(run.status == 3);
     CHECK(run.err.find("--max-words") != std::string::npos);
@@ -485,4 +485,43 @@ TEST_CASE("exact conditions: a grid that runs downwards finds the same crossings
     const auto a = half_line(continuity_conditions(up)), b = half_line(continuity_conditions(down));
     CHECK(a.size() >= 3);
     CHECK(a == b);
+}
+
+TEST_CASE("exact conditions: a grid line that lies on a curve is listed at its grid points", "[research][conditions]") {
+    // Masses 2,1,3 with restitutions e, f: in the cell 1212 / 2121 the jump's gcd is
+    // (1 - e^2)(1 - f^2), so the lines e = 1 and f = 1 are continuous laws throughout.
+    ConditionFamily f;
+    f.masses = {"2", "1", "3"};
+    f.restitution = {"e", "f"};
+    for (const char* name : {"e", "f"})
+        f.parameters.push_back({name, {q("1/4"), q("1/2"), q("3/4"), q("1")}});
+    const ConditionsResult r = continuity_conditions(f);
+    REQUIRE(r.computed);
+    std::size_t along = 0;
+    for (const auto& c : r.curves)
+        for (const auto& x : c.crossings) {
+            if (!x.along)
+                continue;
+            ++along;
+            REQUIRE(x.exact);
+            CHECK(x.at == Rational(1));
+            std::vector<Rational> at(2);
+            at[x.varies] = *x.exact;
+            at[1 - x.varies] = x.at;
+            CHECK(evaluate_condition(c, at) == Rational(0));
+            DeriveOptions o;
+            o.masses = {Rational(2), Rational(1), Rational(3)};
+            o.restitution = at;
+            const DeriveResult d = derive_sequential(o);
+            REQUIRE(d.law);
+            CHECK(p1_of(Model(*d.law)) == Verdict::proved);
+        }
+    CHECK(along >= 8); // four grid points on each of the two lines (more with the points between)
+    // Off those lines, inside the cell, the law jumps.
+    DeriveOptions o;
+    o.masses = {Rational(2), Rational(1), Rational(3)};
+    o.restitution = {q("3/4"), q("1/2")};
+    const DeriveResult d = derive_sequential(o);
+    REQUIRE(d.law);
+    CHECK(p1_of(Model(*d.law)) == Verdict::refuted);
 }
