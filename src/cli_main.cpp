@@ -257,7 +257,7 @@ int main(int argc, char** argv) {
         cmd->add_option("--system", args->system.system_path, "a system file (impactcert-system/1, or a law file's head): M or masses, and W");
         cmd->add_option("--restitution", args->restitution, "E for every contact, or one per contact, each in [0, 1]")->capture_default_str();
         cmd->add_option("--outcomes-from", args->outcomes_from, "declare the outcomes of this law file (e.g. the observed ones of proofs/newton3/law.json) instead of the simulated ones");
-        cmd->add_option("-o,--output", args->out, "law file to write (default: standard output)");
+        cmd->add_option("-o,--output", args->out, "law file to write (default, or -: standard output)");
     }
     for (auto [cmd, args] : {std::pair{sequential_cmd, &derive_args}, std::pair{newton_cmd, &newton_args}, std::pair{poisson_cmd, &poisson_args}})
         cmd->add_option("--max-bits", args->max_bits, "limit: bits of one matrix entry (numerator and denominator) during the derivation; undecided (exit 3) beyond it")->check(natural)->capture_default_str();

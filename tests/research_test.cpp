@@ -267,6 +267,10 @@ TEST_CASE("derive sequential --rule any on the command line", "[research][order]
     CHECK(run.status == 3);
     CHECK(run.err.find("--max-words") != std::string::npos);
     CHECK(test::run_cli("derive sequential --masses 1,1,1 --rule sideways").status == 2);
+    // -o - is standard output, as the default.
+    const auto dash = test::run_cli("derive sequential --masses 2,1,3 --rule any -o -");
+    CHECK(dash.status == 0);
+    CHECK(dash.out.find("\"format\": \"impactcert-law/1\"") != std::string::npos);
 }
 
 // ---- Where continuity holds exactly (exact_conditions.hpp).

@@ -24,7 +24,7 @@ std::string law_text(const Law& law) {
 }
 
 void emit(const std::string& out_path, const std::string& text, const std::string& summary) {
-    if (out_path.empty()) {
+    if (out_path.empty() || out_path == "-") { // "-": standard output, as the default
         write_stdout(text);
         return;
     }
