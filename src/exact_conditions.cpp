@@ -297,6 +297,11 @@ ConditionsResult continuity_conditions(const ConditionFamily& family) {
         result.why_not = "one or two parameters";
         return result;
     }
+    for (const auto& p : family.parameters)
+        if (p.values.empty()) {
+            result.why_not = "parameter " + p.name + " has no values";
+            return result;
+        }
     std::optional<Family> f;
     try {
         f.emplace(family);
@@ -306,8 +311,16 @@ ConditionsResult continuity_conditions(const ConditionFamily& family) {
     }
     const bool two = family.parameters.size() == 2;
     std::vector<bool> grid_x, grid_y;
-    const std::vector<Rational> xs = probes(family.parameters[0], family.subdivisions, &grid_x);
-    const std::vector<Rational> ys = two ? probes(family.parameters[1], family.subdivisions, &grid_y)
+    // Probe points between grid values, fewer on large grids: at most about 250,000 probes (each
+    // runs both continuations), down to the grid points alone.
+    std::size_t subdivisions = std::max<std::size_t>(family.subdivisions, 1);
+    auto lines = [&](std::size_t sub, const ConditionParameter& p) { return sub * (p.values.size() - 1) + 1; };
+    while (subdivisions > 1 && lines(subdivisions, family.parameters[0]) *
+                                       (two ? lines(subdivisions, family.parameters[1]) : 1) > 250000)
+        --subdivisions;
+    result.subdivisions = subdivisions;
+    const std::vector<Rational> xs = probes(family.parameters[0], subdivisions, &grid_x);
+    const std::vector<Rational> ys = two ? probes(family.parameters[1], subdivisions, &grid_y)
                                          : std::vector<Rational>{Rational(0)};
     if (!two)
         grid_y.push_back(true);

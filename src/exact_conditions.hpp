@@ -73,6 +73,7 @@ struct ConditionsResult {
     std::vector<ConditionCurve> curves; // one per cell where g is not a non-zero constant
     std::size_t cells = 0;        // cells found
     std::size_t cells_not_computed = 0; // cells beyond max_word
+    std::size_t subdivisions = 0;       // used (fewer than asked on large grids)
 };
 
 // InputError for a family this does not cover is not thrown: `computed` is false with the reason.

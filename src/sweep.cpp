@@ -965,7 +965,7 @@ void write_sweep_outputs(const SweepSpec& spec, const std::vector<Json>& results
     if (conditions.result.computed) {
         html += "<h2>Where P1 holds exactly</h2>\n<p>Continuity holds where the jump at the tie gamma- = (-1, -1) "
                 "vanishes: on each cell of fixed words after the tie, the zero set of the polynomial below (blue dots: "
-                "certified crossings of the grid lines and of " + std::to_string(ConditionFamily{}.subdivisions - 1) +
+                "certified crossings of the grid lines and of " + std::to_string(conditions.result.subdivisions - 1) +
                 " lines between them; large dots: rational points on grid lines, derived and verified; numbers: "
                 "impacts after the tie). " +
                 std::to_string(conditions.result.cells) + " cells found, " +
