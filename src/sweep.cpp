@@ -247,6 +247,21 @@ Json energy_condition(const SweepSpec& spec) {
     return Json{{"holds", "where " + where}};
 }
 
+// A law on a continuity curve, derived and verified at its exact point: the verdicts the curve
+// predicts (P1, nonexpansive) and the order column.
+Json check_at(const SweepSpec& spec, const Point& at) {
+    const Json r = evaluate(spec, at);
+    Json check;
+    check["point"] = r["point"];
+    check["derive"] = r["derive"];
+    if (r["derive"] == "ok") {
+        check["P1"] = r["obligations"]["P1"]["verdict"];
+        check["nonexpansive"] = r["obligations"]["nonexpansive"]["verdict"];
+        check["order-independent"] = r["order"]["verdict"];
+    }
+    return check;
+}
+
 // A parameter value's horizontal (or vertical) position on a map: the grid values sit at the
 // cells' centres, values between them linearly in between; tenths of a pixel, exact.
 Rational map_position(const std::vector<Rational>& values, const Rational& v, int cell) {
@@ -858,19 +873,8 @@ void write_sweep_outputs(const SweepSpec& spec, const std::vector<Json>& results
                                 "isolated points (not computed); listed: grid points and points between them where both vanish";
                 Json points = Json::array(), checks = Json::array();
                 for (const auto& at_values : curve.points) {
-                    Point at;
-                    at.values = at_values;
-                    const Json r = evaluate(spec, at);
-                    points.push_back(r["point"]);
-                    Json check;
-                    check["point"] = r["point"];
-                    check["derive"] = r["derive"];
-                    if (r["derive"] == "ok") {
-                        check["P1"] = r["obligations"]["P1"]["verdict"];
-                        check["nonexpansive"] = r["obligations"]["nonexpansive"]["verdict"];
-                        check["order-independent"] = r["order"]["verdict"];
-                    }
-                    checks.push_back(check);
+                    checks.push_back(check_at(spec, Point{at_values}));
+                    points.push_back(checks.back()["point"]);
                 }
                 c["points"] = points;
                 c["checks"] = checks;
@@ -902,18 +906,8 @@ void write_sweep_outputs(const SweepSpec& spec, const std::vector<Json>& results
                     std::vector<std::string> key;
                     for (const auto& v : at.values)
                         key.push_back(to_string(v));
-                    if (checked.insert(key).second) {
-                        const Json r = evaluate(spec, at);
-                        Json check;
-                        check["point"] = r["point"];
-                        check["derive"] = r["derive"];
-                        if (r["derive"] == "ok") {
-                            check["P1"] = r["obligations"]["P1"]["verdict"];
-                            check["nonexpansive"] = r["obligations"]["nonexpansive"]["verdict"];
-                            check["order-independent"] = r["order"]["verdict"];
-                        }
-                        checks.push_back(check);
-                    }
+                    if (checked.insert(key).second)
+                        checks.push_back(check_at(spec, at));
                 }
                 crossings.push_back(item);
             }

@@ -321,6 +321,17 @@ Vector law_jump(const Model& model) {
 
 Verdict p1_of(const Model& m) { return verify(m).at("P1").verdict; }
 
+// P1 of the derived sequential law of a chain (most-negative), with one restitution per contact.
+Verdict chain_p1(const std::vector<int>& masses, const std::vector<Rational>& restitution) {
+    DeriveOptions o;
+    for (int m : masses)
+        o.masses.push_back(Rational(m));
+    o.restitution = restitution;
+    const DeriveResult d = derive_sequential(o);
+    REQUIRE(d.law);
+    return p1_of(Model(*d.law));
+}
+
 } // namespace
 
 TEST_CASE("exact conditions: the continuity curves of 1,m,1 cross m = 1/2 at 0.276712 and 0.220789",
@@ -445,21 +456,10 @@ TEST_CASE("exact conditions: coprime jump components are listed with their isola
     CHECK(std::find(cell->points.begin(), cell->points.end(), std::vector<Rational>{Rational(1), Rational(1)}) !=
           cell->points.end());
     // Every listed point is a continuous law; a point of the same cell not listed is not.
-    for (const auto& p : cell->points) {
-        DeriveOptions o;
-        o.masses = {Rational(1), Rational(1), Rational(1)};
-        o.restitution = p;
-        const DeriveResult d = derive_sequential(o);
-        REQUIRE(d.law);
-        CHECK(p1_of(Model(*d.law)) == Verdict::proved);
-    }
+    for (const auto& p : cell->points)
+        CHECK(chain_p1({1, 1, 1}, p) == Verdict::proved);
     CHECK(tie_words(f, {q("1"), q("3/4")}) == words);
-    DeriveOptions o;
-    o.masses = {Rational(1), Rational(1), Rational(1)};
-    o.restitution = {q("1"), q("3/4")};
-    const DeriveResult d = derive_sequential(o);
-    REQUIRE(d.law);
-    CHECK(p1_of(Model(*d.law)) == Verdict::refuted);
+    CHECK(chain_p1({1, 1, 1}, {q("1"), q("3/4")}) == Verdict::refuted);
 }
 
 TEST_CASE("derive --rule any: the pair stage is bounded by --max-words too", "[research][order][cli]") {
@@ -513,19 +513,9 @@ TEST_CASE("exact conditions: a grid line that lies on a curve is listed at its g
             at[x.varies] = *x.exact;
             at[1 - x.varies] = x.at;
             CHECK(evaluate_condition(c, at) == Rational(0));
-            DeriveOptions o;
-            o.masses = {Rational(2), Rational(1), Rational(3)};
-            o.restitution = at;
-            const DeriveResult d = derive_sequential(o);
-            REQUIRE(d.law);
-            CHECK(p1_of(Model(*d.law)) == Verdict::proved);
+            CHECK(chain_p1({2, 1, 3}, at) == Verdict::proved);
         }
     CHECK(along >= 8); // four grid points on each of the two lines (more with the points between)
     // Off those lines, inside the cell, the law jumps.
-    DeriveOptions o;
-    o.masses = {Rational(2), Rational(1), Rational(3)};
-    o.restitution = {q("3/4"), q("1/2")};
-    const DeriveResult d = derive_sequential(o);
-    REQUIRE(d.law);
-    CHECK(p1_of(Model(*d.law)) == Verdict::refuted);
+    CHECK(chain_p1({2, 1, 3}, {q("3/4"), q("1/2")}) == Verdict::refuted);
 }
