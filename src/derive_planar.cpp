@@ -184,7 +184,7 @@ std::optional<Sector> convex_union(const Sector& a, const Sector& b) {
     return join(b, a);
 }
 
-bool key_less(const PlanarRegion& a, const PlanarRegion& b) {
+bool planar_key_less(const PlanarRegion& a, const PlanarRegion& b) {
     return a.key.size() != b.key.size() ? a.key.size() < b.key.size() : a.key < b.key;
 }
 
@@ -254,7 +254,7 @@ PlanarResult planar_regions(const std::vector<Matrix>& Qk, ImpactRule rule, std:
 }
 
 std::vector<PlanarPiece> add_planar_pieces(std::vector<PlanarRegion>& regions, Law& law) {
-    std::stable_sort(regions.begin(), regions.end(), key_less);
+    std::stable_sort(regions.begin(), regions.end(), planar_key_less);
     // Groups of one matrix in order of first appearance; within a group, the first pair (in
     // key order) whose union is convex is merged, until none is (the general path's order).
     std::map<std::vector<Rational>, std::size_t> group_of;
@@ -284,7 +284,7 @@ std::vector<PlanarPiece> add_planar_pieces(std::vector<PlanarRegion>& regions, L
         for (auto& r : group)
             merged.push_back(std::move(r));
     }
-    std::stable_sort(merged.begin(), merged.end(), key_less);
+    std::stable_sort(merged.begin(), merged.end(), planar_key_less);
     regions = std::move(merged);
 
     std::vector<PlanarPiece> written;

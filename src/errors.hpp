@@ -5,6 +5,7 @@
 // Bugs are std::logic_error and must never be reported as bad input.
 #pragma once
 
+#include <cstddef>
 #include <stdexcept>
 #include <string>
 
@@ -17,5 +18,9 @@ struct InputError : std::runtime_error {
 [[noreturn]] inline void input_error(const std::string& path, const std::string& reason) {
     throw InputError(path + ": " + reason);
 }
+
+// The parts of such a place: "base[i]", and a key or a text quoted as it appears ("name").
+inline std::string idx(const std::string& base, std::size_t i) { return base + "[" + std::to_string(i) + "]"; }
+inline std::string in_quotes(const std::string& s) { return "\"" + s + "\""; }
 
 } // namespace impactcert

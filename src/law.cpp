@@ -14,12 +14,6 @@ bool is_obligation_id(const std::string& id) {
 
 namespace {
 
-std::string idx(const std::string& base, std::size_t i) {
-    return base + "[" + std::to_string(i) + "]";
-}
-
-std::string in_quotes(const std::string& s) { return "\"" + s + "\""; }
-
 void check_square(const Matrix& m, std::size_t c, const std::string& path) {
     if (m.rows() != c || m.cols() != c)
         input_error(path, "expected a " + std::to_string(c) + "x" + std::to_string(c) +

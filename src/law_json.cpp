@@ -10,11 +10,9 @@
 
 namespace impactcert {
 
-using Json = nlohmann::json;
+using ReadJson = nlohmann::json;
 
 namespace {
-
-std::string in_quotes(const std::string& s) { return "\"" + s + "\""; }
 
 // ---------------------------------------------------------------------------------------------
 // Syntax: nlohmann::json plus a duplicate-key check (a repeated key would silently replace the
@@ -43,29 +41,29 @@ std::string frames_path(const std::vector<Frame>& stack) {
     return path;
 }
 
-Json parse_syntax(const std::string& text) {
+ReadJson parse_syntax(const std::string& text) {
     constexpr std::size_t kMaxDepth = 64;
     std::vector<Frame> stack;
     auto element_begins = [&] {
         if (!stack.empty() && !stack.back().object)
             ++stack.back().index;
     };
-    Json::parser_callback_t cb = [&](int, Json::parse_event_t event, Json& parsed) -> bool {
+    ReadJson::parser_callback_t cb = [&](int, ReadJson::parse_event_t event, ReadJson& parsed) -> bool {
         switch (event) {
-        case Json::parse_event_t::object_start:
-        case Json::parse_event_t::array_start:
+        case ReadJson::parse_event_t::object_start:
+        case ReadJson::parse_event_t::array_start:
             element_begins();
             // A law is at most 4 deep; far deeper input would make recursive code (dump() in a
             // message) overflow the stack.
             if (stack.size() >= kMaxDepth)
                 input_error(frames_path(stack), "nested more than " + std::to_string(kMaxDepth) + " levels deep");
-            stack.push_back(Frame{event == Json::parse_event_t::object_start, {}, 0, {}});
+            stack.push_back(Frame{event == ReadJson::parse_event_t::object_start, {}, 0, {}});
             break;
-        case Json::parse_event_t::object_end:
-        case Json::parse_event_t::array_end:
+        case ReadJson::parse_event_t::object_end:
+        case ReadJson::parse_event_t::array_end:
             stack.pop_back();
             break;
-        case Json::parse_event_t::key: {
+        case ReadJson::parse_event_t::key: {
             Frame& f = stack.back();
             f.key = parsed.get<std::string>();
             if (!f.keys.insert(f.key).second) {
@@ -74,15 +72,15 @@ Json parse_syntax(const std::string& text) {
             }
             break;
         }
-        case Json::parse_event_t::value:
+        case ReadJson::parse_event_t::value:
             element_begins();
             break;
         }
         return true;
     };
     try {
-        return Json::parse(text, cb);
-    } catch (const Json::parse_error& e) {
+        return ReadJson::parse(text, cb);
+    } catch (const ReadJson::parse_error& e) {
         // Turn the byte offset into line:column.
         std::size_t line = 1, col = 1;
         for (std::size_t i = 0; i + 1 < e.byte && i < text.size(); ++i) {
@@ -106,7 +104,7 @@ Json parse_syntax(const std::string& text) {
 
 bool is_free_text_key(const std::string& k) { return k == "note" || k == "description"; }
 
-void expect_object(const Json& j, const std::string& path, std::initializer_list<const char*> allowed,
+void expect_object(const ReadJson& j, const std::string& path, std::initializer_list<const char*> allowed,
                    std::initializer_list<const char*> required) {
     if (!j.is_object())
         input_error(path, std::string("expected an object, got ") + j.type_name());
@@ -127,19 +125,19 @@ void expect_object(const Json& j, const std::string& path, std::initializer_list
             input_error(path, std::string("missing key ") + in_quotes(r));
 }
 
-const Json& expect_array(const Json& j, const std::string& path) {
+const ReadJson& expect_array(const ReadJson& j, const std::string& path) {
     if (!j.is_array())
         input_error(path, std::string("expected an array, got ") + j.type_name());
     return j;
 }
 
-std::string get_string(const Json& j, const std::string& path) {
+std::string get_string(const ReadJson& j, const std::string& path) {
     if (!j.is_string())
         input_error(path, std::string("expected a string, got ") + j.type_name());
     return j.get<std::string>();
 }
 
-Rational get_rational(const Json& j, const std::string& path) {
+Rational get_rational(const ReadJson& j, const std::string& path) {
     std::string text;
     if (j.is_string()) {
         text = j.get<std::string>();
@@ -159,7 +157,7 @@ Rational get_rational(const Json& j, const std::string& path) {
     return *r;
 }
 
-Vector get_vector(const Json& j, const std::string& path) {
+Vector get_vector(const ReadJson& j, const std::string& path) {
     expect_array(j, path);
     Vector v;
     for (std::size_t i = 0; i < j.size(); ++i)
@@ -167,7 +165,7 @@ Vector get_vector(const Json& j, const std::string& path) {
     return v;
 }
 
-Matrix get_matrix(const Json& j, const std::string& path) {
+Matrix get_matrix(const ReadJson& j, const std::string& path) {
     expect_array(j, path);
     if (j.empty())
         input_error(path, "empty matrix");
@@ -184,7 +182,7 @@ Matrix get_matrix(const Json& j, const std::string& path) {
     return Matrix::from_rows(rows);
 }
 
-int get_small_int(const Json& j, const std::string& path) {
+int get_small_int(const ReadJson& j, const std::string& path) {
     if (!j.is_number_integer())
         input_error(path, std::string("expected an integer, got ") + j.dump());
     // Compare in the integer's own type: an unsigned above 2^63 - 1 read as signed wraps
@@ -197,14 +195,14 @@ int get_small_int(const Json& j, const std::string& path) {
     return static_cast<int>(j.get<std::int64_t>());
 }
 
-template <class F> void for_each_element(const Json& j, const std::string& path, F f) {
+template <class F> void for_each_element(const ReadJson& j, const std::string& path, F f) {
     expect_array(j, path);
     for (std::size_t i = 0; i < j.size(); ++i)
         f(j[i], path + "[" + std::to_string(i) + "]");
 }
 
 // The head shared by law and system files: "masses" or "M" (exactly one), "contacts".
-void read_head(const Json& doc, std::vector<Rational>& masses, std::optional<Matrix>& M, std::optional<Matrix>& W) {
+void read_head(const ReadJson& doc, std::vector<Rational>& masses, std::optional<Matrix>& M, std::optional<Matrix>& W) {
     if (doc.contains("masses") == doc.contains("M"))
         input_error("$", "needs exactly one of \"masses\" (a diagonal mass matrix) and \"M\" (a full one)");
     if (doc.contains("masses"))
@@ -212,7 +210,7 @@ void read_head(const Json& doc, std::vector<Rational>& masses, std::optional<Mat
     else
         M = get_matrix(doc["M"], "$.M");
     if (doc.contains("contacts")) {
-        const Json& c = doc["contacts"];
+        const ReadJson& c = doc["contacts"];
         if (c.is_string()) {
             if (c.get<std::string>() != "chain")
                 input_error("$.contacts", "expected \"chain\" or {\"W\": [...]}, got " + c.dump());
@@ -223,7 +221,7 @@ void read_head(const Json& doc, std::vector<Rational>& masses, std::optional<Mat
     }
 }
 
-Law parse_document(const Json& doc) {
+Law parse_document(const ReadJson& doc) {
     expect_object(doc, "$",
                   {"format", "name", "masses", "M", "contacts", "pieces", "identities", "single_impacts",
                    "outcomes", "claims", "symmetries", "pieces_listed"},
@@ -239,14 +237,14 @@ Law parse_document(const Json& doc) {
         law.description = doc["note"].get<std::string>();
     read_head(doc, law.masses, law.M, law.W);
 
-    for_each_element(doc["pieces"], "$.pieces", [&](const Json& p, const std::string& path) {
+    for_each_element(doc["pieces"], "$.pieces", [&](const ReadJson& p, const std::string& path) {
         expect_object(p, path, {"name", "Q", "rays"}, {"name", "Q"});
         PieceDecl decl;
         decl.name = get_string(p["name"], path + ".name");
         decl.Q = get_matrix(p["Q"], path + ".Q");
         if (p.contains("rays")) {
             std::vector<Vector> rays;
-            for_each_element(p["rays"], path + ".rays", [&](const Json& r, const std::string& rp) {
+            for_each_element(p["rays"], path + ".rays", [&](const ReadJson& r, const std::string& rp) {
                 rays.push_back(get_vector(r, rp));
             });
             decl.rays = rays;
@@ -255,11 +253,11 @@ Law parse_document(const Json& doc) {
     });
 
     if (doc.contains("identities"))
-        for_each_element(doc["identities"], "$.identities", [&](const Json& d, const std::string& path) {
+        for_each_element(doc["identities"], "$.identities", [&](const ReadJson& d, const std::string& path) {
             expect_object(d, path, {"lhs", "product"}, {"lhs", "product"});
             IdentityDecl decl;
             decl.lhs = get_string(d["lhs"], path + ".lhs");
-            for_each_element(d["product"], path + ".product", [&](const Json& f, const std::string& fp) {
+            for_each_element(d["product"], path + ".product", [&](const ReadJson& f, const std::string& fp) {
                 decl.product.push_back(get_string(f, fp));
             });
             law.identities.push_back(std::move(decl));
@@ -267,7 +265,7 @@ Law parse_document(const Json& doc) {
 
     if (doc.contains("single_impacts"))
         for_each_element(doc["single_impacts"], "$.single_impacts",
-                         [&](const Json& d, const std::string& path) {
+                         [&](const ReadJson& d, const std::string& path) {
                              expect_object(d, path, {"piece", "contact", "restitution"},
                                            {"piece", "contact", "restitution"});
                              SingleImpactDecl decl;
@@ -278,7 +276,7 @@ Law parse_document(const Json& doc) {
                          });
 
     if (doc.contains("outcomes"))
-        for_each_element(doc["outcomes"], "$.outcomes", [&](const Json& d, const std::string& path) {
+        for_each_element(doc["outcomes"], "$.outcomes", [&](const ReadJson& d, const std::string& path) {
             expect_object(d, path, {"name", "u_minus", "u_plus"}, {"name", "u_minus", "u_plus"});
             OutcomeDecl decl;
             decl.name = get_string(d["name"], path + ".name");
@@ -288,7 +286,7 @@ Law parse_document(const Json& doc) {
         });
 
     if (doc.contains("symmetries"))
-        for_each_element(doc["symmetries"], "$.symmetries", [&](const Json& d, const std::string& path) {
+        for_each_element(doc["symmetries"], "$.symmetries", [&](const ReadJson& d, const std::string& path) {
             expect_object(d, path, {"name", "P", "P_prime"}, {"name", "P", "P_prime"});
             SymmetryDecl decl;
             decl.name = get_string(d["name"], path + ".name");
@@ -306,7 +304,7 @@ Law parse_document(const Json& doc) {
 
     if (doc.contains("claims")) {
         std::vector<std::string> claims;
-        for_each_element(doc["claims"], "$.claims", [&](const Json& d, const std::string& path) {
+        for_each_element(doc["claims"], "$.claims", [&](const ReadJson& d, const std::string& path) {
             claims.push_back(get_string(d, path));
         });
         law.claims = claims;
@@ -348,7 +346,7 @@ std::string read_law_text(const std::string& path) {
 
 System parse_system_text(const std::string& text, const std::string& origin) {
     try {
-        const Json doc = parse_syntax(text);
+        const ReadJson doc = parse_syntax(text);
         if (!doc.is_object())
             input_error("$", std::string("expected an object, got ") + doc.type_name());
         if (!doc.contains("format") || !doc["format"].is_string())

@@ -4,12 +4,6 @@
 
 namespace impactcert {
 
-namespace {
-
-std::string idx(const std::string& base, std::size_t i) { return base + "[" + std::to_string(i) + "]"; }
-
-} // namespace
-
 Matrix two_body_impact(const Matrix& G, std::size_t k, const Rational& e) {
     Matrix Q = Matrix::identity(G.rows());
     const Rational f = (Rational(1) + e) / G(k, k);

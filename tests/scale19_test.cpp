@@ -14,6 +14,7 @@
 
 using namespace impactcert;
 using impactcert::test::q;
+using impactcert::test::check_certificate;
 using impactcert::test::source_path;
 
 namespace {
@@ -31,8 +32,6 @@ std::size_t piece_named(const Model& m, const Json& name) {
             return p;
     throw std::logic_error("no piece " + name.dump());
 }
-
-impactcert_check::Outcome check(const Json& cert) { return impactcert_check::check_text(cert.dump()); }
 
 Json& obligation(Json& cert, const std::string& id) {
     for (auto& o : cert["obligations"])
@@ -73,11 +72,11 @@ TEST_CASE("nonexpansive: a discontinuity found by P1 is refuted near its ray bef
 
     // The certificate: verified; the checker holds it to the canonical pair.
     const Json cert = make_certificate(m, verify(m, [] { Limits l; l.evidence = true; return l; }()));
-    REQUIRE(check(cert).status == impactcert_check::kVerified);
+    REQUIRE(check_certificate(cert).status == impactcert_check::kVerified);
     {
         Json bad = cert; // the witness without the ray it came from
         obligation(bad, "nonexpansive")["counterexample"].erase("discontinuity");
-        CHECK(check(bad).status == impactcert_check::kRejected);
+        CHECK(check_certificate(bad).status == impactcert_check::kRejected);
     }
     {
         // Another true violation (half the canonical eps) is not the canonical witness.
@@ -92,7 +91,7 @@ TEST_CASE("nonexpansive: a discontinuity found by P1 is refuted near its ray bef
         cw["gamma_b"] = to_json(gb2);
         cw["lhs"] = to_string(lhs);
         cw["rhs"] = to_string(rhs);
-        const auto outcome = check(bad);
+        const auto outcome = check_certificate(bad);
         CHECK(outcome.status == impactcert_check::kRejected);
         CHECK(outcome.message.find("canonical") != std::string::npos);
     }
@@ -100,7 +99,7 @@ TEST_CASE("nonexpansive: a discontinuity found by P1 is refuted near its ray bef
         // Listing pair forms after a discontinuity is rejected.
         Json bad = cert;
         obligation(bad, "nonexpansive")["data"]["pairs"] = Json::array();
-        CHECK(check(bad).status == impactcert_check::kRejected);
+        CHECK(check_certificate(bad).status == impactcert_check::kRejected);
     }
 }
 
@@ -215,14 +214,14 @@ TEST_CASE("P1 not face to face: a shared ray where two pieces differ comes befor
     }
     test::require_sound(m, r);
     const Json cert = make_certificate(m, verify(m, [] { Limits l; l.evidence = true; return l; }()));
-    REQUIRE(check(cert).status == impactcert_check::kVerified);
+    REQUIRE(check_certificate(cert).status == impactcert_check::kVerified);
     {
         // The shared-ray list cut before its failure is not P1's evidence here.
         Json bad = cert;
         auto& shared = obligation(bad, "P1")["data"]["shared"];
         REQUIRE(shared.size() >= 2);
         shared.erase(shared.size() - 1);
-        CHECK(check(bad).status != impactcert_check::kVerified);
+        CHECK(check_certificate(bad).status != impactcert_check::kVerified);
     }
     // Negative control: a continuous law whose cones meet in T-junctions (the 4-ball sort law with
     // a cone split) is decided by the intersections: every shared ray agrees.
@@ -232,7 +231,7 @@ TEST_CASE("P1 not face to face: a shared ray where two pieces differ comes befor
     CHECK(rc.at("P1").verdict == Verdict::proved);
     CHECK(rc.at("P1").method == "extreme rays of intersections across walls");
     const Json cc = make_certificate(c, verify(c, [] { Limits l; l.evidence = true; return l; }()));
-    CHECK(check(cc).status == impactcert_check::kVerified);
+    CHECK(check_certificate(cc).status == impactcert_check::kVerified);
 }
 
 TEST_CASE("Lemma D: the eps found from the quadratic is the first of 1/2, 1/4, ... (by the halving loop)",

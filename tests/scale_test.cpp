@@ -21,6 +21,7 @@
 #include <random>
 
 using namespace impactcert;
+using impactcert::test::check_certificate;
 using impactcert::test::source_path;
 
 namespace {
@@ -28,8 +29,6 @@ namespace {
 Model load(const std::string& relative) { return Model(load_law_file(source_path(relative))); }
 
 using test::require_sound;
-
-impactcert_check::Outcome check(const Json& cert) { return impactcert_check::check_text(cert.dump()); }
 
 // The law as a function: primitive ray set (sorted) -> Q.
 std::map<std::vector<Vector>, Matrix> cones_of(const Model& m) {
@@ -434,7 +433,7 @@ TEST_CASE("symmetries: the checker holds reduced certificates to the reduced lis
           "[scale][symmetries][certificate]") {
     const Model m(cradle_law(4, CradleListing::representatives, true));
     const Json cert = make_certificate(m, verify(m));
-    REQUIRE(check(cert).status == impactcert_check::kVerified);
+    REQUIRE(check_certificate(cert).status == impactcert_check::kVerified);
     {
         // The checker's --max-pieces: expanding beyond it is undecided, with the option named.
         impactcert_check::detail::Limits few;
@@ -450,7 +449,7 @@ TEST_CASE("symmetries: the checker holds reduced certificates to the reduced lis
         throw std::logic_error("no obligation " + id);
     };
     auto refused = [&](const Json& forged, const std::string& reason) {
-        const auto outcome = check(forged);
+        const auto outcome = check_certificate(forged);
         INFO(outcome.message);
         CHECK(outcome.status != impactcert_check::kVerified);
         CHECK(outcome.message.find(reason) != std::string::npos);

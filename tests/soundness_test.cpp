@@ -23,6 +23,7 @@
 #include <random>
 
 using namespace impactcert;
+using impactcert::test::check_certificate;
 using impactcert::test::source_path;
 
 namespace {
@@ -34,8 +35,6 @@ Model load(const std::string& relative) { return Model(load_law_file(source_path
 Json certificate_of(const Model& m, const Limits& limits = {}) {
     return make_certificate(m, verify(m, limits));
 }
-
-impactcert_check::Outcome check(const Json& cert) { return impactcert_check::check_text(cert.dump()); }
 
 // A forged certificate whose law hash is recomputed (the checker must not lean on the hash).
 Json rehash(Json cert) {
@@ -151,9 +150,9 @@ TEST_CASE("soundness 5: beyond a limit a claim is undecided (exit 3), naming the
     CHECK(std::string(r.verdict()) == "undecided");
     // An undecided certificate verifies as undecided; it cannot be turned into "proved".
     Json cert = make_certificate(m, r);
-    CHECK(check(cert).status == impactcert_check::kVerified);
+    CHECK(check_certificate(cert).status == impactcert_check::kVerified);
     cert["verdict"] = "proved";
-    CHECK(check(cert).status == impactcert_check::kRejected);
+    CHECK(check_certificate(cert).status == impactcert_check::kRejected);
     // With the default limit it is decided.
     CHECK(verify(m).at("energetic").verdict == Verdict::refuted);
     // The KKT enumeration refuses sizes whose 2^N would overflow, instead of shifting by N.
@@ -179,7 +178,7 @@ TEST_CASE("soundness 2a: a law without pieces is never verified", "[soundness][c
         o.erase("counterexample");
     }
     cert["verdict"] = "proved";
-    const auto out = check(rehash(cert));
+    const auto out = check_certificate(rehash(cert));
     INFO(out.message);
     CHECK(out.status != impactcert_check::kVerified);
     CHECK(out.message.find("$.law.pieces") != std::string::npos);
@@ -197,7 +196,7 @@ TEST_CASE("soundness 2b: a borrowed witness is accepted only where the rules all
         Json w = fan_witness;
         w["via"] = via;
         forged["obligations"][p2]["counterexample"] = w;
-        const auto out = check(forged);
+        const auto out = check_certificate(forged);
         INFO(via << ": " << out.message);
         // Refused for the rule it was written for (not, say, for a missing key).
         CHECK(out.status == impactcert_check::kRejected);
@@ -212,7 +211,7 @@ TEST_CASE("soundness 2b: a borrowed witness is accepted only where the rules all
     w["via"] = "fan";
     paper["obligations"][ne]["counterexample"] = w;
     paper["verdict"] = "refuted";
-    const auto out = check(paper);
+    const auto out = check_certificate(paper);
     CHECK(out.status == impactcert_check::kRejected);
     CHECK(out.message == "rejected: $.obligations[9].counterexample.via: S is a function on R^c: nothing to borrow");
 }
@@ -224,22 +223,22 @@ TEST_CASE("soundness 2c: skipped claims, unknown or duplicate claim ids and a wr
         const std::size_t k = index_of(c, "P2");
         c["obligations"][k]["verdict"] = "skipped";
         c["obligations"][k]["data"] = Json::object();
-        CHECK(check(c).status != impactcert_check::kVerified);
+        CHECK(check_certificate(c).status != impactcert_check::kVerified);
     }
     for (const Json& claims : {Json::array({"fan", "bogus"}), Json::array({"fan", "fan"}), Json::array(),
                                Json::array({"P2", 3})}) {
         Json c = cert;
         c["law"]["claims"] = claims;
-        const auto out = check(rehash(c));
+        const auto out = check_certificate(rehash(c));
         INFO(claims.dump() << ": " << out.message);
         CHECK(out.status != impactcert_check::kVerified);
     }
     Json c = cert;
     c["law"]["format"] = "impactcert-law/2";
-    CHECK(check(rehash(c)).status != impactcert_check::kVerified);
+    CHECK(check_certificate(rehash(c)).status != impactcert_check::kVerified);
     c = cert;
     c["law"]["pieces"][0]["colour"] = "red";
-    CHECK(check(rehash(c)).status != impactcert_check::kVerified);
+    CHECK(check_certificate(rehash(c)).status != impactcert_check::kVerified);
 }
 
 TEST_CASE("soundness 3: via cycles, added keys and deep nesting give one line and exit 1 or 2", "[soundness][checker]") {
@@ -278,7 +277,7 @@ TEST_CASE("soundness 3: via cycles, added keys and deep nesting give one line an
         expected.push_back("malformed: " + path + ".extra: unknown key");
     }
     for (std::size_t f = 0; f < forged.size(); ++f) {
-        const auto out = check(forged[f]);
+        const auto out = check_certificate(forged[f]);
         INFO(out.message);
         CHECK(out.message == expected[f]);
         CHECK(out.status == (expected[f].rfind("rejected", 0) == 0 ? impactcert_check::kRejected : impactcert_check::kMalformed));
@@ -294,7 +293,7 @@ TEST_CASE("soundness 3: via cycles, added keys and deep nesting give one line an
     }
     Json c = cert;
     c["law"]["pieces"][0]["note"] = nested;
-    CHECK(check(c).status == impactcert_check::kMalformed);
+    CHECK(check_certificate(c).status == impactcert_check::kMalformed);
 }
 
 TEST_CASE("soundness 2: every certificate of the adversarial laws verifies, and survives its own mutations", "[soundness][checker]") {
@@ -303,7 +302,7 @@ TEST_CASE("soundness 2: every certificate of the adversarial laws verifies, and 
                              "tests/laws/gap-newton4-missing-cone.json"}) {
         INFO(path);
         const Json cert = certificate_of(load(path));
-        REQUIRE(check(cert).status == impactcert_check::kVerified);
+        REQUIRE(check_certificate(cert).status == impactcert_check::kVerified);
         // Delete each chamber or intersection entry, or change one coordinate: rejected.
         for (std::size_t k = 0; k < cert["obligations"].size(); ++k) {
             const Json& data = cert["obligations"][k]["data"];
@@ -312,10 +311,10 @@ TEST_CASE("soundness 2: every certificate of the adversarial laws verifies, and 
                     continue;
                 Json dropped = cert;
                 dropped["obligations"][k]["data"][list].erase(0);
-                CHECK(check(dropped).status != impactcert_check::kVerified);
+                CHECK(check_certificate(dropped).status != impactcert_check::kVerified);
                 Json doubled = cert;
                 doubled["obligations"][k]["data"][list].push_back(data[list][0]);
-                CHECK(check(doubled).status != impactcert_check::kVerified);
+                CHECK(check_certificate(doubled).status != impactcert_check::kVerified);
             }
         }
     }

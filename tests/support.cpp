@@ -344,4 +344,6 @@ CliRun run_cli(const std::string& args, const std::string& stdin_text) {
     return run;
 }
 
+impactcert_check::Outcome check_certificate(const Json& cert) { return impactcert_check::check_text(cert.dump()); }
+
 } // namespace impactcert::test

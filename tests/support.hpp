@@ -9,6 +9,8 @@
 //   - run_cli(args, stdin): runs the built `impactcert` binary, returns exit status and output.
 #pragma once
 
+#include "impactcert_check.hpp"
+#include "json.hpp"
 #include "law.hpp"
 #include "obligations.hpp"
 
@@ -44,6 +46,9 @@ void revalidate(const Model& model, const ObligationResult& result);
 // Every refuted obligation's witness re-validated, and the certificate of `report` verified by
 // impactcert-check's library; REQUIREs on failure.
 void require_sound(const Model& model, const VerifyReport& report);
+
+// impactcert-check's library on a certificate held as JSON.
+impactcert_check::Outcome check_certificate(const Json& cert);
 
 struct CliRun {
     int status = -1;
