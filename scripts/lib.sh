@@ -3,7 +3,7 @@
 set -euo pipefail
 
 IMPACTCERT_ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-IMPACTCERT_PACKAGES=(build-essential cmake libcgal-dev libgmp-dev catch2 nlohmann-json3-dev
+IMPACTCERT_PACKAGES=(build-essential cmake ninja-build libcgal-dev libgmp-dev catch2 nlohmann-json3-dev
                      libcli11-dev libbenchmark-dev libssl-dev z3 libppl-dev python3 libbox2d-dev)
 
 ensure_packages() {
@@ -26,11 +26,16 @@ build_jobs() {
     nproc 2>/dev/null || getconf _NPROCESSORS_ONLN 2>/dev/null || echo 2
 }
 
-# configure_tree DIR [cmake options...]: configure (cmake redoes only what changed).
+# configure_tree DIR [cmake options...]: configure (cmake redoes only what changed). A new tree
+# uses Ninja, which starts a target's compilations before the targets it links are linked (the
+# two builds of scripts/test keep both cores busy to the end); a tree configured earlier keeps
+# its generator.
 configure_tree() {
     local dir="$1"
     shift
-    cmake -S "$IMPACTCERT_ROOT" -B "$dir" "$@" >/dev/null
+    local generator=()
+    if [ ! -f "$dir/CMakeCache.txt" ]; then generator=(-G Ninja); fi
+    cmake -S "$IMPACTCERT_ROOT" -B "$dir" "${generator[@]}" "$@" >/dev/null
 }
 
 # build_tree DIR [cmake options...]: configure and build everything, one job per core.

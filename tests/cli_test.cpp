@@ -192,13 +192,20 @@ TEST_CASE("scripts: verify configures as before, builds only impactcert, one job
         " && chmod +x bin/* build/impactcert";
     REQUIRE(std::system(setup.c_str()) == 0);
     REQUIRE(std::system(("PATH=" + root + "/bin:$PATH " + root + "/scripts/verify --json 2>/dev/null").c_str()) == 0);
-    CHECK(impactcert::test::read_file(log) == "cmake -S " + root + " -B " + root + "/build -DCMAKE_BUILD_TYPE=Release\n"
+    CHECK(impactcert::test::read_file(log) == "cmake -S " + root + " -B " + root + "/build -G Ninja -DCMAKE_BUILD_TYPE=Release\n"
                                   "cmake --build " + root + "/build --target impactcert -j 7\n"
                                   "impactcert verify --json\n");
+    // A tree configured before keeps its generator (cmake refuses to change it).
+    std::remove(log.c_str());
+    REQUIRE(std::system(("touch " + root + "/build/CMakeCache.txt && PATH=" + root + "/bin:$PATH " + root +
+                         "/scripts/verify 2>/dev/null").c_str()) == 0);
+    CHECK(impactcert::test::read_file(log) == "cmake -S " + root + " -B " + root + "/build -DCMAKE_BUILD_TYPE=Release\n"
+                                  "cmake --build " + root + "/build --target impactcert -j 7\n"
+                                  "impactcert verify\n");
     // build_tree (scripts/test) builds everything, also one job per core.
     std::remove(log.c_str());
     REQUIRE(std::system(("PATH=" + root + "/bin:$PATH bash -c 'source " + root + "/scripts/lib.sh && build_tree " + root +
                          "/b -DX=1' 2>/dev/null").c_str()) == 0);
-    CHECK(impactcert::test::read_file(log) == "cmake -S " + root + " -B " + root + "/b -DX=1\ncmake --build " + root + "/b -j 7\n");
+    CHECK(impactcert::test::read_file(log) == "cmake -S " + root + " -B " + root + "/b -G Ninja -DX=1\ncmake --build " + root + "/b -j 7\n");
     std::system(("rm -rf " + root).c_str());
 }
