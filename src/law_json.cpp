@@ -41,45 +41,64 @@ std::string frames_path(const std::vector<Frame>& stack) {
     return path;
 }
 
-ReadJson parse_syntax(const std::string& text) {
-    constexpr std::size_t kMaxDepth = 64;
-    std::vector<Frame> stack;
-    auto element_begins = [&] {
-        if (!stack.empty() && !stack.back().object)
-            ++stack.back().index;
-    };
-    ReadJson::parser_callback_t cb = [&](int, ReadJson::parse_event_t event, ReadJson& parsed) -> bool {
-        switch (event) {
-        case ReadJson::parse_event_t::object_start:
-        case ReadJson::parse_event_t::array_start:
-            element_begins();
-            // A law is at most 4 deep; far deeper input would make recursive code (dump() in a
-            // message) overflow the stack.
-            if (stack.size() >= kMaxDepth)
-                input_error(frames_path(stack), "nested more than " + std::to_string(kMaxDepth) + " levels deep");
-            stack.push_back(Frame{event == ReadJson::parse_event_t::object_start, {}, 0, {}});
-            break;
-        case ReadJson::parse_event_t::object_end:
-        case ReadJson::parse_event_t::array_end:
-            stack.pop_back();
-            break;
-        case ReadJson::parse_event_t::key: {
-            Frame& f = stack.back();
-            f.key = parsed.get<std::string>();
-            if (!f.keys.insert(f.key).second) {
-                stack.push_back(Frame{});
-                input_error(frames_path(stack) , "duplicate key " + in_quotes(f.key));
-            }
-            break;
-        }
-        case ReadJson::parse_event_t::value:
-            element_begins();
-            break;
+// Keys and depth are checked in a first pass by a SAX handler that builds nothing; the document is
+// then parsed without a callback (nlohmann's callback parser rescans the enclosing array at the
+// end of every object: quadratic in the number of pieces of a law).
+class SyntaxCheck {
+  public:
+    bool null() { return element_begins(); }
+    bool boolean(bool) { return element_begins(); }
+    bool number_integer(ReadJson::number_integer_t) { return element_begins(); }
+    bool number_unsigned(ReadJson::number_unsigned_t) { return element_begins(); }
+    bool number_float(ReadJson::number_float_t, const ReadJson::string_t&) { return element_begins(); }
+    bool string(ReadJson::string_t&) { return element_begins(); }
+    bool binary(ReadJson::binary_t&) { return element_begins(); }
+    bool start_object(std::size_t) { return open(true); }
+    bool start_array(std::size_t) { return open(false); }
+    bool end_object() { return close(); }
+    bool end_array() { return close(); }
+    bool key(ReadJson::string_t& k) {
+        Frame& f = stack_.back();
+        f.key = k;
+        if (!f.keys.insert(f.key).second) {
+            const std::string repeated = f.key;
+            stack_.push_back(Frame{});
+            input_error(frames_path(stack_), "duplicate key " + in_quotes(repeated));
         }
         return true;
-    };
+    }
+    // A syntax error: the exception ReadJson::parse would throw (turned into line:column below).
+    template <class Exception> bool parse_error(std::size_t, const std::string&, const Exception& ex) { throw ex; }
+
+  private:
+    static constexpr std::size_t kMaxDepth = 64;
+    std::vector<Frame> stack_;
+
+    bool element_begins() {
+        if (!stack_.empty() && !stack_.back().object)
+            ++stack_.back().index;
+        return true;
+    }
+    bool open(bool object) {
+        element_begins();
+        // A law is at most 4 deep; far deeper input would make recursive code (dump() in a
+        // message) overflow the stack.
+        if (stack_.size() >= kMaxDepth)
+            input_error(frames_path(stack_), "nested more than " + std::to_string(kMaxDepth) + " levels deep");
+        stack_.push_back(Frame{object, {}, 0, {}});
+        return true;
+    }
+    bool close() {
+        stack_.pop_back();
+        return true;
+    }
+};
+
+ReadJson parse_syntax(const std::string& text) {
     try {
-        return ReadJson::parse(text, cb);
+        SyntaxCheck check;
+        ReadJson::sax_parse(text, &check);
+        return ReadJson::parse(text);
     } catch (const ReadJson::parse_error& e) {
         // Turn the byte offset into line:column.
         std::size_t line = 1, col = 1;
