@@ -393,7 +393,7 @@ int main(int argc, char** argv) {
         eval_float_args.impl_cmd_given = eval_cmd->count("--impl-cmd") > 0;
         return finished(run_eval(law_path, velocities, eval_args, as_float, eval_float_args));
     } catch (const InputError& e) {
-        std::cerr << "impactcert: " << e.what() << "\n";
+        std::cerr << "impactcert: " << one_line_text(e.what()) << "\n";
         return kExitBadInput;
     } catch (const DeriveLimit& e) {
         std::cerr << "impactcert: undecided: derive: " << e.what() << "\n";

@@ -94,27 +94,41 @@ class SyntaxCheck {
     }
 };
 
+// "line L, column C" of a byte offset (1-based, as editors count).
+std::string line_and_column(const std::string& text, std::size_t byte) {
+    std::size_t line = 1, col = 1;
+    for (std::size_t i = 0; i < byte && i < text.size(); ++i) {
+        if (text[i] == '\n') {
+            ++line;
+            col = 1;
+        } else {
+            ++col;
+        }
+    }
+    return "line " + std::to_string(line) + ", column " + std::to_string(col);
+}
+
 ReadJson parse_syntax(const std::string& text) {
+    // nlohmann's reader ends the document at a NUL byte: whatever follows (a repeated key, a
+    // second document) would never be read.
+    if (const auto nul = text.find('\0'); nul != std::string::npos)
+        throw InputError(line_and_column(text, nul) + ": malformed JSON: a NUL character (nothing may follow the end of "
+                                                      "the document)");
     try {
         SyntaxCheck check;
         ReadJson::sax_parse(text, &check);
         return ReadJson::parse(text);
     } catch (const ReadJson::parse_error& e) {
-        // Turn the byte offset into line:column.
-        std::size_t line = 1, col = 1;
-        for (std::size_t i = 0; i + 1 < e.byte && i < text.size(); ++i) {
-            if (text[i] == '\n') {
-                ++line;
-                col = 1;
-            } else {
-                ++col;
-            }
-        }
         std::string what = e.what();
         if (auto p = what.find("syntax error"); p != std::string::npos)
             what = what.substr(p);
-        throw InputError("line " + std::to_string(line) + ", column " + std::to_string(col) +
-                         ": malformed JSON: " + what);
+        throw InputError(line_and_column(text, e.byte > 0 ? e.byte - 1 : 0) + ": malformed JSON: " + what);
+    } catch (const ReadJson::exception& e) {
+        // A number beyond a double's range (1e400), which nlohmann reports as out_of_range.
+        std::string what = e.what();
+        if (auto p = what.find("] "); p != std::string::npos)
+            what = what.substr(p + 2);
+        throw InputError("malformed JSON: " + what);
     }
 }
 

@@ -467,3 +467,34 @@ TEST_CASE("defect 18.10g: impactcert-check as a program: exit 0, 1, 2 and 3, and
         REQUIRE(run(std::string(args) + (std::string(args).find(".json") == std::string::npos && *args ? " " + cradle : ""), &out) == 2);
     }
 }
+
+TEST_CASE("reading JSON: NUL bytes, control characters in keys, empty and 4097th keys give one exact line", "[reliability][cli]") {
+    // The law reader: an unknown key holding a newline and a terminal escape is named, escaped.
+    const std::string dir = "/tmp/impactcert-rel-keys";
+    std::filesystem::create_directories(dir);
+    std::ofstream(dir + "/keys.json") << R"({"format": "impactcert-law/1", "a\nb\u001b[31m": 1})";
+    const auto run = run_cli("verify --law " + dir + "/keys.json");
+    CHECK(run.status == 2);
+    INFO(run.err);
+    CHECK(std::count(run.err.begin(), run.err.end(), '\n') == 1);
+    CHECK(run.err.find('\x1b') == std::string::npos);
+    CHECK(run.err.find("\\u001b[31m") != std::string::npos);
+    // The checker: whatever follows a NUL byte would not be read, so the text is refused.
+    const std::string cert = test::read_file(test::source_path("proofs/newton4/certificate.json"));
+    REQUIRE(impactcert_check::check_text(cert).status == impactcert_check::kVerified);
+    const auto nul = impactcert_check::check_text(cert + std::string(1, '\0') + R"({"format": 1, "format": 2})");
+    CHECK(nul.status == impactcert_check::kMalformed);
+    CHECK(nul.message.find("a NUL character") != std::string::npos);
+    // An empty key repeated is a repeated key (it once read as the 4096-key limit), and the
+    // limit names itself.
+    const auto empty = impactcert_check::check_text(R"({"": 1, "": 2})");
+    CHECK(empty.status == impactcert_check::kMalformed);
+    INFO(empty.message);
+    CHECK(empty.message.find("$.: duplicate key \"\"") != std::string::npos);
+    std::string many = "{";
+    for (int k = 0; k < 4097; ++k)
+        many += (k ? ", \"k" : "\"k") + std::to_string(k) + "\": 0";
+    const auto too_many = impactcert_check::check_text(many + "}");
+    CHECK(too_many.status == impactcert_check::kMalformed);
+    CHECK(too_many.message.find("more than 4096 keys in one object") != std::string::npos);
+}

@@ -197,7 +197,7 @@ class KeyCheck {
         // linear search, so an object of a million keys would take half an hour to read.
         if (level.keys.size() >= 4096) {
             levels_.push_back({false, {}, {}, 0});
-            throw DuplicateKey{path(), ""};
+            throw DuplicateKey{path(), "", DuplicateKey::Kind::too_many};
         }
         if (!level.keys.insert(k).second) {
             levels_.push_back({false, {}, {}, 0});
@@ -242,6 +242,8 @@ class KeyCheck {
 } // namespace
 
 Json parse_unique_keys(const std::string& text) {
+    if (const auto nul = text.find('\0'); nul != std::string::npos)
+        throw DuplicateKey{"byte " + std::to_string(nul), "", DuplicateKey::Kind::nul_byte};
     KeyCheck keys;
     Json::sax_parse(text, &keys);
     return Json::parse(text);
@@ -258,9 +260,7 @@ Outcome check_text(const std::string& text, const Limits& limits) {
         } catch (const Json::exception& e) {
             return {kMalformed, one_line(std::string("malformed JSON: ") + e.what())};
         } catch (const DuplicateKey& d) {
-            if (d.key.empty())
-                return {kMalformed, one_line("malformed: " + d.path + ": more than 4096 keys in one object")};
-            return {kMalformed, one_line("malformed: " + d.path + ": duplicate key \"" + d.key + "\"")};
+            return {kMalformed, one_line("malformed: " + d.message())};
         }
         return outcome_of([&] {
             check(cert, limits);

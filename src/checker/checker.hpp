@@ -197,8 +197,21 @@ namespace detail {
 int check(const Json& cert, const Limits& limits);
 } // namespace detail
 std::size_t nesting_depth(const std::string& text);
+// What the key pass refuses before anything is parsed: a repeated key, an object of more than
+// 4096 keys, or a NUL byte (nlohmann's reader stops at one, so whatever follows it -- a repeated
+// key, a second document -- would never be read).
 struct DuplicateKey {
+    enum class Kind { repeated, too_many, nul_byte };
     std::string path, key;
+    Kind kind = Kind::repeated;
+    std::string message() const {
+        switch (kind) {
+        case Kind::too_many: return path + ": more than 4096 keys in one object";
+        case Kind::nul_byte: return path + ": a NUL character (nothing may follow the end of the document)";
+        case Kind::repeated: break;
+        }
+        return path + ": duplicate key \"" + key + "\"";
+    }
 };
 detail::Json parse_unique_keys(const std::string& text);
 

@@ -290,7 +290,7 @@ Outcome check_parts(const std::vector<std::string>& texts, const std::vector<std
             } catch (const Json::exception& e) {
                 return {kMalformed, one_line(names[k] + ": malformed JSON: " + e.what())};
             } catch (const DuplicateKey& d) {
-                return {kMalformed, one_line(names[k] + ": malformed: " + d.path + ": duplicate key \"" + d.key + "\"")};
+                return {kMalformed, one_line(names[k] + ": malformed: " + d.message())};
             }
         }
         return outcome_of([&] {
