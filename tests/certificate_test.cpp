@@ -1,11 +1,13 @@
 #include "certificate.hpp"
 #include "impactcert_check.hpp"
+#include "linalg.hpp"
 #include "law_json.hpp"
 #include "paper_law.hpp"
 #include "support.hpp"
 
 #include <catch2/catch.hpp>
 #include <cctype>
+#include <random>
 #include <sstream>
 
 #include <dirent.h>
@@ -387,4 +389,51 @@ TEST_CASE("certificates: the checker rejects every single-change mutation of con
     CHECK(tried > 2000 / test::kSanitizerDivisor);
     CHECK(rejected + malformed + accepted == tried);
     CHECK(unnamed == 0);
+}
+
+TEST_CASE("checker: products of integer rows and columns are summed as integers, equal to the rational sums", "[certificate]") {
+    // The checker's mul sums integer-valued entries with mpz_addmul; any fraction in a row or a
+    // column takes the rational sum. Both must give what the textbook triple loop gives, on
+    // matrices that mix integral rows, fractional rows, zeros and large entries.
+    using impactcert_check::detail::Mat;
+    using impactcert_check::detail::Q;
+    using impactcert_check::detail::Vec;
+    std::mt19937_64 rng(19);
+    auto entry = [&](int kind) -> Q {
+        const long v = static_cast<long>(rng() % 19) - 9;
+        switch (kind) {
+        case 0: return Q(v);                                          // small integer (often 0)
+        case 1: return Q(mpz_class(v) * mpz_class("123456789012345678901234567890"));
+        default: return Q(mpz_class(v), mpz_class(static_cast<long>(rng() % 7) + 2)); // a fraction
+        }
+    };
+    for (int trial = 0; trial < 300; ++trial) {
+        const std::size_t n = 1 + rng() % 6, m = 1 + rng() % 6, p = 1 + rng() % 6;
+        Mat a(n, Vec(m)), b(m, Vec(p));
+        Vec x(m);
+        const int kind_a = static_cast<int>(rng() % 3), kind_b = static_cast<int>(rng() % 3);
+        for (auto& row : a)
+            for (auto& e : row)
+                e = entry(rng() % 4 == 0 ? kind_a : 0);
+        for (auto& row : b)
+            for (auto& e : row)
+                e = entry(rng() % 4 == 0 ? kind_b : 0);
+        for (auto& e : x)
+            e = entry(rng() % 4 == 0 ? kind_b : 0);
+        const Mat c = impactcert_check::detail::mul(a, b);
+        const Vec y = impactcert_check::detail::mul(a, x);
+        for (std::size_t i = 0; i < n; ++i) {
+            for (std::size_t j = 0; j < p; ++j) {
+                Q want = 0;
+                for (std::size_t k = 0; k < m; ++k)
+                    want += a[i][k] * b[k][j];
+                REQUIRE(c[i][j] == want);
+                REQUIRE(c[i][j].get_den() > 0); // canonical
+            }
+            Q want = 0;
+            for (std::size_t k = 0; k < m; ++k)
+                want += a[i][k] * x[k];
+            REQUIRE(y[i] == want);
+        }
+    }
 }

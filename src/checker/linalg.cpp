@@ -13,24 +13,56 @@ Mat eye(std::size_t n) {
         m[i][i] = 1;
     return m;
 }
+// Products of integer-valued entries (den = 1, the common case: cradle laws, symmetries, rays)
+// are summed as integers (mpz_addmul), exactly the same values without a gcd per term; any
+// fraction in a row or column takes the rational sum.
+namespace {
+bool integral(const Q& x) { return mpz_cmp_ui(x.get_den_mpz_t(), 1) == 0; }
+} // namespace
+
 Mat mul(const Mat& a, const Mat& b) {
-    Mat c = zeros(a.size(), b[0].size());
-    for (std::size_t i = 0; i < a.size(); ++i)
-        for (std::size_t k = 0; k < b.size(); ++k) {
-            if (sgn(a[i][k]) == 0)
-                continue; // exact: a zero term adds nothing (laws are mostly sparse)
-            for (std::size_t j = 0; j < b[0].size(); ++j)
-                if (sgn(b[k][j]) != 0)
+    const std::size_t rows = a.size(), inner = b.size(), cols = b[0].size();
+    Mat c = zeros(rows, cols);
+    std::vector<char> col_int(cols, 1);
+    for (std::size_t k = 0; k < inner; ++k)
+        for (std::size_t j = 0; j < cols; ++j)
+            col_int[j] = col_int[j] && integral(b[k][j]);
+    mpz_class acc;
+    for (std::size_t i = 0; i < rows; ++i) {
+        const bool row_int = std::all_of(a[i].begin(), a[i].end(), integral);
+        for (std::size_t j = 0; j < cols; ++j) {
+            if (row_int && col_int[j]) {
+                acc = 0;
+                for (std::size_t k = 0; k < inner; ++k)
+                    if (sgn(a[i][k]) != 0 && sgn(b[k][j]) != 0)
+                        mpz_addmul(acc.get_mpz_t(), a[i][k].get_num_mpz_t(), b[k][j].get_num_mpz_t());
+                c[i][j] = acc;
+                continue;
+            }
+            for (std::size_t k = 0; k < inner; ++k)
+                if (sgn(a[i][k]) != 0 && sgn(b[k][j]) != 0) // exact: a zero term adds nothing
                     c[i][j] += a[i][k] * b[k][j];
         }
+    }
     return c;
 }
 Vec mul(const Mat& a, const Vec& x) {
+    const bool x_int = std::all_of(x.begin(), x.end(), integral);
     Vec y(a.size(), Q(0));
-    for (std::size_t i = 0; i < a.size(); ++i)
+    mpz_class acc;
+    for (std::size_t i = 0; i < a.size(); ++i) {
+        if (x_int && std::all_of(a[i].begin(), a[i].end(), integral)) {
+            acc = 0;
+            for (std::size_t k = 0; k < x.size(); ++k)
+                if (sgn(a[i][k]) != 0 && sgn(x[k]) != 0)
+                    mpz_addmul(acc.get_mpz_t(), a[i][k].get_num_mpz_t(), x[k].get_num_mpz_t());
+            y[i] = acc;
+            continue;
+        }
         for (std::size_t k = 0; k < x.size(); ++k)
             if (sgn(a[i][k]) != 0 && sgn(x[k]) != 0)
                 y[i] += a[i][k] * x[k];
+    }
     return y;
 }
 Mat tr(const Mat& a) {

@@ -74,11 +74,12 @@ const Checker::SymmetryCheck& Checker::symmetry_check() {
         }
         std::vector<std::size_t> sigma(P());
         for (std::size_t p = 0; p < P() && s.witness.is_null(); ++p) {
-            std::vector<Vec> image;
+            std::vector<Vec> image, Pr; // primitive images, and P r itself (for (iii))
             std::vector<std::size_t> ids;
             bool known = true;
             for (const auto& r : pc(p).rays) {
-                image.push_back(primitive(mul(sym.P, r)));
+                Pr.push_back(mul(sym.P, r));
+                image.push_back(primitive(Pr.back()));
                 const auto it = law_.ray_index.find(image.back());
                 known = known && it != law_.ray_index.end();
                 ids.push_back(known ? it->second : 0);
@@ -94,8 +95,9 @@ const Checker::SymmetryCheck& Checker::symmetry_check() {
             }
             const std::size_t q = found->second;
             sigma[p] = q;
-            for (const auto& r : pc(p).rays) {
-                const Vec lhs = mul(pc(q).Q_, mul(sym.P, r)), rhs = mul(sym.P_prime, mul(pc(p).Q_, r));
+            for (std::size_t k = 0; k < pc(p).rays.size(); ++k) {
+                const Vec& r = pc(p).rays[k];
+                const Vec lhs = mul(pc(q).Q_, Pr[k]), rhs = mul(sym.P_prime, mul(pc(p).Q_, r));
                 if (lhs != rhs) {
                     s.witness = Json{{"symmetry", sym.name}, {"piece", name(p)}, {"image_piece", name(q)},
                                      {"gamma", jvec(r)}, {"lhs", jvec(lhs)}, {"rhs", jvec(rhs)}};
