@@ -346,7 +346,7 @@ int main(int argc, char** argv) {
                 ch = ' ';
         while (!message.empty() && message.back() == ' ')
             message.pop_back();
-        std::cerr << "impactcert: " << message << "\n";
+        std::cerr << "impactcert: " << one_line_text(message) << "\n";
         return kExitBadInput;
     }
     limits.integer_kernels = !no_integer_kernels;

@@ -404,7 +404,11 @@ TEST_CASE("checker: products of integer rows and columns are summed as integers,
         switch (kind) {
         case 0: return Q(v);                                          // small integer (often 0)
         case 1: return Q(mpz_class(v) * mpz_class("123456789012345678901234567890"));
-        default: return Q(mpz_class(v), mpz_class(static_cast<long>(rng() % 7) + 2)); // a fraction
+        default: { // a fraction (canonical, as the checker's reader makes every value)
+            Q f(mpz_class(v), mpz_class(static_cast<long>(rng() % 7) + 2));
+            f.canonicalize();
+            return f;
+        }
         }
     };
     for (int trial = 0; trial < 300; ++trial) {
@@ -428,7 +432,8 @@ TEST_CASE("checker: products of integer rows and columns are summed as integers,
                 for (std::size_t k = 0; k < m; ++k)
                     want += a[i][k] * b[k][j];
                 REQUIRE(c[i][j] == want);
-                REQUIRE(c[i][j].get_den() > 0); // canonical
+                REQUIRE(gcd(c[i][j].get_num(), c[i][j].get_den()) == 1); // canonical
+                REQUIRE(c[i][j].get_den() > 0);
             }
             Q want = 0;
             for (std::size_t k = 0; k < m; ++k)
