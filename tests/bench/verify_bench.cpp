@@ -240,9 +240,11 @@ int main(int argc, char** argv) {
     const std::string five = dir + "/five.json";
     const double d5 = row("5-ball chain 2,1,3,1,2, e = 9/10: derive",
                           {cli, "derive", "sequential", "--masses", "2,1,3,1,2", "--restitution", "9/10", "-o", five}, 0, 0);
+    const bool derived5 = g_last_status == 0;
     const double v5 = row("5-ball chain: verify", {cli, "verify", "--law", five}, 0, 0);
-    std::printf("  %-62s %9.3f s                   target < 3 s: %s\n", "5-ball chain: derive + verify", (d5 + v5) / 1000.0,
-                d5 + v5 < 3000 ? "met" : "MISSED");
+    const bool decided5 = g_last_status == 1; // the law is discontinuous: refuted is the right answer
+    std::printf("  %-62s %9.3f s                   target < 3 s, derived and refuted: %s\n",
+                "5-ball chain: derive + verify", (d5 + v5) / 1000.0, d5 + v5 < 3000 && derived5 && decided5 ? "met" : "MISSED");
     const std::string four = dir + "/four.json";
     run_once({cli, "derive", "sequential", "--masses", "1,2,3,4", "--restitution", "1/2", "-o", four});
     row("4-ball chain 1,2,3,4, e = 1/2: verify (53 cones)", {cli, "verify", "--law", four}, 0.5, 0, 1);
