@@ -200,7 +200,7 @@ std::size_t nesting_depth(const std::string& text);
 // What the key pass refuses before anything is parsed: a repeated key, an object of more than
 // 4096 keys, or a NUL byte (nlohmann's reader stops at one, so whatever follows it -- a repeated
 // key, a second document -- would never be read).
-struct DuplicateKey {
+struct RefusedText {
     enum class Kind { repeated, too_many, nul_byte };
     std::string path, key;
     Kind kind = Kind::repeated;

@@ -289,7 +289,7 @@ Outcome check_parts(const std::vector<std::string>& texts, const std::vector<std
                 parts.push_back(Part{names[k], parse_unique_keys(texts[k]), 0});
             } catch (const Json::exception& e) {
                 return {kMalformed, one_line(names[k] + ": malformed JSON: " + e.what())};
-            } catch (const DuplicateKey& d) {
+            } catch (const RefusedText& d) {
                 return {kMalformed, one_line(names[k] + ": malformed: " + d.message())};
             }
         }
