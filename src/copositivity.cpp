@@ -1,5 +1,8 @@
 #include "copositivity.hpp"
 
+#include "int_kernel.hpp"
+
+#include <optional>
 #include <stdexcept>
 
 namespace impactcert {
@@ -84,9 +87,134 @@ bool all_nonnegative(const Matrix& A) {
     return true;
 }
 
+// One face of the KKT enumeration in machine integers (proofs/README.md, "Integer kernels",
+// Lemma K3): the bordered system [[a_JJ, 1], [1^T, 0]] [x; y'] = [0; 1] of a = den A, reduced by
+// fraction-free Gauss-Jordan elimination to det I [x; y'] = num. Every division is checked to be
+// exact and every value to fit int64; when one is not, the face is solved over GMP instead.
+enum class IntFace { solved, singular, overflow };
+
+IntFace solve_face_int(const intk::IntMatrix& a, const std::vector<std::size_t>& J, std::vector<intk::i64>& m,
+                       intk::i64& det) {
+    using intk::i128;
+    using intk::i64;
+    const std::size_t k = J.size(), n = k + 1, w = n + 1; // n x (n + 1), the last column the rhs
+    m.assign(n * w, 0);
+    for (std::size_t r = 0; r < k; ++r) {
+        for (std::size_t c = 0; c < k; ++c)
+            m[r * w + c] = a(J[r], J[c]);
+        m[r * w + k] = 1;
+        m[k * w + r] = 1;
+    }
+    m[k * w + n] = 1;
+    i64 prev = 1;
+    for (std::size_t col = 0; col < n; ++col) {
+        std::size_t pivot = col;
+        while (pivot < n && m[pivot * w + col] == 0)
+            ++pivot;
+        if (pivot == n)
+            return IntFace::singular;
+        if (pivot != col)
+            for (std::size_t j = 0; j < w; ++j)
+                std::swap(m[pivot * w + j], m[col * w + j]);
+        const i64 p = m[col * w + col];
+        for (std::size_t r = 0; r < n; ++r) {
+            if (r == col)
+                continue;
+            const i64 f = m[r * w + col];
+            for (std::size_t j = 0; j < w; ++j) {
+                // |p m_rj|, |f m_colj| < 2^126 (symmetric int64 range): the difference fits i128.
+                const i128 t = static_cast<i128>(p) * m[r * w + j] - static_cast<i128>(f) * m[col * w + j];
+                if (t % prev != 0 || !intk::fits(t / prev))
+                    return IntFace::overflow;
+                m[r * w + j] = static_cast<i64>(t / prev);
+            }
+        }
+        prev = p;
+    }
+    det = prev; // every diagonal entry is now prev
+    return IntFace::solved;
+}
+
+// The same elimination over GMP integers, for the faces whose minors leave int64: no gcd per
+// operation, and the scratch integers keep their limbs from face to face.
+class MpzFaces {
+  public:
+    explicit MpzFaces(const Matrix& A) : n_(A.rows()), a_(n_ * n_), m_((n_ + 1) * (n_ + 2)) {
+        mpz_init_set_ui(den_, 1);
+        mpz_inits(t_, prev_, nullptr);
+        for (std::size_t i = 0; i < n_ * n_; ++i)
+            mpz_lcm(den_, den_, mpq_denref(A(i / n_, i % n_).mpq()));
+        for (std::size_t i = 0; i < n_ * n_; ++i) {
+            mpz_divexact(a_[i].z, den_, mpq_denref(A(i / n_, i % n_).mpq()));
+            mpz_mul(a_[i].z, a_[i].z, mpq_numref(A(i / n_, i % n_).mpq()));
+        }
+    }
+    ~MpzFaces() { mpz_clears(den_, t_, prev_, nullptr); }
+    MpzFaces(const MpzFaces&) = delete;
+    MpzFaces& operator=(const MpzFaces&) = delete;
+
+    // Solves the face J; false when its system is singular. Then x_a = num(a) / det() and
+    // mu = -num(k) / (det() den()).
+    bool solve(const std::vector<std::size_t>& J) {
+        const std::size_t k = J.size(), n = k + 1;
+        w_ = n + 1;
+        for (std::size_t r = 0; r < n; ++r)
+            for (std::size_t c = 0; c < w_; ++c)
+                mpz_set_ui(at(r, c), 0);
+        for (std::size_t r = 0; r < k; ++r) {
+            for (std::size_t c = 0; c < k; ++c)
+                mpz_set(at(r, c), a_[J[r] * n_ + J[c]].z);
+            mpz_set_ui(at(r, k), 1);
+            mpz_set_ui(at(k, r), 1);
+        }
+        mpz_set_ui(at(k, n), 1);
+        mpz_set_ui(prev_, 1);
+        for (std::size_t col = 0; col < n; ++col) {
+            std::size_t pivot = col;
+            while (pivot < n && mpz_sgn(at(pivot, col)) == 0)
+                ++pivot;
+            if (pivot == n)
+                return false;
+            if (pivot != col)
+                for (std::size_t j = 0; j < w_; ++j)
+                    mpz_swap(at(pivot, j), at(col, j));
+            for (std::size_t r = 0; r < n; ++r) {
+                if (r == col)
+                    continue;
+                for (std::size_t j = 0; j < w_; ++j) {
+                    if (j == col)
+                        continue;
+                    mpz_mul(t_, at(col, col), at(r, j));
+                    mpz_submul(t_, at(r, col), at(col, j));
+                    mpz_divexact(at(r, j), t_, prev_);
+                }
+                mpz_set_ui(at(r, col), 0);
+            }
+            mpz_set(prev_, at(col, col));
+        }
+        return true;
+    }
+    mpz_srcptr num(std::size_t a) const { return m_[a * w_ + w_ - 1].z; }
+    mpz_srcptr det() const { return prev_; }
+    mpz_srcptr den() const { return den_; }
+
+  private:
+    struct Z {
+        mpz_t z;
+        Z() { mpz_init(z); }
+        ~Z() { mpz_clear(z); }
+        Z(const Z&) = delete;
+        Z& operator=(const Z&) = delete;
+    };
+    std::size_t n_, w_ = 0;
+    std::vector<Z> a_, m_;
+    mpz_t den_, t_, prev_;
+    mpz_ptr at(std::size_t r, std::size_t c) { return m_[r * w_ + c].z; }
+};
+
 } // namespace
 
-CopositivityResult decide_copositivity(const Matrix& A, std::size_t max_faces) {
+CopositivityResult decide_copositivity(const Matrix& A, std::size_t max_faces, bool integer_kernel) {
     require_symmetric(A);
     const std::size_t n = A.rows();
     CopositivityResult out;
@@ -130,6 +258,9 @@ CopositivityResult decide_copositivity(const Matrix& A, std::size_t max_faces) {
                                 " - 1 faces, more than " + std::to_string(max_faces),
                             "--max-faces");
     const std::size_t subsets = std::size_t{1} << n;
+    const auto A_int = integer_kernel ? intk::to_int(A) : std::nullopt;
+    std::vector<intk::i64> scratch;
+    std::optional<MpzFaces> big; // made at the first face that leaves int64
     for (std::size_t mask = 1; mask < subsets; ++mask) {
         std::vector<std::size_t> J;
         for (std::size_t i = 0; i < n; ++i)
@@ -137,28 +268,66 @@ CopositivityResult decide_copositivity(const Matrix& A, std::size_t max_faces) {
                 J.push_back(i);
         const std::size_t k = J.size();
         ++out.faces;
-        // Bordered system [[A_JJ, 1], [1^T, 0]] [x; y] = [0; 1], mu = -y.
-        Matrix K(k + 1, k + 1);
-        for (std::size_t a = 0; a < k; ++a) {
-            for (std::size_t b = 0; b < k; ++b)
-                K(a, b) = A(J[a], J[b]);
-            K(a, k) = 1;
-            K(k, a) = 1;
-        }
-        Vector rhs(k + 1, Rational(0));
-        rhs[k] = 1;
-        auto y = solve(K, rhs);
-        if (!y)
-            continue;
-        bool positive = true;
-        for (std::size_t a = 0; a < k && positive; ++a)
-            positive = sign_of((*y)[a]) == Sign::positive;
-        if (!positive)
-            continue;
         KktCandidate cand;
         cand.support = J;
-        cand.x.assign(y->begin(), y->begin() + static_cast<std::ptrdiff_t>(k));
-        cand.value = -(*y)[k];
+        bool fast = false;
+        if (A_int) {
+            intk::i64 det = 0;
+            const IntFace f = solve_face_int(*A_int, J, scratch, det);
+            if (f == IntFace::singular)
+                continue;
+            if (f == IntFace::solved) {
+                // x = num / det (the same for a and A), y' = den y: mu = -num_k / (det den).
+                fast = true;
+                const std::size_t w = k + 2;
+                bool positive = true; // x_a > 0: num_a != 0 with the sign of det (det != 0)
+                for (std::size_t a = 0; a < k && positive; ++a)
+                    positive = scratch[a * w + k + 1] != 0 && (scratch[a * w + k + 1] > 0) == (det > 0);
+                if (!positive)
+                    continue;
+                const Rational d(det);
+                for (std::size_t a = 0; a < k; ++a)
+                    cand.x.push_back(Rational(scratch[a * w + k + 1]) / d);
+                cand.value = -Rational(scratch[k * w + k + 1]) / (d * Rational(A_int->den));
+            }
+        }
+        if (!fast && integer_kernel) {
+            if (!big)
+                big.emplace(A);
+            if (!big->solve(J))
+                continue;
+            const int det_sign = mpz_sgn(big->det());
+            bool positive = true;
+            for (std::size_t a = 0; a < k && positive; ++a)
+                positive = mpz_sgn(big->num(a)) == det_sign;
+            if (!positive)
+                continue;
+            const CGAL::Gmpz d(big->det());
+            for (std::size_t a = 0; a < k; ++a)
+                cand.x.push_back(Rational(CGAL::Gmpz(big->num(a)), d));
+            cand.value = -Rational(CGAL::Gmpz(big->num(k)), d * CGAL::Gmpz(big->den()));
+        } else if (!fast) {
+            // Bordered system [[A_JJ, 1], [1^T, 0]] [x; y] = [0; 1], mu = -y.
+            Matrix K(k + 1, k + 1);
+            for (std::size_t a = 0; a < k; ++a) {
+                for (std::size_t b = 0; b < k; ++b)
+                    K(a, b) = A(J[a], J[b]);
+                K(a, k) = 1;
+                K(k, a) = 1;
+            }
+            Vector rhs(k + 1, Rational(0));
+            rhs[k] = 1;
+            auto y = solve(K, rhs);
+            if (!y)
+                continue;
+            bool positive = true;
+            for (std::size_t a = 0; a < k && positive; ++a)
+                positive = sign_of((*y)[a]) == Sign::positive;
+            if (!positive)
+                continue;
+            cand.x.assign(y->begin(), y->begin() + static_cast<std::ptrdiff_t>(k));
+            cand.value = -(*y)[k];
+        }
         if (!have_minimum || cand.value < out.minimum) {
             out.minimum = cand.value;
             out.witness = Vector(n, Rational(0));

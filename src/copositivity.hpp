@@ -51,7 +51,10 @@ struct CopositivityResult {
 
 // Throws LimitExceeded (limits.hpp) when the KKT enumeration would examine more than
 // `max_faces` faces (the cheap certificates are tried first, whatever the size).
-CopositivityResult decide_copositivity(const Matrix& A, std::size_t max_faces = Limits{}.max_faces);
+// integer_kernel: solve the KKT faces in int64 where they fit (the same exact candidates; false
+// for --no-integer-kernels).
+CopositivityResult decide_copositivity(const Matrix& A, std::size_t max_faces = Limits{}.max_faces,
+                                       bool integer_kernel = true);
 
 Vector interior_witness(const Matrix& A, const Vector& z);
 

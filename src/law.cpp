@@ -303,6 +303,9 @@ Model::Model(Law law, std::size_t max_pieces, std::size_t max_memory_mb) : law_(
                 input_error(path, in_quotes(id) + " is claimed but the law declares nothing for it");
         }
     }
+    r_inv_int_.reserve(pieces_.size());
+    for (const auto& piece : pieces_)
+        r_inv_int_.push_back(intk::to_int(piece.R_inv));
 }
 
 std::size_t Model::piece_index(const std::string& name) const {
@@ -312,13 +315,60 @@ std::size_t Model::piece_index(const std::string& name) const {
     throw std::out_of_range("no piece named " + name);
 }
 
-std::vector<std::size_t> Model::pieces_containing(const Vector& gamma) const {
-    std::vector<std::size_t> out;
-    for (std::size_t p = 0; p < pieces_.size(); ++p) {
-        const Vector s = pieces_[p].R_inv * gamma;
-        if (std::all_of(s.begin(), s.end(), [](const Rational& x) { return sign_of(x) != Sign::negative; }))
-            out.push_back(p);
+namespace {
+// The sign of row r of a (numerators) times g, exactly; nothing when a sum leaves 128 bits.
+std::optional<Sign> row_sign(const intk::IntMatrix& a, std::size_t r, const std::vector<intk::i64>& g) {
+    intk::i128 s = 0;
+    for (std::size_t j = 0; j < a.cols; ++j)
+        if (__builtin_add_overflow(s, static_cast<intk::i128>(a(r, j)) * g[j], &s))
+            return std::nullopt;
+    return s > 0 ? Sign::positive : s < 0 ? Sign::negative : Sign::zero;
+}
+} // namespace
+
+// gamma in the closed (interior: open) cone of piece p: every coordinate R_inv gamma >= 0 (> 0),
+// decided row by row, stopping at the first that fails. In int64 rows over a common denominator
+// when both fit (a positive scaling of R_inv and of gamma keeps every sign), else over GMP.
+bool Model::in_cone(std::size_t p, const Vector& gamma, const std::optional<std::vector<intk::i64>>& g,
+                    bool interior) const {
+    const auto& a = r_inv_int_[p];
+    const std::size_t c = gamma.size();
+    for (std::size_t r = 0; r < c; ++r) {
+        std::optional<Sign> s;
+        if (a && g)
+            s = row_sign(*a, r, *g);
+        if (!s) {
+            Rational sum = 0;
+            for (std::size_t j = 0; j < c; ++j)
+                sum += pieces_[p].R_inv(r, j) * gamma[j];
+            s = sign_of(sum);
+        }
+        if (*s == Sign::negative || (interior && *s == Sign::zero))
+            return false;
     }
+    return true;
+}
+
+void Model::require_contacts(const Vector& gamma) const {
+    if (gamma.size() != contacts())
+        throw std::logic_error("a point of " + std::to_string(gamma.size()) + " contact velocities for a law of " +
+                               std::to_string(contacts()) + " contacts");
+}
+
+std::optional<std::vector<intk::i64>> Model::scaled(const Vector& gamma) {
+    auto m = intk::to_int(Matrix::from_columns({gamma}));
+    if (!m)
+        return std::nullopt;
+    return std::move(m->a);
+}
+
+std::vector<std::size_t> Model::pieces_containing(const Vector& gamma) const {
+    require_contacts(gamma);
+    std::vector<std::size_t> out;
+    const auto g = scaled(gamma);
+    for (std::size_t p = 0; p < pieces_.size(); ++p)
+        if (in_cone(p, gamma, g, false))
+            out.push_back(p);
     return out;
 }
 
@@ -333,8 +383,10 @@ std::vector<Vector> Model::values_at(const Vector& gamma) const {
 }
 
 bool Model::in_interior(std::size_t p, const Vector& gamma) const {
-    const Vector s = pieces_.at(p).R_inv * gamma;
-    return std::all_of(s.begin(), s.end(), [](const Rational& x) { return sign_of(x) == Sign::positive; });
+    if (p >= pieces_.size())
+        throw std::out_of_range("in_interior: no piece " + std::to_string(p));
+    require_contacts(gamma);
+    return in_cone(p, gamma, scaled(gamma), true);
 }
 
 bool Model::applies(const std::string& id) const {

@@ -10,6 +10,7 @@
 #pragma once
 
 #include "errors.hpp"
+#include "int_kernel.hpp"
 #include "limits.hpp"
 #include "matrix.hpp"
 #include "system.hpp"
@@ -160,6 +161,13 @@ class Model {
     std::vector<Vector> rays_;
     std::vector<Matrix> P_inv_;
     std::map<Vector, std::size_t> ray_index_; // rays_ by value
+    std::vector<std::optional<intk::IntMatrix>> r_inv_int_; // R_inv in int64 where it fits
+
+    // gamma over a common denominator in int64, when it fits.
+    static std::optional<std::vector<intk::i64>> scaled(const Vector& gamma);
+    void require_contacts(const Vector& gamma) const;
+    bool in_cone(std::size_t p, const Vector& gamma, const std::optional<std::vector<intk::i64>>& g,
+                 bool interior) const;
 
     void add_piece(const std::string& name, const Matrix& Q, const std::vector<Vector>& primitive_rays,
                    const std::string& path);

@@ -146,3 +146,50 @@ TEST_CASE("copositivity: the decision agrees with exact sampling of the simplex 
         }
     }
 }
+
+TEST_CASE("copositivity: the integer KKT faces give exactly GMP's candidates, overflow included", "[copositivity]") {
+    // Lemma K3: a face solved in int64 (fraction-free, every division checked) has the same
+    // unique solution as over GMP. Compared field by field on random forms that reach the KKT
+    // enumeration: small integers, fractions, and entries near 2^62 that overflow some faces
+    // (which then go to GMP within the same enumeration).
+    std::mt19937 rng(20261125);
+    std::uniform_int_distribution<int> small(-9, 9), kind(0, 9);
+    std::size_t kkt = 0, overflowing = 0;
+    for (int trial = 0; trial < 400; ++trial) {
+        const std::size_t n = 2 + static_cast<std::size_t>(trial % 6);
+        Matrix A(n, n);
+        for (std::size_t i = 0; i < n; ++i)
+            for (std::size_t j = i; j < n; ++j) {
+                Rational v = small(rng);
+                const int k = kind(rng);
+                if (trial % 4 == 1 && k < 3)
+                    v /= Rational(small(rng) == 0 ? 7 : 3 + std::abs(small(rng)));
+                if (trial % 4 == 2 && k == 0) { // fits int64, but its faces' minors do not
+                    v *= Rational(std::int64_t{1} << 40);
+                    ++overflowing;
+                }
+                if (trial % 8 == 6 && k == 1) // beyond int64: the whole enumeration over GMP
+                    v *= Rational(std::int64_t{1} << 40) * Rational(std::int64_t{1} << 30);
+                A(i, j) = A(j, i) = v;
+            }
+        const auto fast = decide_copositivity(A, Limits{}.max_faces, true);
+        const auto gmp = decide_copositivity(A, Limits{}.max_faces, false);
+        INFO("trial " << trial);
+        REQUIRE(fast.method == gmp.method);
+        REQUIRE(fast.copositive == gmp.copositive);
+        if (gmp.method != CopositivityMethod::kkt_enumeration)
+            continue;
+        ++kkt;
+        CHECK(fast.faces == gmp.faces);
+        CHECK(fast.minimum == gmp.minimum);
+        CHECK(fast.witness == gmp.witness);
+        REQUIRE(fast.candidates.size() == gmp.candidates.size());
+        for (std::size_t c = 0; c < gmp.candidates.size(); ++c) {
+            CHECK(fast.candidates[c].support == gmp.candidates[c].support);
+            CHECK(fast.candidates[c].x == gmp.candidates[c].x);
+            CHECK(fast.candidates[c].value == gmp.candidates[c].value);
+        }
+    }
+    CHECK(kkt > 150);
+    CHECK(overflowing > 20);
+}

@@ -271,3 +271,60 @@ TEST_CASE("fan: extreme rays of cone intersections", "[fan][intersections]") {
         CHECK(t.pieces_containing(r).size() >= 2);
     }
 }
+
+TEST_CASE("cone membership: the int64 rows decide as R^-1 gamma over GMP, at the boundaries and at every scale", "[fan]") {
+    // pieces_containing and in_interior test R^-1 gamma row by row, in int64 where R^-1 and
+    // gamma fit (over common denominators) and over GMP otherwise. Reference: the full product.
+    auto reference = [](const Model& m, std::size_t p, const Vector& g, bool interior) {
+        for (const auto& s : m.pieces()[p].R_inv * g)
+            if (sign_of(s) == Sign::negative || (interior && sign_of(s) == Sign::zero))
+                return false;
+        return true;
+    };
+    const Rational big = Rational(std::int64_t{1} << 62) - 1; // fits int64; its products need 128 bits
+    Law wide;
+    wide.name = "wide";
+    wide.masses = vec({"1", "1", "1"});
+    wide.pieces.push_back(PieceDecl{"a", Matrix::identity(2), std::vector<Vector>{vec({"1", "0"}), Vector{big, Rational(1)}}});
+    wide.pieces.push_back(PieceDecl{"b", Matrix::identity(2), std::vector<Vector>{Vector{big, Rational(1)}, Vector{-big, Rational(-1, 3)}}});
+    wide.pieces.push_back(PieceDecl{"c", Matrix::identity(2), std::vector<Vector>{vec({"0", "1"}), Vector{big * big, Rational(-1)}}});
+    std::mt19937 rng(11251);
+    std::uniform_int_distribution<int> small(-3, 3);
+    std::size_t boundary = 0, inside = 0;
+    for (const Law& law : {test::sorting_law(4), paper_law(), wide}) {
+        const Model m(law);
+        const std::size_t c = m.contacts();
+        std::vector<Vector> points;
+        for (const auto& piece : m.pieces())
+            for (std::size_t k = 0; k < c; ++k) {
+                points.push_back(piece.R.column(k));                                   // a ray
+                points.push_back(piece.R.column(k) + piece.R.column((k + 1) % c));    // a face
+                points.push_back(piece.R * Vector(c, Rational(1)));                   // the centre
+            }
+        for (int t = 0; t < 300; ++t) {
+            Vector g(c);
+            for (auto& x : g)
+                x = Rational(small(rng)) / Rational(1 + std::abs(small(rng)));
+            points.push_back(g);
+        }
+        const std::size_t listed = points.size();
+        for (std::size_t i = 0; i < listed; ++i) {
+            points.push_back((big * big) * points[i]); // beyond int64: the GMP rows
+            points.push_back(big * points[i]);         // int64 rows whose sums need 128 bits
+        }
+        for (const auto& g : points) {
+            std::vector<std::size_t> expected;
+            for (std::size_t p = 0; p < m.pieces().size(); ++p) {
+                if (reference(m, p, g, false))
+                    expected.push_back(p);
+                CHECK(m.in_interior(p, g) == reference(m, p, g, true));
+                inside += reference(m, p, g, true) ? 1 : 0;
+            }
+            boundary += expected.size() >= 2 ? 1 : 0;
+            CHECK(m.pieces_containing(g) == expected);
+        }
+        CHECK_THROWS_AS(m.pieces_containing(Vector(c + 1, Rational(1))), std::logic_error);
+    }
+    CHECK(boundary > 100);
+    CHECK(inside > 100);
+}

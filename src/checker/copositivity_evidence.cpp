@@ -42,6 +42,46 @@ void check_face_limit(std::size_t n, std::size_t max_faces, const std::string& p
                       std::to_string(n) + " - 1 faces, more than " + std::to_string(max_faces));
 }
 
+// A KKT face [[a_JJ, 1], [1^T, 0]] [x; y] = [0; 1] of the integer matrix a = d A: Bareiss's
+// fraction-free forward elimination (every division exact), then back substitution over the
+// rationals. The solution is the face's unique one; false when the system is singular.
+bool kkt_face(const std::vector<std::vector<mpz_class>>& a, const std::vector<std::size_t>& J, Vec& x) {
+    const std::size_t k = J.size(), n = k + 1;
+    std::vector<std::vector<mpz_class>> m(n, std::vector<mpz_class>(n + 1, 0));
+    for (std::size_t r = 0; r < k; ++r) {
+        for (std::size_t c = 0; c < k; ++c)
+            m[r][c] = a[J[r]][J[c]];
+        m[r][k] = 1;
+        m[k][r] = 1;
+    }
+    m[k][n] = 1;
+    mpz_class prev = 1, t;
+    for (std::size_t c = 0; c < n; ++c) {
+        std::size_t p = c;
+        while (p < n && sgn(m[p][c]) == 0)
+            ++p;
+        if (p == n)
+            return false;
+        std::swap(m[p], m[c]);
+        for (std::size_t r = c + 1; r < n; ++r) {
+            for (std::size_t j = c + 1; j <= n; ++j) {
+                t = m[c][c] * m[r][j] - m[r][c] * m[c][j];
+                mpz_divexact(m[r][j].get_mpz_t(), t.get_mpz_t(), prev.get_mpz_t());
+            }
+            m[r][c] = 0;
+        }
+        prev = m[c][c];
+    }
+    x.assign(n, Q(0));
+    for (std::size_t i = n; i-- > 0;) {
+        Q s = Q(m[i][n]);
+        for (std::size_t j = i + 1; j < n; ++j)
+            s -= Q(m[i][j]) * x[j];
+        x[i] = s / Q(m[i][i]);
+    }
+    return true;
+}
+
 } // namespace
 
 // L and D (keys checked by the caller) with L D L^T = B.
@@ -90,26 +130,27 @@ bool check_copositive_evidence(const Mat& A, const Json& j, const std::string& p
         std::vector<std::pair<std::vector<std::size_t>, Vec>> mine;
         Q minimum;
         bool have = false;
+        // d A with d the least common denominator: the same x on every face, y scaled by d.
+        mpz_class d = 1;
+        for (const auto& row : A)
+            for (const auto& q : row)
+                mpz_lcm(d.get_mpz_t(), d.get_mpz_t(), q.get_den_mpz_t());
+        std::vector<std::vector<mpz_class>> dA(n, std::vector<mpz_class>(n));
+        for (std::size_t r = 0; r < n; ++r)
+            for (std::size_t c = 0; c < n; ++c)
+                dA[r][c] = d / A[r][c].get_den() * A[r][c].get_num();
         for (std::size_t mask = 1; mask < (std::size_t{1} << n); ++mask) {
             std::vector<std::size_t> J;
             for (std::size_t i = 0; i < n; ++i)
                 if (mask >> i & 1)
                     J.push_back(i);
-            Mat K = zeros(J.size() + 1, J.size() + 1);
-            for (std::size_t a = 0; a < J.size(); ++a) {
-                for (std::size_t b = 0; b < J.size(); ++b)
-                    K[a][b] = A[J[a]][J[b]];
-                K[a][J.size()] = 1;
-                K[J.size()][a] = 1;
-            }
-            Vec rhs(J.size() + 1, Q(0)), y;
-            rhs[J.size()] = 1;
-            if (!solve(K, rhs, y))
+            Vec y;
+            if (!kkt_face(dA, J, y))
                 continue;
             Vec x(y.begin(), y.end() - 1);
             if (!positive(x))
                 continue;
-            const Q value = -y.back();
+            const Q value = -y.back() / Q(d);
             if (!have || value < minimum)
                 minimum = value;
             have = true;

@@ -16,7 +16,7 @@ Outcome Prover::energetic() {
     for (const std::size_t p : orbit_representatives()) {
         const Piece& pc = pieces_[p];
         const Matrix B = transpose(pc.R) * (m_.H() - transpose(pc.Q) * m_.H() * pc.Q) * pc.R;
-        const auto cop = decide_copositivity(B, limits_.max_faces);
+        const auto cop = decide_copositivity(B, limits_.max_faces, limits_.integer_kernels);
         o.checks += cop.method == CopositivityMethod::kkt_enumeration ? cop.faces : 1;
         if (limits_.evidence)
             o.data["pieces"].push_back(Json{{"piece", name(p)}, {"B", to_json(B)}, {"certificate", certificate_json(cop)}});

@@ -146,7 +146,7 @@ Outcome Prover::nonexpansive() {
         }
         try {
             Matrix A = pair_form(i, j);
-            auto cop = decide_copositivity(A, limits_.max_faces);
+            auto cop = decide_copositivity(A, limits_.max_faces, limits_.integer_kernels);
             out.method = cop.method;
             out.checks = cop.method == CopositivityMethod::kkt_enumeration ? cop.faces : 1;
             out.copositive = cop.copositive;
