@@ -91,12 +91,8 @@ bool all_nonnegative(const Matrix& A) {
 // Lemma K3): the bordered system [[a_JJ, 1], [1^T, 0]] [x; y'] = [0; 1] of a = den A, reduced by
 // fraction-free Gauss-Jordan elimination to det I [x; y'] = num. Every division is checked to be
 // exact and every value to fit int64; when one is not, the face is solved over GMP instead.
-enum class IntFace { solved, singular, overflow };
-
-IntFace solve_face_int(const intk::IntMatrix& a, const std::vector<std::size_t>& J, std::vector<intk::i64>& m,
-                       intk::i64& det) {
-    using intk::i128;
-    using intk::i64;
+intk::Elimination solve_face_int(const intk::IntMatrix& a, const std::vector<std::size_t>& J,
+                                 std::vector<intk::i64>& m, intk::i64& det) {
     const std::size_t k = J.size(), n = k + 1, w = n + 1; // n x (n + 1), the last column the rhs
     m.assign(n * w, 0);
     for (std::size_t r = 0; r < k; ++r) {
@@ -106,33 +102,7 @@ IntFace solve_face_int(const intk::IntMatrix& a, const std::vector<std::size_t>&
         m[k * w + r] = 1;
     }
     m[k * w + n] = 1;
-    i64 prev = 1;
-    for (std::size_t col = 0; col < n; ++col) {
-        std::size_t pivot = col;
-        while (pivot < n && m[pivot * w + col] == 0)
-            ++pivot;
-        if (pivot == n)
-            return IntFace::singular;
-        if (pivot != col)
-            for (std::size_t j = 0; j < w; ++j)
-                std::swap(m[pivot * w + j], m[col * w + j]);
-        const i64 p = m[col * w + col];
-        for (std::size_t r = 0; r < n; ++r) {
-            if (r == col)
-                continue;
-            const i64 f = m[r * w + col];
-            for (std::size_t j = 0; j < w; ++j) {
-                // |p m_rj|, |f m_colj| < 2^126 (symmetric int64 range): the difference fits i128.
-                const i128 t = static_cast<i128>(p) * m[r * w + j] - static_cast<i128>(f) * m[col * w + j];
-                if (t % prev != 0 || !intk::fits(t / prev))
-                    return IntFace::overflow;
-                m[r * w + j] = static_cast<i64>(t / prev);
-            }
-        }
-        prev = p;
-    }
-    det = prev; // every diagonal entry is now prev
-    return IntFace::solved;
+    return intk::gauss_jordan(m, n, w, det);
 }
 
 // The same elimination over GMP integers, for the faces whose minors leave int64: no gcd per
@@ -273,10 +243,10 @@ CopositivityResult decide_copositivity(const Matrix& A, std::size_t max_faces, b
         bool fast = false;
         if (A_int) {
             intk::i64 det = 0;
-            const IntFace f = solve_face_int(*A_int, J, scratch, det);
-            if (f == IntFace::singular)
+            const auto f = solve_face_int(*A_int, J, scratch, det);
+            if (f == intk::Elimination::singular)
                 continue;
-            if (f == IntFace::solved) {
+            if (f == intk::Elimination::solved) {
                 // x = num / det (the same for a and A), y' = den y: mu = -num_k / (det den).
                 fast = true;
                 const std::size_t w = k + 2;

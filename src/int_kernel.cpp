@@ -145,6 +145,70 @@ std::optional<int> det_sign(std::vector<i64>& a, std::size_t n) {
     return d > 0 ? sign : d < 0 ? -sign : 0;
 }
 
+Elimination gauss_jordan(std::vector<i64>& m, std::size_t n, std::size_t w, i64& det) {
+    i64 prev = 1;
+    for (std::size_t col = 0; col < n; ++col) {
+        std::size_t pivot = col;
+        while (pivot < n && m[pivot * w + col] == 0)
+            ++pivot;
+        if (pivot == n)
+            return Elimination::singular;
+        if (pivot != col)
+            for (std::size_t j = 0; j < w; ++j)
+                std::swap(m[pivot * w + j], m[col * w + j]);
+        const i64 p = m[col * w + col];
+        for (std::size_t r = 0; r < n; ++r) {
+            if (r == col)
+                continue;
+            const i64 f = m[r * w + col];
+            for (std::size_t j = 0; j < w; ++j) {
+                // |p m_rj|, |f m_colj| < 2^126 (symmetric int64 range): the difference fits i128.
+                const i128 t = static_cast<i128>(p) * m[r * w + j] - static_cast<i128>(f) * m[col * w + j];
+                if (t % prev != 0 || !fits(t / prev))
+                    return Elimination::overflow;
+                m[r * w + j] = static_cast<i64>(t / prev);
+            }
+        }
+        prev = p;
+    }
+    det = prev;
+    return Elimination::solved;
+}
+
+std::optional<IntMatrix> inverse(const IntMatrix& a) {
+    if (a.rows != a.cols || a.den != 1)
+        throw std::logic_error("intk::inverse: a square integer matrix");
+    const std::size_t n = a.rows, w = 2 * n;
+    std::vector<i64> m(n * w, 0);
+    for (std::size_t r = 0; r < n; ++r) {
+        for (std::size_t c = 0; c < n; ++c)
+            m[r * w + c] = a(r, c);
+        m[r * w + n + r] = 1;
+    }
+    i64 det = 0;
+    if (gauss_jordan(m, n, w, det) != Elimination::solved)
+        return std::nullopt;
+    IntMatrix out;
+    out.rows = out.cols = n;
+    out.a.resize(n * n);
+    const i64 s = det > 0 ? 1 : -1; // fits: |det| <= INT64_MAX
+    for (std::size_t r = 0; r < n; ++r)
+        for (std::size_t c = 0; c < n; ++c)
+            out.a[r * n + c] = s * m[r * w + n + c];
+    out.den = s * det;
+    return out;
+}
+
+Matrix to_matrix(const IntMatrix& m) {
+    Matrix out(m.rows, m.cols);
+    const Rational den(static_cast<long>(m.den));
+    for (std::size_t r = 0; r < m.rows; ++r)
+        for (std::size_t c = 0; c < m.cols; ++c)
+            if (m(r, c) != 0)
+                out(r, c) = m.den == 1 ? Rational(static_cast<long>(m(r, c))) : Rational(static_cast<long>(m(r, c))) / den;
+    return out;
+}
+
 Vector to_vector(const std::vector<i64>& v) {
     Vector out;
     out.reserve(v.size());

@@ -53,6 +53,19 @@ void make_primitive(std::vector<i64>& v);
 // with row pivoting; nothing on overflow.
 std::optional<int> det_sign(std::vector<i64>& a, std::size_t n);
 
+// Fraction-free Gauss-Jordan elimination (proofs/README.md, "Integer kernels", Lemma K3) of
+// the n x w matrix m (row-major, w >= n; row exchanges allowed): on `solved` the left n x n
+// block is det I, with det != 0 the last pivot, and the other columns are det times the
+// solutions (a^-1 b for m = [a | b]). `singular`: a has no inverse. `overflow`: a value left
+// int64 (m is then garbage; callers take the GMP path).
+enum class Elimination { solved, singular, overflow };
+Elimination gauss_jordan(std::vector<i64>& m, std::size_t n, std::size_t w, i64& det);
+
+// a^-1 for an integer a (den 1) as numerators over den = |det a|; nothing when a is singular
+// or a value leaves int64.
+std::optional<IntMatrix> inverse(const IntMatrix& a);
+
 Vector to_vector(const std::vector<i64>& v);
+Matrix to_matrix(const IntMatrix& m); // the rationals a / den, canonical
 
 } // namespace impactcert::intk

@@ -29,7 +29,14 @@ void Model::add_piece(const std::string& name, const Matrix& Q, const std::vecto
     piece.name = name;
     piece.Q = Q;
     piece.R = Matrix::from_columns(primitive_rays);
-    auto r_inv = inverse(piece.R);
+    // R is integral (primitive rays): its inverse by fraction-free elimination in int64 where
+    // it fits, else over GMP; the same exact matrix either way.
+    std::optional<Matrix> r_inv;
+    if (const auto R_int = intk::to_int(piece.R); R_int && R_int->den == 1)
+        if (const auto inv = intk::inverse(*R_int))
+            r_inv = intk::to_matrix(*inv);
+    if (!r_inv)
+        r_inv = inverse(piece.R);
     if (!r_inv)
         input_error(path + ".rays", "linearly dependent rays (the cone is not full-dimensional)");
     piece.R_inv = *r_inv;
@@ -177,9 +184,22 @@ Model::Model(Law law, std::size_t max_pieces, std::size_t max_memory_mb) : law_(
         const std::size_t max_bits = 16 * listed_bits + 1024;
         // Images of rays in int64 where P (over a common denominator) and the rays fit,
         // else over GMP; the same primitive rays either way.
-        std::vector<std::optional<intk::IntMatrix>> P_int;
-        for (const auto& sym : law_.symmetries)
-            P_int.push_back(intk::to_int(sym.P));
+        std::vector<std::optional<intk::IntMatrix>> P_int, P_prime_int, P_inv_int;
+        for (std::size_t g = 0; g < law_.symmetries.size(); ++g) {
+            P_int.push_back(intk::to_int(law_.symmetries[g].P));
+            P_prime_int.push_back(intk::to_int(law_.symmetries[g].P_prime));
+            P_inv_int.push_back(intk::to_int(P_inv_[g]));
+        }
+        // Q' = P' Q P^-1, in int64 over common denominators where it fits, else over GMP.
+        auto image_matrix = [&](std::size_t g, const Matrix& Q) {
+            if (P_prime_int[g] && P_inv_int[g])
+                if (const auto Q_int = intk::to_int(Q)) {
+                    intk::IntMatrix t, u;
+                    if (intk::multiply(*P_prime_int[g], *Q_int, t) && intk::multiply(t, *P_inv_int[g], u))
+                        return intk::to_matrix(u);
+                }
+            return Matrix(law_.symmetries[g].P_prime * Q * P_inv_[g]);
+        };
         std::map<std::vector<intk::i64>, std::size_t> int_ray_index;
         std::vector<std::optional<std::vector<intk::i64>>> int_rays;
         auto int_ray = [&](std::size_t id) -> const std::optional<std::vector<intk::i64>>& {
@@ -228,7 +248,7 @@ Model::Model(Law law, std::size_t max_pieces, std::size_t max_memory_mb) : law_(
                 if (!names.insert(name).second)
                     input_error(idx("$.symmetries", g) + ".name",
                                 "generated piece name " + in_quotes(name) + " is taken");
-                const Matrix Q = sym.P_prime * pieces_[p].Q * P_inv_[g];
+                const Matrix Q = image_matrix(g, pieces_[p].Q);
                 const std::size_t grown = std::max(matrix_bits(Q), matrix_bits(Matrix::from_columns(image)));
                 if (grown > max_bits)
                     input_error("$.symmetries", "generated piece " + in_quotes(name.substr(0, 60)) + " has an entry of " +

@@ -187,6 +187,47 @@ TEST_CASE("integer kernels: fraction-free PSD and determinant signs equal GMP's 
     CHECK_FALSE(int_psd(big, 2).has_value());
 }
 
+TEST_CASE("integer kernels: the fraction-free inverse equals GMP's, singular and overflowing matrices refused",
+          "[scale][kernel]") {
+    // intk::inverse (fraction-free Gauss-Jordan, every division checked) against the rational
+    // Gauss-Jordan inverse, on random integer matrices: invertible, singular (two equal rows),
+    // and with entries near 2^40 whose minors leave int64 (then nothing, never a wrong value).
+    std::mt19937_64 rng(20261125);
+    std::uniform_int_distribution<int> small(-5, 5), size(1, 9);
+    std::size_t inverted = 0, singular = 0, overflow = 0;
+    for (int trial = 0; trial < 2000; ++trial) {
+        const std::size_t n = static_cast<std::size_t>(size(rng));
+        Matrix A(n, n);
+        for (std::size_t i = 0; i < n; ++i)
+            for (std::size_t j = 0; j < n; ++j)
+                A(i, j) = small(rng);
+        if (trial % 5 == 1 && n > 1)
+            for (std::size_t j = 0; j < n; ++j)
+                A(n - 1, j) = A(0, j);
+        if (trial % 5 == 2)
+            for (std::size_t j = 0; j < n; ++j) { // row and column 0 near 2^40: 2 x 2 minors near 2^80
+                A(0, j) = A(0, j) * Rational(std::int64_t{1} << 40) + 1;
+                if (j > 0)
+                    A(j, 0) = A(j, 0) * Rational(std::int64_t{1} << 40) + 3;
+            }
+        const auto gmp = inverse(A);
+        const auto fast = intk::inverse(intk::to_int(A).value());
+        if (fast) {
+            REQUIRE(gmp);
+            CHECK(fast->den > 0);
+            CHECK(intk::to_matrix(*fast) == *gmp);
+            ++inverted;
+        } else if (!gmp) {
+            ++singular;
+        } else {
+            ++overflow;
+        }
+    }
+    CHECK(inverted > 1000);
+    CHECK(singular > 200);
+    CHECK(overflow > 20);
+}
+
 TEST_CASE("integer kernels: a law whose entries do not fit int64 falls back to GMP with the same verdicts",
           "[scale][kernel]") {
     Law law = paper_law();
