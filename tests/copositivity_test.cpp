@@ -150,8 +150,8 @@ TEST_CASE("copositivity: the decision agrees with exact sampling of the simplex 
 TEST_CASE("copositivity: the integer KKT faces give exactly GMP's candidates, overflow included", "[copositivity]") {
     // Lemma K3: a face solved in int64 (fraction-free, every division checked) has the same
     // unique solution as over GMP. Compared field by field on random forms that reach the KKT
-    // enumeration: small integers, fractions, and entries near 2^62 that overflow some faces
-    // (which then go to GMP within the same enumeration).
+    // enumeration: small integers, fractions, and entries near 2^43 whose larger faces leave
+    // int64 (those faces are then eliminated over GMP integers within the same enumeration).
     std::mt19937 rng(20261125);
     std::uniform_int_distribution<int> small(-9, 9), kind(0, 9);
     std::size_t kkt = 0, overflowing = 0;

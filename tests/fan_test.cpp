@@ -288,10 +288,19 @@ TEST_CASE("cone membership: the int64 rows decide as R^-1 gamma over GMP, at the
     wide.pieces.push_back(PieceDecl{"a", Matrix::identity(2), std::vector<Vector>{vec({"1", "0"}), Vector{big, Rational(1)}}});
     wide.pieces.push_back(PieceDecl{"b", Matrix::identity(2), std::vector<Vector>{Vector{big, Rational(1)}, Vector{-big, Rational(-1, 3)}}});
     wide.pieces.push_back(PieceDecl{"c", Matrix::identity(2), std::vector<Vector>{vec({"0", "1"}), Vector{big * big, Rational(-1)}}});
+    // R^-1 with a row of 63-bit entries (R unimodular): at points with entries near 2^63 the
+    // row's 128-bit sum overflows and the row is summed over GMP.
+    const Rational top = Rational(INT64_MAX);
+    Law edge;
+    edge.name = "edge";
+    edge.masses = vec({"1", "1", "1", "1"});
+    edge.pieces.push_back(PieceDecl{"a", Matrix::identity(3),
+                                    std::vector<Vector>{vec({"-1", "1", "0"}), Vector{1 - top, top - 2, Rational(0)},
+                                                        Vector{top - 6, 6 - top, Rational(1)}}});
     std::mt19937 rng(11251);
     std::uniform_int_distribution<int> small(-3, 3);
-    std::size_t boundary = 0, inside = 0;
-    for (const Law& law : {test::sorting_law(4), paper_law(), wide}) {
+    std::size_t boundary = 0, inside = 0, wide_sums = 0;
+    for (const Law& law : {test::sorting_law(4), paper_law(), wide, edge}) {
         const Model m(law);
         const std::size_t c = m.contacts();
         std::vector<Vector> points;
@@ -310,8 +319,17 @@ TEST_CASE("cone membership: the int64 rows decide as R^-1 gamma over GMP, at the
         const std::size_t listed = points.size();
         for (std::size_t i = 0; i < listed; ++i) {
             points.push_back((big * big) * points[i]); // beyond int64: the GMP rows
-            points.push_back(big * points[i]);         // int64 rows whose sums need 128 bits
+            points.push_back(big * points[i]);         // int64 rows whose products need 128 bits
         }
+        if (law.name == "edge") // entries of +-(2^63 - 1), 2^62 and small ones
+            for (int t = 0; t < 200; ++t) {
+                Vector g(c);
+                for (auto& x : g) {
+                    const int k = small(rng);
+                    x = k == 0 ? Rational(small(rng)) : k > 0 ? top - Rational(k - 1) : -top + Rational(-k - 1);
+                }
+                points.push_back(g);
+            }
         for (const auto& g : points) {
             std::vector<std::size_t> expected;
             for (std::size_t p = 0; p < m.pieces().size(); ++p) {
@@ -322,9 +340,22 @@ TEST_CASE("cone membership: the int64 rows decide as R^-1 gamma over GMP, at the
             }
             boundary += expected.size() >= 2 ? 1 : 0;
             CHECK(m.pieces_containing(g) == expected);
+            if (law.name == "edge") { // does R^-1 g have a row whose 128-bit sum overflows?
+                const auto& Ri = m.pieces()[0].R_inv;
+                for (std::size_t r = 0; r < c; ++r) {
+                    Rational partial = 0;
+                    bool over = false;
+                    for (std::size_t j = 0; j < c; ++j) {
+                        partial += Ri(r, j) * g[j];
+                        over = over || abs_of(partial) >= Rational(std::int64_t{1} << 62) * Rational(std::int64_t{1} << 62) * 2 * 2 * 2;
+                    }
+                    wide_sums += over ? 1 : 0;
+                }
+            }
         }
         CHECK_THROWS_AS(m.pieces_containing(Vector(c + 1, Rational(1))), std::logic_error);
     }
     CHECK(boundary > 100);
     CHECK(inside > 100);
+    CHECK(wide_sums > 5);
 }
