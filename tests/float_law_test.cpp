@@ -34,7 +34,7 @@ TEST_CASE("float law: hand-checked values on every cone and boundary", "[float]"
 
 TEST_CASE("float law: the branch-free batch form equals the scalar form and never returns -0", "[float]") {
     std::vector<double> g1, g2;
-    for (std::uint64_t i = 0; i < 200000; ++i) {
+    for (std::uint64_t i = 0; i < test::samples(200000); ++i) {
         const auto s = fuzz::make_paper_sample(7, i);
         g1.push_back(s.a[0]);
         g2.push_back(s.a[1]);
@@ -56,7 +56,7 @@ TEST_CASE("float law: correctly rounded against the naive GMP reference on 300,0
     // The naive path (exact rationals, rounding by exact comparison) is the reference for both
     // the float law and the fast TwoSum reference of the fuzzer.
     const Model paper(paper_law());
-    for (std::uint64_t i = 0; i < 300000; ++i) {
+    for (std::uint64_t i = 0; i < test::samples(300000); ++i) {
         const auto s = fuzz::make_paper_sample(11, i);
         const double g1 = s.a[0], g2 = s.a[1];
         double out[2];

@@ -155,15 +155,15 @@ void require_fast_equals_exact(const Model& model, bool velocities, bool continu
 } // namespace
 
 TEST_CASE("fuzz reference: the error-free fast path equals GMP at every generated point", "[fuzz][reference]") {
-    require_fast_equals_exact(Model(paper_law()), false, true, 200000);
-    require_fast_equals_exact(Model(paper_law()), true, true, 50000);
-    require_fast_equals_exact(law_file("proofs/newton4/law.json"), false, true, 100000);
-    require_fast_equals_exact(law_file("proofs/newton4/law.json"), true, true, 50000);
+    require_fast_equals_exact(Model(paper_law()), false, true, test::samples(200000));
+    require_fast_equals_exact(Model(paper_law()), true, true, test::samples(50000));
+    require_fast_equals_exact(law_file("proofs/newton4/law.json"), false, true, test::samples(100000));
+    require_fast_equals_exact(law_file("proofs/newton4/law.json"), true, true, test::samples(50000));
     // Rational entries (denominators), not face to face, several-valued on boundaries:
-    require_fast_equals_exact(derived_law({"1", "2", "3"}, "1/2"), false, true, 50000);
-    require_fast_equals_exact(derived_law({"1", "2", "3", "4"}, "1/2"), true, true, 20000);
-    require_fast_equals_exact(law_file("tests/laws/tjunction-newton4-split.json"), false, true, 50000);
-    require_fast_equals_exact(law_file("proofs/controls/discontinuous-isometric.json"), false, false, 50000);
+    require_fast_equals_exact(derived_law({"1", "2", "3"}, "1/2"), false, true, test::samples(50000));
+    require_fast_equals_exact(derived_law({"1", "2", "3", "4"}, "1/2"), true, true, test::samples(20000));
+    require_fast_equals_exact(law_file("tests/laws/tjunction-newton4-split.json"), false, true, test::samples(50000));
+    require_fast_equals_exact(law_file("proofs/controls/discontinuous-isometric.json"), false, false, test::samples(50000));
 }
 
 TEST_CASE("fuzz reference: correct rounding of integer rows at every scale, ties and overflow included",
@@ -173,7 +173,8 @@ TEST_CASE("fuzz reference: correct rounding of integer rows at every scale, ties
     std::mt19937_64 rng(7);
     auto pick = [&](std::uint64_t n) { return rng() % n; };
     std::uint64_t decided = 0;
-    for (int trial = 0; trial < 200000; ++trial) {
+    const std::size_t trials = test::samples(200000);
+    for (std::size_t trial = 0; trial < trials; ++trial) {
         eft::IntRow row;
         row.m = 1 + pick(4);
         for (std::size_t j = 0; j < row.m; ++j) {
@@ -229,13 +230,13 @@ TEST_CASE("fuzz reference: correct rounding of integer rows at every scale, ties
             REQUIRE(row.sign(xs) == static_cast<int>(sign_of(num)));
         }
     }
-    CHECK(decided > 150000);
+    CHECK(decided > trials * 3 / 4);
 }
 
 TEST_CASE("fuzz reference: the general reference equals the paper law's independent TwoSum route", "[fuzz][reference]") {
     const Model paper(paper_law());
     const fuzz::LawReference ref(paper, false, true);
-    for (std::uint64_t i = 0; i < 500000; ++i) {
+    for (std::uint64_t i = 0; i < test::samples(500000); ++i) {
         const auto s = fuzz::make_paper_sample(9, i);
         fuzz::RefPoint r;
         ref.eval(s.a, r);
