@@ -321,7 +321,7 @@ TEST_CASE("cone membership: the int64 rows decide as R^-1 gamma over GMP, at the
             points.push_back((big * big) * points[i]); // beyond int64: the GMP rows
             points.push_back(big * points[i]);         // int64 rows whose products need 128 bits
         }
-        if (law.name == "edge") // entries of +-(2^63 - 1), 2^62 and small ones
+        if (law.name == "edge") // entries of +-(2^63 - 1) (less a little) and small ones
             for (int t = 0; t < 200; ++t) {
                 Vector g(c);
                 for (auto& x : g) {
@@ -340,16 +340,22 @@ TEST_CASE("cone membership: the int64 rows decide as R^-1 gamma over GMP, at the
             }
             boundary += expected.size() >= 2 ? 1 : 0;
             CHECK(m.pieces_containing(g) == expected);
-            if (law.name == "edge") { // does R^-1 g have a row whose 128-bit sum overflows?
-                const auto& Ri = m.pieces()[0].R_inv;
-                for (std::size_t r = 0; r < c; ++r) {
-                    Rational partial = 0;
+            if (law.name == "edge") { // does in_cone meet a row whose 128-bit sum overflows?
+                // As Model::in_cone does it: both in int64 over common denominators, the rows in
+                // order, each summed in order, stopping at the first row that is negative.
+                const auto gi = intk::to_int(Matrix::from_columns({g}));
+                const auto ai = intk::to_int(m.pieces()[0].R_inv);
+                for (std::size_t r = 0; gi && ai && r < c; ++r) {
+                    intk::i128 sum = 0;
                     bool over = false;
-                    for (std::size_t j = 0; j < c; ++j) {
-                        partial += Ri(r, j) * g[j];
-                        over = over || abs_of(partial) >= Rational(std::int64_t{1} << 62) * Rational(std::int64_t{1} << 62) * 2 * 2 * 2;
+                    for (std::size_t j = 0; j < c && !over; ++j)
+                        over = __builtin_add_overflow(sum, static_cast<intk::i128>((*ai)(r, j)) * gi->a[j], &sum);
+                    if (over) {
+                        ++wide_sums;
+                        break;
                     }
-                    wide_sums += over ? 1 : 0;
+                    if (sum < 0)
+                        break;
                 }
             }
         }

@@ -63,7 +63,8 @@ TEST_CASE("float evaluator: the 4-ball law (c = 3), bound holds exactly, ties cl
     std::uniform_int_distribution<int> small(-3, 3);
     std::uniform_real_distribution<double> real(-10, 10);
     std::size_t fallbacks = 0;
-    for (std::size_t i = 0; i < test::samples(20000); ++i) {
+    const std::size_t n = test::samples(20000);
+    for (std::size_t i = 0; i < n; ++i) {
         std::vector<double> g(3);
         for (auto& x : g)
             x = (i % 2) ? small(rng) * 0.5 : real(rng); // half on ties (cone boundaries)
@@ -71,7 +72,7 @@ TEST_CASE("float evaluator: the 4-ball law (c = 3), bound holds exactly, ties cl
         check_bound(m, r, g);
         fallbacks += r.exact_fallback ? 1 : 0;
     }
-    CHECK(fallbacks > 1000);
+    CHECK(fallbacks > n / 20); // the ties on cone boundaries: about 30 % of the samples
 }
 
 TEST_CASE("float evaluator: non-finite input and overflow are reported, not returned", "[float_eval]") {
