@@ -8,6 +8,7 @@
 #include "report.hpp"
 #include "smt.hpp"
 #include "shard.hpp"
+#include "stream.hpp"
 #include "sweep.hpp"
 #include "verdict_output.hpp"
 
@@ -52,6 +53,30 @@ int run_verify(const std::string& law_path, bool json, const std::string& junit_
     if (!junit_path.empty())
         write_file(junit_path, verdict_junit(report)); // flushed, closed and checked
     return report.exit_status();
+}
+
+int run_verify_stream(const std::string& law_path, bool json, const std::string& junit_path, const Limits& limits) {
+    if (law_path.empty())
+        throw StreamRefused("the paper's law lists every piece");
+    const Law law = load_law_declaration(law_path);
+    TerminalProgress progress;
+    Limits no_evidence = limits;
+    no_evidence.evidence = false;
+    StreamResult result;
+    try {
+        result = verify_stream(law, no_evidence, progress.callback());
+    } catch (const InputError& e) {
+        throw InputError(law_path + ": " + e.what());
+    }
+    if (json)
+        std::cout << verdict_json(result.report).dump(2) << "\n";
+    else
+        std::cout << verdict_table(result.report, result.balls, result.contacts, result.pieces)
+                  << "  streamed: " << result.pieces << " pieces as ids of " << result.rays << " rays and " << result.images
+                  << " images, " << (result.bytes >> 20) << " MB counted against --max-memory\n";
+    if (!junit_path.empty())
+        write_file(junit_path, verdict_junit(result.report));
+    return result.report.exit_status();
 }
 
 int run_certify(const std::string& law_path, const std::string& out_path, const Limits& limits) {
@@ -210,6 +235,9 @@ int main(int argc, char** argv) {
     verify_cmd->add_option("--law", law_path, "law file (impactcert-law/1); default: the paper's 3-ball law");
     verify_cmd->add_flag("--json", json, "print the impactcert-verdict/1 JSON instead of the table");
     verify_cmd->add_option("--junit", junit_path, "also write a JUnit XML report to this file");
+    bool stream = false;
+    verify_cmd->add_flag("--stream", stream, "keep only the ids of each piece's rays and images (a law given by orbit representatives, "
+                                             "larger than memory as matrices); same verdicts, streamed checks (proofs/README.md, \"Streamed laws\")");
     std::string shard_text;
     verify_cmd->add_option("--shard", shard_text, "K/N: decide slice K of N only (obligation i when i mod N = K-1, and nonexpansive's pair blocks b mod N = K-1)");
 
@@ -361,6 +389,10 @@ int main(int argc, char** argv) {
     try {
         if (verify_cmd->parsed() && !shard_text.empty() && !junit_path.empty())
             throw InputError("--junit: not with --shard (a slice is not a verdict: merge certify's parts with impactcert-check)");
+        if (verify_cmd->parsed() && stream && !shard_text.empty())
+            throw InputError("--stream: not with --shard (a streamed law is decided in one process)");
+        if (verify_cmd->parsed() && stream)
+            return finished(run_verify_stream(law_path, json, junit_path, limits));
         if (verify_cmd->parsed())
             return finished(shard_text.empty() ? run_verify(law_path, json, junit_path, limits)
                                                : cli::run_verify_shard(law_path, parse_shard(shard_text), json, limits));
@@ -395,6 +427,9 @@ int main(int argc, char** argv) {
     } catch (const InputError& e) {
         std::cerr << "impactcert: " << one_line_text(e.what()) << "\n";
         return kExitBadInput;
+    } catch (const StreamRefused& e) {
+        std::cerr << "impactcert: undecided: --stream: " << one_line_text(e.what()) << "; verify without --stream\n";
+        return kExitUndecided;
     } catch (const DeriveLimit& e) {
         std::cerr << "impactcert: undecided: derive: " << e.what() << "\n";
         return kExitUndecided;

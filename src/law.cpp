@@ -63,14 +63,6 @@ std::size_t matrix_bytes(const Matrix& m) {
     return bytes;
 }
 
-std::size_t matrix_bits(const Matrix& m) {
-    std::size_t bits = 0;
-    for (std::size_t i = 0; i < m.rows(); ++i)
-        for (std::size_t j = 0; j < m.cols(); ++j)
-            bits = std::max(bits, mpz_sizeinbase(mpq_numref(m(i, j).mpq()), 2) + mpz_sizeinbase(mpq_denref(m(i, j).mpq()), 2));
-    return bits;
-}
-
 } // namespace
 
 Model::Model(Law law, std::size_t max_pieces, std::size_t max_memory_mb) : law_(std::move(law)) {
@@ -308,21 +300,7 @@ Model::Model(Law law, std::size_t max_pieces, std::size_t max_memory_mb) : law_(
             input_error(path + ".u_plus", "expected " + std::to_string(n) + " ball velocities, got " +
                                               std::to_string(o.u_plus.size()));
     }
-    if (law_.claims) {
-        if (law_.claims->empty())
-            input_error("$.claims", "no obligation claimed (omit \"claims\" to claim every one that applies)");
-        std::set<std::string> seen;
-        for (std::size_t i = 0; i < law_.claims->size(); ++i) {
-            const std::string& id = (*law_.claims)[i];
-            const std::string path = idx("$.claims", i);
-            if (!is_obligation_id(id))
-                input_error(path, "unknown obligation " + in_quotes(id));
-            if (!seen.insert(id).second)
-                input_error(path, "obligation " + in_quotes(id) + " claimed twice");
-            if (!applies(id))
-                input_error(path, in_quotes(id) + " is claimed but the law declares nothing for it");
-        }
-    }
+    validate_claims(law_);
     r_inv_int_.reserve(pieces_.size());
     for (const auto& piece : pieces_)
         r_inv_int_.push_back(intk::to_int(piece.R_inv));
@@ -409,23 +387,45 @@ bool Model::in_interior(std::size_t p, const Vector& gamma) const {
     return in_cone(p, gamma, scaled(gamma), true);
 }
 
-bool Model::applies(const std::string& id) const {
+bool law_applies(const Law& law, const std::string& id) {
     if (id == "identities")
-        return !law_.identities.empty();
+        return !law.identities.empty();
     if (id == "single-impacts")
-        return !law_.single_impacts.empty();
+        return !law.single_impacts.empty();
     if (id == "outcomes")
-        return !law_.outcomes.empty();
+        return !law.outcomes.empty();
     if (id == "symmetries")
-        return !law_.symmetries.empty();
+        return !law.symmetries.empty();
     return is_obligation_id(id);
 }
 
-bool Model::claimed(const std::string& id) const {
-    if (!law_.claims)
-        return applies(id);
-    return std::find(law_.claims->begin(), law_.claims->end(), id) != law_.claims->end();
+bool law_claims(const Law& law, const std::string& id) {
+    if (!law.claims)
+        return law_applies(law, id);
+    return std::find(law.claims->begin(), law.claims->end(), id) != law.claims->end();
 }
+
+void validate_claims(const Law& law) {
+    if (!law.claims)
+        return;
+    if (law.claims->empty())
+        input_error("$.claims", "no obligation claimed (omit \"claims\" to claim every one that applies)");
+    std::set<std::string> seen;
+    for (std::size_t i = 0; i < law.claims->size(); ++i) {
+        const std::string& id = (*law.claims)[i];
+        const std::string path = idx("$.claims", i);
+        if (!is_obligation_id(id))
+            input_error(path, "unknown obligation " + in_quotes(id));
+        if (!seen.insert(id).second)
+            input_error(path, "obligation " + in_quotes(id) + " claimed twice");
+        if (!law_applies(law, id))
+            input_error(path, in_quotes(id) + " is claimed but the law declares nothing for it");
+    }
+}
+
+bool Model::applies(const std::string& id) const { return law_applies(law_, id); }
+
+bool Model::claimed(const std::string& id) const { return law_claims(law_, id); }
 
 Vector Model::post_impact_velocities(const Vector& u_minus, const Vector& gamma_minus,
                                      const Vector& gamma_plus) const {

@@ -88,6 +88,13 @@ inline constexpr std::array<const char*, 13> kObligationIds = {
     "single-impacts", "nonexpansive", "nonexpansive-lemma", "outcomes", "symmetries"};
 
 bool is_obligation_id(const std::string& id);
+// Whether the law declares anything for obligation id (identities, single impacts, outcomes,
+// symmetries need declarations; the others always apply), and whether it claims it (no
+// "claims": every one that applies).
+bool law_applies(const Law& law, const std::string& id);
+bool law_claims(const Law& law, const std::string& id);
+// "claims": non-empty, known ids, each once, each applying; throws InputError naming the place.
+void validate_claims(const Law& law);
 
 // ---------------------------------------------------------------------------------------------
 // Prepared law

@@ -413,6 +413,15 @@ Law load_law_file(const std::string& path, std::size_t max_pieces, std::size_t m
     return parse_law_text(read_law_text(path), path, max_pieces, max_memory_mb);
 }
 
+Law load_law_declaration(const std::string& path) {
+    const std::string text = read_law_text(path);
+    try {
+        return parse_document(parse_syntax(text));
+    } catch (const InputError& e) {
+        throw InputError(path + ": " + e.what());
+    }
+}
+
 Model load_model_file(const std::string& path, std::size_t max_pieces, std::size_t max_memory_mb) {
     const std::string text = read_law_text(path);
     try {

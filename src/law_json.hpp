@@ -31,6 +31,9 @@ Law load_law_file(const std::string& path, std::size_t max_pieces = Limits{}.max
 // once, not twice).
 Model load_model_file(const std::string& path, std::size_t max_pieces = Limits{}.max_pieces,
                       std::size_t max_memory_mb = Limits{}.max_memory_mb);
+// The declaration as read, checked for syntax and shapes only (no Model: a compact law is not
+// expanded); for verify --stream, which validates and expands it itself (stream.hpp).
+Law load_law_declaration(const std::string& path);
 nlohmann::ordered_json law_to_json(const Law& law);
 
 } // namespace impactcert

@@ -335,4 +335,12 @@ std::string to_string(const Vector& v) {
     return s + ")";
 }
 
+std::size_t matrix_bits(const Matrix& m) {
+    std::size_t bits = 0;
+    for (std::size_t i = 0; i < m.rows(); ++i)
+        for (std::size_t j = 0; j < m.cols(); ++j)
+            bits = std::max(bits, mpz_sizeinbase(mpq_numref(m(i, j).mpq()), 2) + mpz_sizeinbase(mpq_denref(m(i, j).mpq()), 2));
+    return bits;
+}
+
 } // namespace impactcert

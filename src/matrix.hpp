@@ -75,4 +75,7 @@ std::vector<Vector> null_space(const std::vector<Vector>& rows, std::size_t dim)
 
 std::string to_string(const Vector& v); // "(a, b, c)"
 
+// The largest bits of an entry (numerator plus denominator): the growth measure of compact laws.
+std::size_t matrix_bits(const Matrix& m);
+
 } // namespace impactcert

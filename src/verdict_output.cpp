@@ -79,9 +79,13 @@ std::string xml_escape(const std::string& s) {
 }
 
 std::string verdict_table(const VerifyReport& report, const Model& model) {
-    std::string out = "impactcert verify: " + report.law + " (" + std::to_string(model.balls()) +
-                      " balls, " + std::to_string(model.contacts()) + (model.contacts() == 1 ? " contact, " : " contacts, ") +
-                      std::to_string(model.pieces().size()) + " pieces)\n";
+    return verdict_table(report, model.balls(), model.contacts(), model.pieces().size());
+}
+
+std::string verdict_table(const VerifyReport& report, std::size_t balls, std::size_t contacts, std::size_t pieces) {
+    std::string out = "impactcert verify: " + report.law + " (" + std::to_string(balls) +
+                      " balls, " + std::to_string(contacts) + (contacts == 1 ? " contact, " : " contacts, ") +
+                      std::to_string(pieces) + " pieces)\n";
     out += "  " + pad("obligation", 20) + pad("claimed", 9) + pad("verdict", 9) +
            pad_left("checks", 8) + pad_left("time", 13) + "   method\n";
     std::chrono::nanoseconds total{0};

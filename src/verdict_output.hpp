@@ -19,6 +19,7 @@ inline constexpr const char* kVerdictFormat = "impactcert-verdict/1";
 
 Json verdict_json(const VerifyReport& report);
 std::string verdict_table(const VerifyReport& report, const Model& model);
+std::string verdict_table(const VerifyReport& report, std::size_t balls, std::size_t contacts, std::size_t pieces);
 std::string verdict_junit(const VerifyReport& report);
 
 // Escapes & < > " ' for XML/HTML text and attribute values.

@@ -168,7 +168,8 @@ int run_derive_cradle(const CradleArgs& a) {
         std::cerr << "impactcert: note: verify, certify and impactcert-check need --max-pieces " << cones
                   << " --max-memory " << mb * 3 / 2 << " or more for this law (" << cones << " pieces, about " << mb
                   << " MB of numbers; the defaults are " << defaults.max_pieces << " and " << defaults.max_memory_mb
-                  << ")\n";
+                  << "); verify --stream needs --max-pieces " << cones << " and about "
+                  << ((cones * ((2 * c + 4) * 4 + 8)) >> 20) + 1 << " MB (proofs/README.md, \"Streamed laws\")\n";
     return kExitProved;
 }
 

@@ -1,0 +1,700 @@
+// stream_verify.cpp -- verify --stream (stream.hpp): every obligation of a compact law by passes
+// over the ids of its pieces. The lemmas are in proofs/README.md, "Streamed laws"; the symmetry
+// reductions in "Symmetries"; the fan criterion in "fan" (Check, any c).
+//
+//   symmetries   (i) before the expansion (an input error, as Model); (ii) by construction;
+//                (iii) at every (piece, symmetry) while closing (stream_store.cpp).
+//   fan          facet matching on the facets of the orbit representatives (Lemma ST1), and one
+//                point interior to a representative and in no other closed cone (Lemma ST2).
+//   P1           face to face (the fan): all pieces containing a ray give it one image.
+//   P3, kinematic, kinetic   every piece, through memos by image id and (ray, image) ids.
+//   P2, energetic            the listed pieces, by verify() on them (Lemma S3).
+//   identities, single-impacts   verify() on a model of the pieces they name.
+//   nonexpansive the pairs (representative, any piece); with P2 each form has zero diagonal
+//                blocks, so it is copositive iff its off-diagonal block is >= 0 (Lemma ST3),
+//                whose entries are differences of two Gram tables.
+//   nonexpansive-lemma   fan + P1 + H - Q^T H Q PSD on the listed pieces.
+//   outcomes     the first piece containing gamma- (one value: P1).
+#include "copositivity.hpp"
+#include "stream.hpp"
+#include "stream_store.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <map>
+#include <set>
+#include <unordered_map>
+
+namespace impactcert {
+
+using stream::Expansion;
+using stream::kNone;
+using stream::u32;
+using intk::i64;
+using intk::i128;
+
+namespace {
+
+constexpr const char* kRerun = " (verify without --stream decides it, memory permitting)";
+
+struct Decision {
+    Verdict verdict = Verdict::proved;
+    std::size_t checks = 0;
+    std::string method;
+    Json counterexample;
+    std::string limit;
+};
+
+Decision undecided(Decision d, const std::string& why) {
+    d.verdict = Verdict::undecided;
+    d.limit = why + kRerun;
+    return d;
+}
+
+Decision refuted(Decision d, Json witness) {
+    d.verdict = Verdict::refuted;
+    d.counterexample = std::move(witness);
+    return d;
+}
+
+void ensure(bool ok, const char* what) {
+    if (!ok)
+        throw std::logic_error(std::string("internal witness check failed (--stream): ") + what);
+}
+
+// The signs of R^-1 b for each right-hand side b (columns of rhs), exactly: int64 fraction-free
+// elimination, else GMP.
+class Signs {
+  public:
+    Signs(std::size_t c, std::vector<std::vector<i64>> rhs) : c_(c), rhs_(std::move(rhs)), w_(c + rhs_.size()) {}
+
+    // signs[b][k] in {-1, 0, 1} for piece p
+    void of(const Expansion& ex, u32 p, std::vector<std::vector<int>>& signs) {
+        m_.assign(c_ * w_, 0);
+        for (std::size_t k = 0; k < c_; ++k) {
+            const auto& r = ex.rays[ex.store.rays(p)[k]];
+            for (std::size_t i = 0; i < c_; ++i)
+                m_[i * w_ + k] = r[i];
+        }
+        for (std::size_t b = 0; b < rhs_.size(); ++b)
+            for (std::size_t i = 0; i < c_; ++i)
+                m_[i * w_ + c_ + b] = rhs_[b][i];
+        i64 det = 0;
+        signs.assign(rhs_.size(), std::vector<int>(c_));
+        const auto e = intk::gauss_jordan(m_, c_, w_, det);
+        if (e == intk::Elimination::singular)
+            throw std::logic_error("stream: a stored cone is not full-dimensional");
+        if (e == intk::Elimination::solved) {
+            const int sd = det > 0 ? 1 : -1;
+            for (std::size_t b = 0; b < rhs_.size(); ++b)
+                for (std::size_t k = 0; k < c_; ++k) {
+                    const i64 v = m_[k * w_ + c_ + b];
+                    signs[b][k] = v == 0 ? 0 : (v > 0 ? sd : -sd);
+                }
+            return;
+        }
+        const Matrix R = ex.R(p);
+        for (std::size_t b = 0; b < rhs_.size(); ++b) {
+            const auto x = solve(R, intk::to_vector(rhs_[b]));
+            if (!x)
+                throw std::logic_error("stream: a stored cone is not full-dimensional");
+            for (std::size_t k = 0; k < c_; ++k)
+                signs[b][k] = static_cast<int>(sign_of((*x)[k]));
+        }
+    }
+
+  private:
+    std::size_t c_;
+    std::vector<std::vector<i64>> rhs_;
+    std::size_t w_;
+    std::vector<i64> m_;
+};
+
+// An integer vector of the direction of v (v scaled by the lcm of its denominators), in int64.
+std::optional<std::vector<i64>> integral(const Vector& v) {
+    mpz_class l = 1;
+    for (const auto& x : v)
+        mpz_lcm(l.get_mpz_t(), l.get_mpz_t(), mpq_denref(x.mpq()));
+    Vector scaled;
+    const Rational L{CGAL::Gmpz(l.get_mpz_t())};
+    for (const auto& x : v)
+        scaled.push_back(x * L);
+    return intk::to_int_vector(scaled);
+}
+
+class Streamed {
+  public:
+    Streamed(Expansion& ex, const Limits& limits, const Progress& progress)
+        : ex_(ex), c_(ex.c), n_(ex.store.size()), limits_(limits), progress_(progress) {}
+
+    std::map<std::string, Decision> run();
+
+  private:
+    Expansion& ex_;
+    std::size_t c_, n_;
+    const Limits& limits_;
+    const Progress& progress_;
+    std::map<std::string, Decision> d_;
+
+    void report(const char* id, std::size_t done) const {
+        if (progress_ && done % 65536 == 0)
+            progress_(id, std::to_string(done) + "/" + std::to_string(n_));
+    }
+    bool proved(const char* id) const { return d_.at(id).verdict == Verdict::proved; }
+
+    Law side_law() const {
+        Law s;
+        s.name = ex_.law.name;
+        s.masses = ex_.law.masses;
+        s.M = ex_.law.M;
+        s.W = ex_.law.W;
+        return s;
+    }
+    // verify() on a model of the given pieces, for the obligations in `ids`.
+    VerifyReport side_verify(Law law, const std::vector<std::string>& ids) const {
+        Limits l = limits_;
+        l.evidence = false;
+        const Model m(std::move(law), limits_.max_pieces, limits_.max_memory_mb);
+        return verify(m, l, {}, &ids);
+    }
+    // A per-piece check failed on piece p: verify()'s own witness, on the one-piece model.
+    Json piece_witness(u32 p, const std::string& id) const {
+        Law one = side_law();
+        one.pieces.push_back(ex_.decl(p));
+        const VerifyReport r = side_verify(std::move(one), {id});
+        ensure(r.at(id).verdict == Verdict::refuted, "the one-piece model refutes what the stream refuted");
+        return r.at(id).counterexample;
+    }
+    Json pair_witness(u32 a, u32 b, const Matrix& Qa, const Matrix& Qb, const Vector& ga, const Vector& gb) const;
+    bool in_interior(u32 p, const Vector& x) const {
+        const auto s = solve(ex_.R(p), x);
+        return s && std::all_of(s->begin(), s->end(), [](const Rational& v) { return sign_of(v) == Sign::positive; });
+    }
+
+    void symmetries();
+    void membership(); // fan and outcomes
+    void by_rays();    // P1, P3, kinematic, kinetic
+    void by_listed();  // P2, energetic, identities, single-impacts
+    void nonexpansive();
+    void nonexpansive_lemma();
+
+    // membership's findings, for the outcomes
+    std::vector<u32> outcome_piece_; // first piece containing gamma-, kNone if none
+};
+
+Json Streamed::pair_witness(u32 a, u32 b, const Matrix& Qa, const Matrix& Qb, const Vector& ga, const Vector& gb) const {
+    const Model& m = ex_.base;
+    const Rational lhs = m.energy(Qa * ga - Qb * gb), rhs = m.energy(ga - gb);
+    ensure(lhs > rhs, "nonexpansive lhs > rhs");
+    ensure(in_interior(a, ga) && in_interior(b, gb), "nonexpansive interiors");
+    return Json{{"piece_a", ex_.name(a)}, {"piece_b", ex_.name(b)}, {"gamma_a", to_json(ga)},
+                {"gamma_b", to_json(gb)},   {"lhs", to_json(lhs)},      {"rhs", to_json(rhs)}};
+}
+
+void Streamed::symmetries() {
+    Decision d;
+    d.method = "closure of the listed pieces (streamed): Q_sigma(i) P r = P' Q_i r at every (piece, symmetry)";
+    d.checks = ex_.symmetry_checks + (n_ - ex_.base.pieces().size());
+    if (ex_.failure) {
+        const auto& f = *ex_.failure;
+        const SymmetryDecl& sym = ex_.law.symmetries[f.symmetry];
+        const Vector r = ex_.ray(ex_.store.rays(f.piece)[f.position]);
+        const Vector lhs = ex_.Q(f.image_piece) * (sym.P * r);
+        const Vector rhs = sym.P_prime * ex_.images[ex_.store.images(f.piece)[f.position]];
+        ensure(lhs != rhs, "symmetries: Q_sigma(i) P r != P' Q_i r");
+        d = refuted(d, Json{{"symmetry", sym.name}, {"piece", ex_.name(f.piece)}, {"image_piece", ex_.name(f.image_piece)},
+                            {"gamma", to_json(r)}, {"lhs", to_json(lhs)}, {"rhs", to_json(rhs)}});
+    }
+    d_["symmetries"] = d;
+}
+
+// Lemma ST1 (the facet criterion on the representatives' facets) and Lemma ST2 (a test point
+// interior to one representative and in no other closed cone), with the outcomes' gamma- in the
+// same pass.
+void Streamed::membership() {
+    constexpr std::size_t kPoints = 4;
+    const u32 rep0 = ex_.representatives.front();
+    // Test points p_t = R_rep0 (1, t, ..., t^(c-1)), t = 1..4: interior to C_rep0.
+    std::vector<std::vector<i64>> rhs;
+    for (std::size_t t = 1; t <= kPoints; ++t) {
+        std::vector<i128> v(c_, 0);
+        std::vector<i64> p(c_);
+        i128 power = 1;
+        bool fits = true;
+        for (std::size_t k = 0; k < c_; ++k) {
+            const auto& r = ex_.rays[ex_.store.rays(rep0)[k]];
+            for (std::size_t i = 0; i < c_; ++i) {
+                v[i] += power * r[i];
+                fits = fits && intk::fits(v[i]);
+            }
+            power *= static_cast<i128>(t);
+            fits = fits && intk::fits(power);
+        }
+        if (!fits)
+            throw StreamRefused("the test points of the fan leave int64 (--stream keeps them in int64)");
+        for (std::size_t i = 0; i < c_; ++i)
+            p[i] = static_cast<i64>(v[i]);
+        rhs.push_back(p);
+    }
+    const auto& outcomes = ex_.law.outcomes;
+    for (std::size_t o = 0; o < outcomes.size(); ++o) {
+        const auto g = integral(ex_.base.contact_velocities(outcomes[o].u_minus));
+        if (!g)
+            throw StreamRefused("gamma- of outcome " + in_quotes(outcomes[o].name) + " leaves int64 (--stream keeps it in int64)");
+        rhs.push_back(*g);
+    }
+    Signs signs_of(c_, rhs);
+
+    // Facets of the representatives: pos[r][ray id] = 1 + the ray's position in representative r.
+    const auto& reps = ex_.representatives;
+    std::vector<std::vector<unsigned char>> pos(reps.size(), std::vector<unsigned char>(ex_.rays.size(), 0));
+    if (c_ > 250)
+        throw StreamRefused("more than 250 contacts");
+    for (std::size_t r = 0; r < reps.size(); ++r)
+        for (std::size_t k = 0; k < c_; ++k)
+            pos[r][ex_.store.rays(reps[r])[k]] = static_cast<unsigned char>(k + 1);
+    std::vector<std::vector<std::size_t>> facet_count(reps.size(), std::vector<std::size_t>(c_, 0));
+    std::vector<std::vector<u32>> partner(reps.size(), std::vector<u32>(c_, kNone)), extra = partner;
+
+    std::vector<std::vector<u32>> interior_of(kPoints);
+    std::vector<bool> on_boundary(kPoints, false);
+    outcome_piece_.assign(outcomes.size(), kNone);
+    std::vector<std::vector<int>> signs;
+    std::vector<char> hit(c_);
+    for (u32 j = 0; j < n_; ++j) {
+        report("fan", j);
+        signs_of.of(ex_, j, signs);
+        for (std::size_t t = 0; t < kPoints; ++t) {
+            const bool inside = std::all_of(signs[t].begin(), signs[t].end(), [](int s) { return s > 0; });
+            const bool closed = std::all_of(signs[t].begin(), signs[t].end(), [](int s) { return s >= 0; });
+            if (inside)
+                interior_of[t].push_back(j);
+            else if (closed)
+                on_boundary[t] = true;
+        }
+        for (std::size_t o = 0; o < outcomes.size(); ++o)
+            if (outcome_piece_[o] == kNone &&
+                std::all_of(signs[kPoints + o].begin(), signs[kPoints + o].end(), [](int s) { return s >= 0; }))
+                outcome_piece_[o] = j;
+        for (std::size_t r = 0; r < reps.size(); ++r) {
+            if (j == reps[r])
+                continue;
+            std::fill(hit.begin(), hit.end(), 0);
+            std::size_t shared = 0;
+            u32 other = kNone;
+            for (std::size_t k = 0; k < c_; ++k) {
+                const u32 id = ex_.store.rays(j)[k];
+                if (pos[r][id]) {
+                    hit[pos[r][id] - 1] = 1;
+                    ++shared;
+                } else {
+                    other = id;
+                }
+            }
+            if (shared + 1 != c_)
+                continue;
+            const std::size_t missing = static_cast<std::size_t>(std::find(hit.begin(), hit.end(), 0) - hit.begin());
+            if (facet_count[r][missing]++ == 0) {
+                partner[r][missing] = j;
+                extra[r][missing] = other;
+            }
+        }
+    }
+
+    Decision fan;
+    fan.method = "facet-matching on the orbit representatives' facets, by the symmetries, and one point "
+                 "interior to one cone only (streamed)";
+    fan.checks = reps.size() * c_ + n_;
+    // Two interiors that meet refute the tiling, whatever else holds (Lemma T).
+    for (std::size_t t = 0; t < kPoints; ++t) {
+        ensure(std::find(interior_of[t].begin(), interior_of[t].end(), rep0) != interior_of[t].end(),
+               "fan: the test point is interior to its representative");
+        if (interior_of[t].size() > 1) {
+            const Vector x = intk::to_vector(rhs[t]);
+            Json names = Json::array();
+            for (auto p : interior_of[t]) {
+                ensure(in_interior(p, x), "fan: the test point is interior");
+                names.push_back(ex_.name(p));
+            }
+            d_["fan"] = refuted(fan, Json{{"gamma", to_json(x)}, {"interior_of", names}});
+            return;
+        }
+    }
+    if (!proved("symmetries")) {
+        d_["fan"] = undecided(fan, "--stream decides the fan through the symmetries, which are refuted");
+        return;
+    }
+    for (std::size_t r = 0; r < reps.size(); ++r)
+        for (std::size_t k = 0; k < c_; ++k) {
+            bool matched = facet_count[r][k] == 1;
+            if (matched) {
+                std::vector<Vector> cols;
+                for (std::size_t l = 0; l < c_; ++l)
+                    if (l != k)
+                        cols.push_back(ex_.ray(ex_.store.rays(reps[r])[l]));
+                cols.push_back(ex_.ray(ex_.store.rays(reps[r])[k]));
+                const Sign own = sign_of(determinant(Matrix::from_columns(cols)));
+                cols.back() = ex_.ray(extra[r][k]);
+                const Sign other = sign_of(determinant(Matrix::from_columns(cols)));
+                matched = own != Sign::zero && other != Sign::zero && own != other;
+            }
+            if (!matched) {
+                d_["fan"] = undecided(fan, "the facet of " + in_quotes(ex_.name(reps[r])) + " opposite its ray " +
+                                               std::to_string(k + 1) + " is not matched by exactly one cone on its "
+                                               "other side (--stream has only the facet-matching check)");
+                return;
+            }
+        }
+    for (std::size_t t = 0; t < kPoints; ++t)
+        if (!on_boundary[t]) { // interior to rep0 alone, and in no other closed cone
+            d_["fan"] = fan;
+            return;
+        }
+    d_["fan"] = undecided(fan, "each of the " + std::to_string(kPoints) + " test points lies on the boundary of another cone");
+}
+
+void Streamed::by_rays() {
+    std::vector<u32> first_image(ex_.rays.size(), kNone), owner(ex_.rays.size(), kNone);
+    std::vector<int> axis(ex_.images.size(), -2); // -2 unknown, -1 on no positive axis, else the axis
+    std::vector<signed char> nonneg(ex_.images.size(), -1);
+    std::unordered_map<std::uint64_t, bool> impulse_ok;
+    const Matrix& H = ex_.base.H();
+    std::optional<Json> p1_witness;
+    std::optional<u32> p3_fail, kinematic_fail, kinetic_fail;
+    std::vector<char> seen(c_);
+    for (u32 j = 0; j < n_; ++j) {
+        report("P1", j);
+        const u32* rays = ex_.store.rays(j);
+        const u32* imgs = ex_.store.images(j);
+        std::fill(seen.begin(), seen.end(), 0);
+        bool p3 = true, kin = true, kinetic = true;
+        for (std::size_t k = 0; k < c_; ++k) {
+            const u32 r = rays[k], im = imgs[k];
+            if (first_image[r] == kNone) {
+                first_image[r] = im;
+                owner[r] = j;
+            } else if (first_image[r] != im && !p1_witness) {
+                const Vector v = ex_.ray(r);
+                const Vector& a = ex_.images[first_image[r]];
+                const Vector& b = ex_.images[im];
+                ensure(a != b, "P1 values differ");
+                p1_witness = Json{{"piece_a", ex_.name(owner[r])}, {"piece_b", ex_.name(j)}, {"gamma", to_json(v)},
+                                  {"image_a", to_json(a)}, {"image_b", to_json(b)}};
+            }
+            if (axis[im] == -2) {
+                const Vector& v = ex_.images[im];
+                axis[im] = -1;
+                std::size_t nonzero = 0;
+                for (std::size_t i = 0; i < c_; ++i)
+                    if (sign_of(v[i]) != Sign::zero) {
+                        ++nonzero;
+                        axis[im] = sign_of(v[i]) == Sign::positive ? static_cast<int>(i) : -1;
+                    }
+                if (nonzero != 1)
+                    axis[im] = -1;
+                nonneg[im] = std::all_of(v.begin(), v.end(), [](const Rational& x) { return sign_of(x) != Sign::negative; });
+            }
+            if (axis[im] < 0 || seen[static_cast<std::size_t>(axis[im])]++)
+                p3 = false;
+            kin = kin && nonneg[im];
+            const std::uint64_t key = (std::uint64_t{r} << 32) | im;
+            auto it = impulse_ok.find(key);
+            if (it == impulse_ok.end()) {
+                const Vector impulse = H * (ex_.images[im] - ex_.ray(r));
+                it = impulse_ok.emplace(key, std::all_of(impulse.begin(), impulse.end(), [](const Rational& x) {
+                                            return sign_of(x) != Sign::negative;
+                                        })).first;
+            }
+            kinetic = kinetic && it->second;
+        }
+        if (!p3 && !p3_fail)
+            p3_fail = j;
+        if (!kin && !kinematic_fail)
+            kinematic_fail = j;
+        if (!kinetic && !kinetic_fail)
+            kinetic_fail = j;
+    }
+    const std::size_t checks = n_ * c_;
+    Decision p1{Verdict::proved, checks, "shared rays (face to face by the fan; streamed, every ray)", {}, {}};
+    if (p1_witness)
+        d_["P1"] = refuted(p1, *p1_witness);
+    else if (!proved("fan"))
+        d_["P1"] = undecided(p1, "the shared rays decide P1 only with the fan proved facet to facet");
+    else
+        d_["P1"] = p1;
+    Decision p3{Verdict::proved, checks, "images of rays on distinct positive axes (streamed, every piece)", {}, {}};
+    d_["P3"] = p3_fail ? refuted(p3, piece_witness(*p3_fail, "P3")) : p3;
+    Decision kinematic{Verdict::proved, checks, "images of rays >= 0, with fan (streamed, every piece)", {}, {}};
+    if (kinematic_fail)
+        d_["kinematic"] = refuted(kinematic, piece_witness(*kinematic_fail, "kinematic"));
+    else if (!proved("fan"))
+        d_["kinematic"] = undecided(kinematic, "kinematic needs the fan, which --stream did not prove");
+    else
+        d_["kinematic"] = kinematic;
+    Decision kinetic{Verdict::proved, checks, "impulses at rays (streamed, every piece)", {}, {}};
+    d_["kinetic"] = kinetic_fail ? refuted(kinetic, piece_witness(*kinetic_fail, "kinetic")) : kinetic;
+}
+
+void Streamed::by_listed() {
+    const std::string by_symmetries = ", on the listed pieces, by the symmetries (streamed)";
+    {
+        Law listed = side_law();
+        listed.pieces = ex_.law.pieces;
+        const VerifyReport r = side_verify(std::move(listed), {"P2", "energetic"});
+        for (const char* id : {"P2", "energetic"}) {
+            const ObligationResult& o = r.at(id);
+            Decision d{o.verdict, o.checks, o.method + by_symmetries, o.counterexample, o.limit};
+            if (o.verdict == Verdict::proved && !proved("symmetries"))
+                d = undecided(d, "the listed pieces decide " + std::string(id) + " only through the symmetries, which are refuted");
+            d_[id] = d;
+        }
+    }
+    if (ex_.law.identities.empty() && ex_.law.single_impacts.empty())
+        return;
+    Law named = side_law();
+    named.identities = ex_.law.identities;
+    named.single_impacts = ex_.law.single_impacts;
+    std::vector<std::string> names;
+    for (const auto& id : ex_.law.identities) {
+        names.push_back(id.lhs);
+        names.insert(names.end(), id.product.begin(), id.product.end());
+    }
+    for (const auto& si : ex_.law.single_impacts)
+        names.push_back(si.piece);
+    std::set<std::string> added;
+    for (const auto& name : names)
+        if (added.insert(name).second)
+            named.pieces.push_back(ex_.decl(*ex_.resolve(name))); // resolved before (verify_stream)
+    const VerifyReport r = side_verify(std::move(named), {"identities", "single-impacts"});
+    for (const char* id : {"identities", "single-impacts"}) {
+        const ObligationResult& o = r.at(id);
+        d_[id] = Decision{o.verdict, o.checks, o.method + " (streamed: the named pieces)", o.counterexample, o.limit};
+    }
+}
+
+// Lemma ST3: with Q_i^T H Q_i = H for every piece, the pair form of (i, j) is
+// [[0, B], [B^T, 0]] with B_ab = (Q_i r_a)^T H (Q_j s_b) - r_a^T H s_b, copositive iff B >= 0.
+void Streamed::nonexpansive() {
+    Decision d;
+    d.method = "pair forms with zero diagonal blocks (P2), off-diagonal block >= 0 by Gram tables; the pairs of "
+               "one piece per orbit, by the symmetries (streamed)";
+    for (const char* need : {"symmetries", "fan", "P1", "P2"})
+        if (!proved(need)) {
+            d_["nonexpansive"] =
+                undecided(d, std::string("--stream decides nonexpansive only for a law whose symmetries, fan, P1 and P2 "
+                                         "are proved; ") + need + " is not");
+            return;
+        }
+    const Matrix& H = ex_.base.H();
+    for (const u32 i : ex_.representatives) {
+        // T_ray[id * c + a] = r_a^T H ray(id), T_img[id * c + a] = (Q_i r_a)^T H image(id), over one denominator.
+        std::vector<Vector> h_ray, h_img;
+        for (std::size_t a = 0; a < c_; ++a) {
+            h_ray.push_back(H * ex_.ray(ex_.store.rays(i)[a]));
+            h_img.push_back(H * ex_.images[ex_.store.images(i)[a]]);
+        }
+        std::vector<Rational> g_ray(ex_.rays.size() * c_), g_img(ex_.images.size() * c_);
+        mpz_class l = 1;
+        for (std::size_t id = 0; id < ex_.rays.size(); ++id) {
+            const Vector v = ex_.ray(static_cast<u32>(id));
+            for (std::size_t a = 0; a < c_; ++a) {
+                g_ray[id * c_ + a] = dot(h_ray[a], v);
+                mpz_lcm(l.get_mpz_t(), l.get_mpz_t(), mpq_denref(g_ray[id * c_ + a].mpq()));
+            }
+        }
+        for (std::size_t id = 0; id < ex_.images.size(); ++id)
+            for (std::size_t a = 0; a < c_; ++a) {
+                g_img[id * c_ + a] = dot(h_img[a], ex_.images[id]);
+                mpz_lcm(l.get_mpz_t(), l.get_mpz_t(), mpq_denref(g_img[id * c_ + a].mpq()));
+            }
+        const Rational L{CGAL::Gmpz(l.get_mpz_t())};
+        std::vector<i64> t_ray(g_ray.size()), t_img(g_img.size());
+        bool fits = true;
+        for (std::size_t k = 0; k < g_ray.size() && fits; ++k) {
+            const Rational x = g_ray[k] * L;
+            const auto v = intk::to_i64(mpq_numref(x.mpq()));
+            fits = v.has_value();
+            t_ray[k] = v.value_or(0);
+        }
+        for (std::size_t k = 0; k < g_img.size() && fits; ++k) {
+            const Rational x = g_img[k] * L;
+            const auto v = intk::to_i64(mpq_numref(x.mpq()));
+            fits = v.has_value();
+            t_img[k] = v.value_or(0);
+        }
+        for (u32 j = 0; j < n_; ++j) {
+            report("nonexpansive", j);
+            ++d.checks;
+            const u32* rays = ex_.store.rays(j);
+            const u32* imgs = ex_.store.images(j);
+            for (std::size_t b = 0; b < c_; ++b)
+                for (std::size_t a = 0; a < c_; ++a) {
+                    const bool negative = fits ? static_cast<i128>(t_img[imgs[b] * c_ + a]) - t_ray[rays[b] * c_ + a] < 0
+                                               : g_img[imgs[b] * c_ + a] < g_ray[rays[b] * c_ + a];
+                    if (!negative)
+                        continue;
+                    // z = e_a + e_(c+b): z^T A z = 2 B_ab < 0; moved into the open orthant.
+                    const Matrix Ri = ex_.R(i), Rj = ex_.R(j), Qi = ex_.Q(i), Qj = ex_.Q(j);
+                    Matrix B1(c_, 2 * c_), B2(c_, 2 * c_);
+                    const Matrix QRi = Qi * Ri, QRj = Qj * Rj;
+                    for (std::size_t r = 0; r < c_; ++r)
+                        for (std::size_t k = 0; k < c_; ++k) {
+                            B1(r, k) = Ri(r, k);
+                            B1(r, c_ + k) = -Rj(r, k);
+                            B2(r, k) = QRi(r, k);
+                            B2(r, c_ + k) = -QRj(r, k);
+                        }
+                    const Matrix A = transpose(B1) * H * B1 - transpose(B2) * H * B2;
+                    Vector z(2 * c_, Rational(0));
+                    z[a] = 1;
+                    z[c_ + b] = 1;
+                    ensure(sign_of(bilinear(z, A, z)) == Sign::negative, "nonexpansive: z^T A z < 0");
+                    const Vector w = interior_witness(A, z);
+                    const Vector s(w.begin(), w.begin() + static_cast<std::ptrdiff_t>(c_)),
+                        t(w.begin() + static_cast<std::ptrdiff_t>(c_), w.end());
+                    d_["nonexpansive"] = refuted(d, pair_witness(i, j, Qi, Qj, Ri * s, Rj * t));
+                    return;
+                }
+        }
+    }
+    d_["nonexpansive"] = d;
+}
+
+void Streamed::nonexpansive_lemma() {
+    Decision d;
+    d.method = "fan + P1 + H - Q^T H Q PSD per piece, on the listed pieces, by the symmetries (streamed)";
+    if (d_.at("P1").verdict == Verdict::refuted) {
+        Json w = d_.at("P1").counterexample;
+        w["via"] = "P1";
+        d_["nonexpansive-lemma"] = refuted(d, w);
+        return;
+    }
+    for (const char* need : {"symmetries", "fan", "P1"})
+        if (!proved(need)) {
+            d_["nonexpansive-lemma"] = undecided(d, std::string("the lemma needs ") + need + ", which --stream did not prove");
+            return;
+        }
+    const Model& m = ex_.base;
+    for (u32 p = 0; p < m.pieces().size(); ++p) {
+        const Piece& pc = m.pieces()[p];
+        const auto ldl = ldl_psd(m.H() - transpose(pc.Q) * m.H() * pc.Q);
+        ++d.checks;
+        if (ldl.psd)
+            continue;
+        // Two interior points of the same cone, a - b along the expanding direction x.
+        const Vector& x = ldl.witness;
+        const Vector centre = pc.R * Vector(c_, Rational(1));
+        Rational spread = 1;
+        for (const auto& coeff : pc.R_inv * x)
+            spread = std::max(spread, abs_of(coeff) + 1);
+        const Rational eps = Rational(1) / (2 * spread);
+        d_["nonexpansive-lemma"] = refuted(d, pair_witness(p, p, pc.Q, pc.Q, centre + eps * x, centre));
+        return;
+    }
+    d_["nonexpansive-lemma"] = d;
+}
+
+std::map<std::string, Decision> Streamed::run() {
+    symmetries();
+    membership();
+    by_rays();
+    by_listed();
+    nonexpansive();
+    nonexpansive_lemma();
+    // outcomes
+    Decision d;
+    d.method = "exact impacts in ball velocities, at the first piece containing gamma- (one value by P1; streamed)";
+    const Model& m = ex_.base;
+    for (std::size_t o = 0; o < ex_.law.outcomes.size() && d.verdict == Verdict::proved; ++o) {
+        const auto& decl = ex_.law.outcomes[o];
+        const Vector gamma = m.contact_velocities(decl.u_minus);
+        ++d.checks;
+        if (outcome_piece_[o] == kNone) {
+            d = refuted(d, Json{{"outcome", decl.name}, {"u_minus", to_json(decl.u_minus)},
+                                {"gamma_minus", to_json(gamma)}, {"reason", "gamma- lies in no cone"}});
+            break;
+        }
+        const u32 p = outcome_piece_[o];
+        const auto x = solve(ex_.R(p), gamma);
+        ensure(x && std::all_of(x->begin(), x->end(), [](const Rational& v) { return sign_of(v) != Sign::negative; }),
+               "outcomes: gamma- in the piece");
+        const Vector u_plus = m.post_impact_velocities(decl.u_minus, gamma, ex_.Q(p) * gamma);
+        if (u_plus != decl.u_plus) {
+            Json by_piece = Json::array();
+            by_piece.push_back(Json{{"piece", ex_.name(p)}, {"u_plus", to_json(u_plus)}});
+            d = refuted(d, Json{{"outcome", decl.name}, {"u_minus", to_json(decl.u_minus)},
+                                {"u_plus_declared", to_json(decl.u_plus)}, {"piece", ex_.name(p)},
+                                {"u_plus", to_json(u_plus)}, {"pieces_at_gamma", by_piece}});
+        }
+    }
+    if (d.verdict == Verdict::proved && !proved("P1"))
+        d = undecided(d, "one piece per gamma- decides the outcomes only with P1 proved");
+    d_["outcomes"] = d;
+    return d_;
+}
+
+} // namespace
+
+StreamResult verify_stream(const Law& law, const Limits& limits, const Progress& progress) {
+    if (!law.representatives_only)
+        throw StreamRefused("the law lists every piece (--stream expands laws given by orbit representatives, "
+                            "\"pieces_listed\": \"orbit-representatives\")");
+    if (law.symmetries.empty())
+        input_error("$.pieces_listed", "orbit representatives need \"symmetries\"");
+    // The listed pieces alone, validated as Model validates them (mechanics, pieces, symmetries,
+    // outcomes); declarations naming generated pieces are resolved after the expansion.
+    Law listed = law;
+    listed.representatives_only = false;
+    listed.identities.clear();
+    listed.single_impacts.clear();
+    listed.claims.reset();
+    const Model base(listed, limits.max_pieces, limits.max_memory_mb);
+    Expansion ex(law, base, limits, progress);
+    auto require_piece = [&](const std::string& name, const std::string& path) {
+        if (!ex.resolve(name))
+            input_error(path, "unknown piece " + in_quotes(name));
+    };
+    for (std::size_t i = 0; i < law.identities.size(); ++i) {
+        const auto& id = law.identities[i];
+        require_piece(id.lhs, idx("$.identities", i) + ".lhs");
+        for (std::size_t k = 0; k < id.product.size(); ++k)
+            require_piece(id.product[k], idx(idx("$.identities", i) + ".product", k));
+    }
+    for (std::size_t i = 0; i < law.single_impacts.size(); ++i)
+        require_piece(law.single_impacts[i].piece, idx("$.single_impacts", i) + ".piece");
+    validate_claims(law);
+
+    const auto start = std::chrono::steady_clock::now();
+    Streamed s(ex, limits, progress);
+    const auto decisions = s.run();
+    StreamResult out;
+    out.report.law = law.name;
+    for (const char* id : kObligationIds) {
+        ObligationResult r;
+        r.id = id;
+        r.claimed = law_claims(law, id);
+        r.data = Json::object();
+        if (!law_applies(law, id)) {
+            r.verdict = Verdict::skipped;
+            r.method = "nothing declared";
+        } else {
+            const Decision& d = decisions.at(id);
+            r.verdict = d.verdict;
+            r.checks = d.checks;
+            r.method = d.method;
+            r.counterexample = d.counterexample;
+            r.limit = d.limit;
+        }
+        out.report.obligations.push_back(std::move(r));
+    }
+    out.report.obligations.front().elapsed = std::chrono::steady_clock::now() - start;
+    out.balls = base.balls();
+    out.contacts = ex.c;
+    out.pieces = ex.store.size();
+    out.rays = ex.rays.size();
+    out.images = ex.images.size();
+    out.bytes = ex.bytes;
+    return out;
+}
+
+} // namespace impactcert
