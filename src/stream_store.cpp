@@ -175,7 +175,8 @@ u32 Expansion::map_image(u32 g, u32 scale, u32 image, u32 from_piece) {
 }
 
 void Expansion::map_piece(u32 p, u32 g, u32* rays_out, u32* images_out) {
-    std::vector<std::pair<u32, u32>> pairs(c);
+    auto& pairs = scratch_;
+    pairs.resize(c);
     for (std::size_t k = 0; k < c; ++k) {
         u32 r = 0, s = 0;
         map_ray(g, store.rays(p)[k], r, s);

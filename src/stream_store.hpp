@@ -94,6 +94,7 @@ class Expansion {
     std::vector<Rational> scales_;
     std::vector<std::vector<std::vector<u32>>> image_map_;  // per symmetry and scale, by image id
     std::size_t max_bits_ = 0, table_bytes_ = 0;
+    std::vector<std::pair<u32, u32>> scratch_; // map_piece's (ray, image) pairs
 
     u32 intern_ray(const std::vector<i64>& r);
     u32 intern_image(const Vector& v);

@@ -1,0 +1,247 @@
+// verify --stream (src/stream.hpp; proofs/README.md, "Streamed laws"): the same verdicts as
+// verify() on every law both decide, witnesses re-validated on the expanded model, what the
+// stream cannot decide undecided (never proved), and the same input errors.
+#include "cradle.hpp"
+#include "law_json.hpp"
+#include "stream.hpp"
+#include "support.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <fstream>
+
+using namespace impactcert;
+using impactcert::test::revalidate;
+using impactcert::test::run_cli;
+
+namespace {
+
+struct Agreement {
+    std::size_t proved = 0, refuted = 0, undecided = 0;
+};
+
+// Every obligation the stream decides has verify()'s verdict; every refutation's witness holds
+// on the expanded model; what it leaves undecided names --stream or a limit.
+Agreement require_agreement(const Law& law, const Limits& limits = {}) {
+    const Model m(law, limits.max_pieces, limits.max_memory_mb);
+    Limits quick = limits;
+    quick.evidence = false;
+    const VerifyReport full = verify(m, quick);
+    const StreamResult s = verify_stream(law, quick);
+    REQUIRE(s.pieces == m.pieces().size());
+    REQUIRE(s.rays == m.rays().size());
+    Agreement a;
+    for (const char* id : kObligationIds) {
+        INFO(id);
+        const ObligationResult& x = full.at(id);
+        const ObligationResult& y = s.report.at(id);
+        CHECK(x.claimed == y.claimed);
+        switch (y.verdict) {
+        case Verdict::proved:
+            CHECK(x.verdict == Verdict::proved);
+            ++a.proved;
+            break;
+        case Verdict::refuted:
+            CHECK(x.verdict == Verdict::refuted);
+            revalidate(m, y);
+            ++a.refuted;
+            break;
+        case Verdict::undecided:
+            CHECK(y.limit.find("--") != std::string::npos);
+            ++a.undecided;
+            break;
+        case Verdict::skipped:
+            CHECK(x.verdict == Verdict::skipped);
+            break;
+        }
+    }
+    return a;
+}
+
+std::string temp_law(const std::string& name, const Law& law) {
+    const std::string path = "stream_test_" + name + ".json";
+    std::ofstream(path) << law_to_json(law).dump(2);
+    return path;
+}
+
+} // namespace
+
+TEST_CASE("stream: the cradles n = 3..7 are proved as verify() proves them, piece for piece", "[stream]") {
+#ifdef IMPACTCERT_SANITIZER_BUILD
+    const std::size_t largest = 6;
+#else
+    const std::size_t largest = 7;
+#endif
+    for (std::size_t n = 3; n <= largest; ++n) {
+        INFO("n = " << n);
+        const Law law = cradle_law(n, CradleListing::representatives, true);
+        const Agreement a = require_agreement(law);
+        CHECK(a.proved == 12); // every claim: identities are not declared
+        CHECK(a.refuted == 0);
+        CHECK(a.undecided == 0);
+        const StreamResult s = verify_stream(law);
+        CHECK(s.report.exit_status() == 0);
+        CHECK(s.images == n - 1); // the unit vectors: each ray goes to an axis
+        CHECK(s.rays == (std::size_t{1} << n) - 2); // the non-empty proper subsets of balls
+        CHECK(s.report.at("nonexpansive").checks == s.pieces); // one orbit: (representative, j) for every j
+        CHECK(s.report.at("nonexpansive").method.find("by the symmetries") != std::string::npos);
+    }
+}
+
+TEST_CASE("stream: negative controls are refuted with verify()'s witnesses or left undecided, never proved",
+          "[stream]") {
+    SECTION("the reversal with P' = I: (iii) fails at a (piece, symmetry) pair, and nothing is reduced") {
+        Law law = cradle_law(4, CradleListing::representatives, true);
+        law.symmetries.back().P_prime = Matrix::identity(3);
+        const Agreement a = require_agreement(law);
+        const StreamResult s = verify_stream(law);
+        REQUIRE(s.report.at("symmetries").verdict == Verdict::refuted);
+        CHECK(s.report.at("symmetries").counterexample.contains("image_piece"));
+        for (const char* id : {"fan", "P2", "energetic", "nonexpansive", "nonexpansive-lemma"})
+            CHECK(s.report.at(id).verdict == Verdict::undecided);
+        CHECK(a.refuted >= 1);
+    }
+    SECTION("Q = 2I on the representative: P2, energetic and the lemma refuted, nonexpansive undecided") {
+        Law law = cradle_law(4, CradleListing::representatives, true);
+        law.pieces.front().Q = Rational(2) * Matrix::identity(3);
+        law.single_impacts.clear();
+        law.outcomes.clear();
+        require_agreement(law);
+        const StreamResult s = verify_stream(law);
+        CHECK(s.report.at("symmetries").verdict == Verdict::proved);
+        CHECK(s.report.at("fan").verdict == Verdict::proved);
+        CHECK(s.report.at("P1").verdict == Verdict::proved);
+        CHECK(s.report.at("P2").verdict == Verdict::refuted);
+        CHECK(s.report.at("energetic").verdict == Verdict::refuted);
+        CHECK(s.report.at("nonexpansive-lemma").verdict == Verdict::refuted);
+        CHECK(s.report.at("nonexpansive").verdict == Verdict::undecided);
+        CHECK(s.report.exit_status() == 1);
+    }
+    SECTION("Q = -I: P3, kinematic and kinetic refuted on a piece, with the one-piece model's witnesses") {
+        Law law = cradle_law(4, CradleListing::representatives, true);
+        law.pieces.front().Q = Rational(-1) * Matrix::identity(3);
+        law.single_impacts.clear();
+        law.outcomes.clear();
+        require_agreement(law);
+        const StreamResult s = verify_stream(law);
+        for (const char* id : {"P3", "kinematic", "kinetic"}) {
+            INFO(id);
+            REQUIRE(s.report.at(id).verdict == Verdict::refuted);
+            CHECK(s.report.at(id).counterexample.contains("ray"));
+        }
+        CHECK(s.report.at("P2").verdict == Verdict::proved); // -I is an isometry
+    }
+    SECTION("a discontinuous law with two-piece orbits: P1 refuted on a shared ray, the lemma via P1") {
+        // The 3-ball orderings, all listed, closed under the reversal alone; the sorted cone (fixed
+        // by the reversal J) gets Q = [[2, 1], [1, 2]], which commutes with J: (iii) holds, and
+        // its neighbours still send its rays to the axes.
+        Law law = cradle_law(3, CradleListing::all, true);
+        law.symmetries.erase(law.symmetries.begin(), law.symmetries.end() - 1);
+        law.representatives_only = true;
+        law.single_impacts.clear();
+        law.outcomes.clear();
+        bool found = false;
+        for (auto& p : law.pieces)
+            if (p.name == "u1<=u2<=u3") {
+                p.Q = Matrix::from_rows({test::vec({"2", "1"}), test::vec({"1", "2"})});
+                found = true;
+            }
+        REQUIRE(found);
+        require_agreement(law);
+        const StreamResult s = verify_stream(law);
+        REQUIRE(s.report.at("symmetries").verdict == Verdict::proved);
+        REQUIRE(s.report.at("P1").verdict == Verdict::refuted);
+        CHECK(s.report.at("nonexpansive-lemma").verdict == Verdict::refuted);
+        CHECK(s.report.at("nonexpansive-lemma").counterexample["via"] == "P1");
+        CHECK(s.report.at("nonexpansive").verdict == Verdict::undecided);
+    }
+    SECTION("a gap (the reversal alone: two cones): the fan is undecided, not proved") {
+        Law law = cradle_law(4, CradleListing::representatives, true);
+        law.symmetries.erase(law.symmetries.begin(), law.symmetries.end() - 1);
+        law.single_impacts.clear();
+        require_agreement(law);
+        const StreamResult s = verify_stream(law);
+        CHECK(s.pieces == 1); // the reversal fixes the sorted cone
+        CHECK(s.report.at("fan").verdict == Verdict::undecided);
+        CHECK(s.report.at("fan").limit.find("--stream") != std::string::npos);
+        CHECK(s.report.at("P1").verdict != Verdict::proved);
+        CHECK(s.report.at("kinematic").verdict != Verdict::proved);
+        CHECK(s.report.exit_status() != 0);
+    }
+    SECTION("an overlap: a second listed cone contains the test point in its interior") {
+        Law law = cradle_law(4, CradleListing::representatives, true);
+        law.single_impacts.clear();
+        law.outcomes.clear();
+        PieceDecl extra{"overlap", Matrix::identity(3), std::vector<Vector>{test::vec({"1", "0", "0"}), test::vec({"0", "1", "0"}),
+                                                                             test::vec({"1", "1", "2"})}};
+        law.pieces.push_back(extra);
+        require_agreement(law);
+        const StreamResult s = verify_stream(law);
+        REQUIRE(s.report.at("fan").verdict == Verdict::refuted);
+        CHECK(s.report.at("fan").counterexample["interior_of"].size() >= 2);
+    }
+}
+
+TEST_CASE("stream: limits, names and refusals are those of Model, in one line each", "[stream]") {
+    const Law law = cradle_law(5, CradleListing::representatives, true);
+    Limits few;
+    few.max_pieces = 100;
+    CHECK_THROWS_WITH(verify_stream(law, few), Catch::Contains("more than 100 pieces (raise it with --max-pieces)"));
+    CHECK_THROWS_WITH(Model(law, 100), Catch::Contains("more than 100 pieces (raise it with --max-pieces)"));
+    Limits tight;
+    tight.max_memory_mb = 0;
+    CHECK_THROWS_WITH(verify_stream(law, tight), Catch::Contains("raise it with --max-memory"));
+
+    Law unknown = law;
+    unknown.single_impacts.front().piece = "sorted.s9";
+    CHECK_THROWS_WITH(verify_stream(unknown), Catch::Contains("$.single_impacts[0].piece: unknown piece \"sorted.s9\""));
+    CHECK_THROWS_WITH(Model(unknown), Catch::Contains("$.single_impacts[0].piece: unknown piece \"sorted.s9\""));
+    // A name reached by a path that did not generate it is unknown too: sorted.s1.s1 is sorted.
+    unknown.single_impacts.front().piece = "sorted.s1.s1";
+    CHECK_THROWS_AS(verify_stream(unknown), InputError);
+    CHECK_THROWS_AS(Model(unknown), InputError);
+
+    // A listed piece named like the piece a symmetry generates.
+    Law taken = cradle_law(4, CradleListing::representatives, true);
+    PieceDecl other = taken.pieces.front();
+    other.name = "sorted.s1";
+    other.rays = std::vector<Vector>{test::vec({"1", "0", "0"}), test::vec({"0", "1", "0"}), test::vec({"1", "1", "2"})};
+    taken.pieces.push_back(other);
+    CHECK_THROWS_WITH(Model(taken), Catch::Contains("generated piece name \"sorted.s1\" is taken"));
+    CHECK_THROWS_WITH(verify_stream(taken), Catch::Contains("generated piece name \"sorted.s1\" is taken"));
+
+    // Outside what the store holds: refused, never decided.
+    CHECK_THROWS_AS(verify_stream(cradle_law(4, CradleListing::all, true)), StreamRefused);
+    Law dotted = cradle_law(4, CradleListing::representatives, true);
+    dotted.symmetries.front().name = "s.1";
+    CHECK_THROWS_AS(verify_stream(dotted), StreamRefused);
+    Law twice = cradle_law(4, CradleListing::representatives, true);
+    twice.pieces.push_back(twice.pieces.front());
+    twice.pieces.back().name = "again";
+    CHECK_THROWS_AS(verify_stream(twice), StreamRefused);
+}
+
+TEST_CASE("stream: the CLI's --stream", "[stream][cli]") {
+    const std::string path = temp_law("cradle6", cradle_law(6, CradleListing::representatives, true));
+    const auto streamed = run_cli("verify --stream --json --law " + path);
+    const auto full = run_cli("verify --json --law " + path);
+    REQUIRE(streamed.status == 0);
+    REQUIRE(full.status == 0);
+    const Json a = Json::parse(streamed.out), b = Json::parse(full.out);
+    CHECK(a["verdict"] == b["verdict"]);
+    for (std::size_t k = 0; k < a["obligations"].size(); ++k)
+        CHECK(a["obligations"][k]["verdict"] == b["obligations"][k]["verdict"]);
+    const auto table = run_cli("verify --stream --law " + path);
+    CHECK(table.status == 0);
+    CHECK(table.out.find("720 pieces as ids of 62 rays") != std::string::npos);
+
+    const auto paper = run_cli("verify --stream");
+    CHECK(paper.status == 3);
+    CHECK(paper.err.find("--stream") != std::string::npos);
+    CHECK(std::count(paper.err.begin(), paper.err.end(), '\n') == 1);
+    const auto sharded = run_cli("verify --stream --shard 1/2 --law " + path);
+    CHECK(sharded.status == 2);
+    const auto limited = run_cli("verify --stream --max-pieces 10 --law " + path);
+    CHECK(limited.status == 2);
+    CHECK(limited.err.find(path + ": $.symmetries: the symmetries generate more than 10 pieces") != std::string::npos);
+}
