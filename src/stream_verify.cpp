@@ -324,7 +324,7 @@ void Streamed::membership() {
     };
     // The pieces in `jobs` consecutive ranges, one thread each; merged in piece order.
     auto scan_all = [&](const std::vector<std::size_t>& points, bool facets) {
-        const std::size_t jobs = std::max<std::size_t>(1, std::min<std::size_t>(limits_.jobs, n_ / 4096 + 1));
+        const std::size_t jobs = std::max<std::size_t>(1, std::min<std::size_t>(limits_.jobs, n_ / 1024 + 1));
         std::vector<Scan> parts(jobs);
         std::vector<std::thread> threads;
         std::vector<std::exception_ptr> errors(jobs);

@@ -5,6 +5,7 @@
 #include "law_json.hpp"
 #include "stream.hpp"
 #include "support.hpp"
+#include "verdict_output.hpp"
 
 #include <catch2/catch.hpp>
 
@@ -244,4 +245,30 @@ TEST_CASE("stream: the CLI's --stream", "[stream][cli]") {
     const auto limited = run_cli("verify --stream --max-pieces 10 --law " + path);
     CHECK(limited.status == 2);
     CHECK(limited.err.find(path + ": $.symmetries: the symmetries generate more than 10 pieces") != std::string::npos);
+}
+
+TEST_CASE("stream: the membership pass in threads gives the same report, byte for byte", "[stream]") {
+    // 5,040 pieces: two and three ranges scanned in parallel; the fan, outcomes and counts merged
+    // in piece order.
+    const Law law = cradle_law(7, CradleListing::representatives, true);
+    Limits one, two, three;
+    one.jobs = 1;
+    two.jobs = 2;
+    three.jobs = 3;
+    const std::string a = verdict_json(verify_stream(law, one).report).dump();
+    CHECK(verdict_json(verify_stream(law, two).report).dump() == a);
+    CHECK(verdict_json(verify_stream(law, three).report).dump() == a);
+    // A refuted fan (an overlapping listed cone and its orbit): the merged witness is the same.
+    Law overlap = cradle_law(6, CradleListing::representatives, true);
+    overlap.single_impacts.clear();
+    overlap.outcomes.clear();
+    std::vector<Vector> rays;
+    for (std::size_t k = 0; k < 5; ++k)
+        rays.push_back(unit_vector(5, k));
+    rays.back() = test::vec({"1", "1", "1", "1", "2"});
+    overlap.pieces.push_back(PieceDecl{"overlap", Matrix::identity(5), rays});
+    const StreamResult s1 = verify_stream(overlap, one), s2 = verify_stream(overlap, two);
+    REQUIRE(s1.report.at("fan").verdict == Verdict::refuted);
+    CHECK(s1.report.at("fan").counterexample["interior_of"].size() >= 2);
+    CHECK(verdict_json(s2.report).dump() == verdict_json(s1.report).dump());
 }
