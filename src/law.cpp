@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <functional>
 #include <set>
 
 namespace impactcert {
@@ -262,45 +263,7 @@ Model::Model(Law law, std::size_t max_pieces, std::size_t max_memory_mb) : law_(
             }
     }
 
-    // Declarations that reference pieces.
-    auto require_piece = [&](const std::string& name, const std::string& path) {
-        if (!names.count(name))
-            input_error(path, "unknown piece " + in_quotes(name));
-    };
-    for (std::size_t i = 0; i < law_.identities.size(); ++i) {
-        const auto& id = law_.identities[i];
-        const std::string path = idx("$.identities", i);
-        require_piece(id.lhs, path + ".lhs");
-        if (id.product.empty())
-            input_error(path + ".product", "empty product");
-        for (std::size_t k = 0; k < id.product.size(); ++k)
-            require_piece(id.product[k], idx(path + ".product", k));
-    }
-    for (std::size_t i = 0; i < law_.single_impacts.size(); ++i) {
-        const auto& si = law_.single_impacts[i];
-        const std::string path = idx("$.single_impacts", i);
-        require_piece(si.piece, path + ".piece");
-        if (si.contact < 1 || static_cast<std::size_t>(si.contact) > c)
-            input_error(path + ".contact", "contact must be in 1.." + std::to_string(c) + ", got " +
-                                               std::to_string(si.contact));
-        if (sign_of(si.restitution) == Sign::negative || si.restitution > Rational(1))
-            input_error(path + ".restitution",
-                        "restitution must be in [0, 1], got " + to_string(si.restitution));
-    }
-    std::set<std::string> outcome_names;
-    for (std::size_t i = 0; i < law_.outcomes.size(); ++i) {
-        const auto& o = law_.outcomes[i];
-        const std::string path = idx("$.outcomes", i);
-        if (!outcome_names.insert(o.name).second)
-            input_error(path + ".name", "duplicate outcome name " + in_quotes(o.name));
-        if (o.u_minus.size() != n)
-            input_error(path + ".u_minus", "expected " + std::to_string(n) + " ball velocities, got " +
-                                               std::to_string(o.u_minus.size()));
-        if (o.u_plus.size() != n)
-            input_error(path + ".u_plus", "expected " + std::to_string(n) + " ball velocities, got " +
-                                              std::to_string(o.u_plus.size()));
-    }
-    validate_claims(law_);
+    validate_declarations(law_, n, c, [&](const std::string& name) { return names.count(name) > 0; });
     r_inv_int_.reserve(pieces_.size());
     for (const auto& piece : pieces_)
         r_inv_int_.push_back(intk::to_int(piece.R_inv));
@@ -403,6 +366,48 @@ bool law_claims(const Law& law, const std::string& id) {
     if (!law.claims)
         return law_applies(law, id);
     return std::find(law.claims->begin(), law.claims->end(), id) != law.claims->end();
+}
+
+void validate_declarations(const Law& law, std::size_t n, std::size_t c,
+                           const std::function<bool(const std::string&)>& piece_exists) {
+    auto require_piece = [&](const std::string& name, const std::string& path) {
+        if (!piece_exists(name))
+            input_error(path, "unknown piece " + in_quotes(name));
+    };
+    for (std::size_t i = 0; i < law.identities.size(); ++i) {
+        const auto& id = law.identities[i];
+        const std::string path = idx("$.identities", i);
+        require_piece(id.lhs, path + ".lhs");
+        if (id.product.empty())
+            input_error(path + ".product", "empty product");
+        for (std::size_t k = 0; k < id.product.size(); ++k)
+            require_piece(id.product[k], idx(path + ".product", k));
+    }
+    for (std::size_t i = 0; i < law.single_impacts.size(); ++i) {
+        const auto& si = law.single_impacts[i];
+        const std::string path = idx("$.single_impacts", i);
+        require_piece(si.piece, path + ".piece");
+        if (si.contact < 1 || static_cast<std::size_t>(si.contact) > c)
+            input_error(path + ".contact", "contact must be in 1.." + std::to_string(c) + ", got " +
+                                               std::to_string(si.contact));
+        if (sign_of(si.restitution) == Sign::negative || si.restitution > Rational(1))
+            input_error(path + ".restitution",
+                        "restitution must be in [0, 1], got " + to_string(si.restitution));
+    }
+    std::set<std::string> outcome_names;
+    for (std::size_t i = 0; i < law.outcomes.size(); ++i) {
+        const auto& o = law.outcomes[i];
+        const std::string path = idx("$.outcomes", i);
+        if (!outcome_names.insert(o.name).second)
+            input_error(path + ".name", "duplicate outcome name " + in_quotes(o.name));
+        if (o.u_minus.size() != n)
+            input_error(path + ".u_minus", "expected " + std::to_string(n) + " ball velocities, got " +
+                                               std::to_string(o.u_minus.size()));
+        if (o.u_plus.size() != n)
+            input_error(path + ".u_plus", "expected " + std::to_string(n) + " ball velocities, got " +
+                                              std::to_string(o.u_plus.size()));
+    }
+    validate_claims(law);
 }
 
 void validate_claims(const Law& law) {

@@ -16,6 +16,7 @@
 #include "system.hpp"
 
 #include <array>
+#include <functional>
 #include <map>
 #include <optional>
 #include <string>
@@ -95,6 +96,10 @@ bool law_applies(const Law& law, const std::string& id);
 bool law_claims(const Law& law, const std::string& id);
 // "claims": non-empty, known ids, each once, each applying; throws InputError naming the place.
 void validate_claims(const Law& law);
+// The declarations after the pieces, in Model's order: identities and single impacts (their
+// pieces must exist), outcomes (n ball velocities), then the claims. Throws InputError.
+void validate_declarations(const Law& law, std::size_t n, std::size_t c,
+                           const std::function<bool(const std::string&)>& piece_exists);
 
 // ---------------------------------------------------------------------------------------------
 // Prepared law

@@ -7,6 +7,7 @@
 #include <gmp.h>
 
 #include <algorithm>
+#include <map>
 #include <stdexcept>
 
 namespace impactcert {
@@ -166,6 +167,71 @@ PairKernel::PairKernel(const Model& m, bool enabled) : c_(m.contacts()), enabled
         for (const i64 x : d.E)
             d.E_nonnegative = d.E_nonnegative && x >= 0;
     }
+    if (std::all_of(pieces_.begin(), pieces_.end(), [](const PieceData& d) { return d.ok; }))
+        build_gram(m, Hs);
+}
+
+void PairKernel::build_gram(const Model& m, const std::vector<i64>& Hs) {
+    // At most 1,024 distinct rays and images: two tables of at most 8 MB.
+    constexpr std::size_t kMaxIds = 1024;
+    const std::size_t c = c_, pieces = m.pieces().size();
+    if (m.rays().size() > kMaxIds)
+        return;
+    std::vector<std::vector<i64>> rays, images;
+    for (const auto& r : m.rays()) {
+        auto v = intk::to_int_vector(r);
+        if (!v)
+            return;
+        rays.push_back(std::move(*v));
+    }
+    std::map<std::vector<i64>, std::uint32_t> image_index;
+    ray_of_.resize(pieces * c);
+    image_of_.resize(pieces * c);
+    for (std::size_t p = 0; p < pieces; ++p) {
+        const Piece& piece = m.pieces()[p];
+        for (std::size_t k = 0; k < c; ++k) {
+            auto w = intk::to_int_vector(piece.Q * piece.R.column(k));
+            if (!w)
+                return; // an image that is not integral (or too large): no tables
+            auto [it, added] = image_index.emplace(*w, static_cast<std::uint32_t>(images.size()));
+            if (added) {
+                if (images.size() == kMaxIds)
+                    return;
+                images.push_back(std::move(*w));
+            }
+            ray_of_[p * c + k] = static_cast<std::uint32_t>(piece.ray_ids[k]);
+            image_of_[p * c + k] = it->second;
+        }
+    }
+    // x^T Hs y for every pair of a table, checked.
+    const intk::IntMatrix dH{c, c, Hs, 1};
+    auto table = [&](const std::vector<std::vector<i64>>& vs, std::vector<i64>& out) {
+        const std::size_t n = vs.size();
+        out.assign(n * n, 0);
+        std::vector<i64> hy(c);
+        for (std::size_t b = 0; b < n; ++b) {
+            if (!intk::apply(dH, vs[b].data(), hy.data()))
+                return false;
+            for (std::size_t a = 0; a < n; ++a) {
+                i128 sum = 0;
+                for (std::size_t r = 0; r < c; ++r)
+                    if (__builtin_add_overflow(sum, static_cast<i128>(vs[a][r]) * hy[r], &sum))
+                        return false;
+                if (!fits(sum))
+                    return false;
+                out[a * n + b] = static_cast<i64>(sum);
+            }
+        }
+        return true;
+    };
+    if (!table(rays, gram_rays_) || !table(images, gram_images_)) {
+        gram_rays_.clear();
+        gram_images_.clear();
+        return;
+    }
+    rays_ = rays.size();
+    images_ = images.size();
+    gram_ = true;
 }
 
 std::size_t PairKernel::pieces_in_kernel() const {
@@ -180,6 +246,21 @@ std::optional<CopositivityMethod> PairKernel::decide(std::size_t i, std::size_t 
         return std::nullopt;
     const PieceData &a = pieces_[i], &b = pieces_[j];
     const std::size_t c = c_, n = 2 * c_;
+    // Lemma K4: -F_xy = (Q_i r_x)^T H (Q_j s_y) - r_x^T H s_y from the tables; the common case
+    // (every entry >= 0) ends here, anything else goes the full way below.
+    if (gram_ && a.E_nonnegative && b.E_nonnegative) {
+        const std::uint32_t *ri = &ray_of_[i * c], *rj = &ray_of_[j * c], *ii = &image_of_[i * c],
+                            *ij = &image_of_[j * c];
+        bool nonnegative = true;
+        for (std::size_t x = 0; x < c && nonnegative; ++x)
+            for (std::size_t y = 0; y < c; ++y)
+                if (static_cast<i128>(gram_images_[ii[x] * images_ + ij[y]]) < gram_rays_[ri[x] * rays_ + rj[y]]) {
+                    nonnegative = false;
+                    break;
+                }
+        if (nonnegative)
+            return CopositivityMethod::nonnegative_entries;
+    }
     // F = R_i^T H R_j - QR_i^T H QR_j (all scaled); A = [[E_i, -F], [-F^T, E_j]]. When the
     // bounds of the entries show that no partial sum can leave int64 (c terms of two products,
     // each below the bound), F is computed in plain int64 (the common case, vectorised);

@@ -38,10 +38,20 @@ class PairKernel {
 
     // How many pieces fit the kernel (their scaled data are int64); for reports and tests.
     std::size_t pieces_in_kernel() const;
+    // Whether the Gram tables (Lemma K4) are in use; for tests.
+    bool gram_tables() const { return gram_; }
 
   private:
     std::size_t c_ = 0;
     bool enabled_ = false;
+    // Gram tables (proofs/README.md, "Integer kernels", Lemma K4): when every image Q r of a ray
+    // is integral and the distinct rays and images are few, the off-diagonal block of a pair form
+    // is (Q_i r_x)^T H (Q_j s_y) - r_x^T H s_y, a difference of two table entries (times d).
+    bool gram_ = false;
+    std::size_t rays_ = 0, images_ = 0;
+    std::vector<std::uint32_t> ray_of_, image_of_; // per piece, c ids
+    std::vector<std::int64_t> gram_rays_, gram_images_; // d r^T H s, d w^T H v (row-major)
+    void build_gram(const Model& m, const std::vector<std::int64_t>& Hs);
     struct PieceData {
         bool ok = false;
         std::vector<std::int64_t> R, QR, HR, HQR, E; // c x c row-major; E = R^T H R - QR^T H QR

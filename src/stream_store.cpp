@@ -243,6 +243,42 @@ Expansion::Expansion(const Law& law_, const Model& base_, const Limits& limits, 
                   static_cast<u32>(piece.name.size()));
     }
     check_budget();
+    for (u32 g = 0; g < syms.size(); ++g)
+        symmetry_index_.emplace(syms[g].name, g);
+
+    // As Model: a generated name may not be a listed one. A listed name <listed>.<s1>...<sk> is
+    // followed along its path while the pieces are generated; the step that would generate it
+    // is the error, at the moment Model reports it.
+    struct Taken {
+        std::size_t listed;       // the listed piece whose name it is
+        std::vector<u32> path;    // its symmetries
+    };
+    std::vector<Taken> taken;
+    std::map<u32, std::vector<std::pair<std::size_t, std::size_t>>> following; // piece -> (taken, step)
+    for (std::size_t t = 0; t < base.pieces().size(); ++t) {
+        const std::string& name = base.pieces()[t].name;
+        for (std::size_t p = 0; p < base.pieces().size(); ++p) {
+            const std::string& prefix = base.pieces()[p].name;
+            if (name.size() <= prefix.size() + 1 || name.compare(0, prefix.size(), prefix) != 0 || name[prefix.size()] != '.')
+                continue;
+            std::vector<u32> path;
+            bool ok = true;
+            for (std::size_t at = prefix.size() + 1; ok;) {
+                const std::size_t dot = name.find('.', at);
+                const auto g = symmetry_index_.find(name.substr(at, dot == std::string::npos ? std::string::npos : dot - at));
+                ok = g != symmetry_index_.end();
+                if (ok)
+                    path.push_back(g->second);
+                if (dot == std::string::npos)
+                    break;
+                at = dot + 1;
+            }
+            if (ok) {
+                following[static_cast<u32>(p)].emplace_back(taken.size(), 0);
+                taken.push_back(Taken{t, std::move(path)});
+            }
+        }
+    }
 
     // Breadth first: each piece in order, each symmetry in order.
     std::vector<u32> uf(base.pieces().size());
@@ -250,6 +286,8 @@ Expansion::Expansion(const Law& law_, const Model& base_, const Limits& limits, 
     for (std::size_t p = 0; p < store.size(); ++p) {
         if (progress && p % 65536 == 0)
             progress("expansion", std::to_string(p) + "/" + std::to_string(store.size()) + " pieces");
+        while (!following.empty() && following.begin()->first < p)
+            following.erase(following.begin()); // pieces before p: nothing more is generated from them
         for (u32 g = 0; g < syms.size(); ++g) {
             map_piece(static_cast<u32>(p), g, sorted_rays.data(), sorted_images.data());
             if (const auto q = store.find(sorted_rays.data())) {
@@ -277,6 +315,15 @@ Expansion::Expansion(const Law& law_, const Model& base_, const Limits& limits, 
             if (length > kMaxGeneratedName)
                 input_error("$.symmetries", "generated piece name longer than " + std::to_string(kMaxGeneratedName) +
                                                 " characters (a symmetry of infinite order?)");
+            if (!following.empty())
+                if (const auto f = following.find(static_cast<u32>(p)); f != following.end())
+                    for (const auto& [t, step] : f->second)
+                        if (taken[t].path[step] == g) {
+                            if (step + 1 == taken[t].path.size())
+                                input_error(idx("$.symmetries", g) + ".name",
+                                            "generated piece name " + in_quotes(base.pieces()[taken[t].listed].name) + " is taken");
+                            following[static_cast<u32>(store.size())].emplace_back(t, step + 1);
+                        }
             store.add(sorted_rays.data(), sorted_images.data(), static_cast<u32>(p), g, store.root(p),
                       static_cast<u32>(length));
             if (store.size() % 4096 == 0)
@@ -284,11 +331,6 @@ Expansion::Expansion(const Law& law_, const Model& base_, const Limits& limits, 
         }
     }
     check_budget();
-    // As Model: a generated name may not be a listed one.
-    for (std::size_t p = 0; p < base.pieces().size(); ++p)
-        if (const auto q = generated_named(base.pieces()[p].name))
-            input_error(idx("$.symmetries", store.generator(*q)) + ".name",
-                        "generated piece name " + in_quotes(base.pieces()[p].name) + " is taken");
     for (u32 p = 0; p < base.pieces().size(); ++p)
         if (find_root(uf, p) == p)
             representatives.push_back(p);
@@ -306,30 +348,45 @@ std::string Expansion::name(u32 p) const {
     return out;
 }
 
-// The generated piece named `name`: <prefix>.<symmetry> where <prefix> names a piece q and the
-// piece P q was generated from q by that symmetry (so carries that name).
-std::optional<u32> Expansion::generated_named(const std::string& name) {
+// The piece named `name`: a listed name, or <listed name>.<symmetry>.<symmetry>... along a path
+// whose every step generated its piece (symmetry names have no "."). Iterative: a name of any
+// length costs one pass per listed prefix.
+std::optional<u32> Expansion::walk(const std::string& name, bool generated_only) {
+    const auto& listed = base.pieces();
+    if (!generated_only)
+        for (std::size_t p = 0; p < listed.size(); ++p)
+            if (listed[p].name == name)
+                return static_cast<u32>(p);
+    if (name.size() > kMaxGeneratedName)
+        return std::nullopt; // longer than any generated name
     std::vector<u32> r(c), im(c);
-    for (u32 g = 0; g < law.symmetries.size(); ++g) {
-        const std::string suffix = "." + law.symmetries[g].name;
-        if (name.size() <= suffix.size() || name.compare(name.size() - suffix.size(), suffix.size(), suffix) != 0)
+    for (std::size_t p = 0; p < listed.size(); ++p) {
+        const std::string& prefix = listed[p].name;
+        if (name.size() <= prefix.size() + 1 || name.compare(0, prefix.size(), prefix) != 0 || name[prefix.size()] != '.')
             continue;
-        const auto q = resolve(name.substr(0, name.size() - suffix.size()));
-        if (!q)
-            continue;
-        map_piece(*q, g, r.data(), im.data());
-        const auto child = store.find(r.data());
-        if (child && store.generator(*child) == g && store.parent(*child) == *q)
-            return child;
+        u32 q = static_cast<u32>(p);
+        bool ok = true;
+        for (std::size_t at = prefix.size() + 1; ok;) {
+            const std::size_t dot = name.find('.', at);
+            const std::string segment = name.substr(at, dot == std::string::npos ? std::string::npos : dot - at);
+            const auto g = symmetry_index_.find(segment);
+            if (g == symmetry_index_.end()) {
+                ok = false;
+                break;
+            }
+            map_piece(q, g->second, r.data(), im.data());
+            const auto child = store.find(r.data());
+            ok = child && store.generator(*child) == g->second && store.parent(*child) == q;
+            if (ok)
+                q = *child;
+            if (dot == std::string::npos)
+                break;
+            at = dot + 1;
+        }
+        if (ok)
+            return q;
     }
     return std::nullopt;
-}
-
-std::optional<u32> Expansion::resolve(const std::string& name) {
-    for (std::size_t p = 0; p < base.pieces().size(); ++p)
-        if (base.pieces()[p].name == name)
-            return static_cast<u32>(p);
-    return generated_named(name);
 }
 
 Matrix Expansion::R(u32 p) const {

@@ -83,7 +83,7 @@ class Expansion {
     Matrix image_columns(u32 p) const;     // columns: their images, Q R
     Matrix Q(u32 p) const;                 // Q R R^-1
     PieceDecl decl(u32 p) const;           // name, Q and rays, as a law file would list it
-    std::optional<u32> resolve(const std::string& name); // a piece by its name
+    std::optional<u32> resolve(const std::string& name) { return walk(name, false); } // a piece by its name
 
   private:
     const Limits& limits_;
@@ -101,7 +101,8 @@ class Expansion {
     void map_ray(u32 g, u32 r, u32& image, u32& scale);
     u32 map_image(u32 g, u32 scale, u32 image, u32 from_piece);
     void map_piece(u32 p, u32 g, u32* rays_out, u32* images_out); // sorted by ray id
-    std::optional<u32> generated_named(const std::string& name);
+    std::optional<u32> walk(const std::string& name, bool generated_only);
+    std::map<std::string, u32> symmetry_index_;
     void check_budget();
 };
 

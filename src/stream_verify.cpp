@@ -38,6 +38,7 @@ using intk::i128;
 namespace {
 
 constexpr const char* kRerun = " (verify without --stream decides it, memory permitting)";
+constexpr std::size_t kMaxOrbits = 64;
 
 struct Decision {
     Verdict verdict = Verdict::proved;
@@ -219,28 +220,31 @@ void Streamed::symmetries() {
 void Streamed::membership() {
     constexpr std::size_t kPoints = 4;
     const u32 rep0 = ex_.representatives.front();
-    // Test points p_t = R_rep0 (1, t, ..., t^(c-1)), t = 1..4: interior to C_rep0.
+    // Test points p_t = R_rep0 (1, t, ..., t^(c-1)), t = 1..4: interior to C_rep0. The first
+    // (the sum of the rays) must fit int64; a later one that does not is left out.
     std::vector<std::vector<i64>> rhs;
     for (std::size_t t = 1; t <= kPoints; ++t) {
         std::vector<i128> v(c_, 0);
-        std::vector<i64> p(c_);
         i128 power = 1;
         bool fits = true;
-        for (std::size_t k = 0; k < c_; ++k) {
+        for (std::size_t k = 0; k < c_ && fits; ++k) {
             const auto& r = ex_.rays[ex_.store.rays(rep0)[k]];
-            for (std::size_t i = 0; i < c_; ++i) {
-                v[i] += power * r[i];
-                fits = fits && intk::fits(v[i]);
+            for (std::size_t i = 0; i < c_ && fits; ++i) {
+                v[i] += power * r[i]; // |power|, |r[i]| < 2^63 and |v[i]| < 2^63 before: no i128 overflow
+                fits = intk::fits(v[i]);
             }
-            power *= static_cast<i128>(t);
-            fits = fits && intk::fits(power);
+            if (k + 1 < c_) {
+                power *= static_cast<i128>(t);
+                fits = fits && intk::fits(power);
+            }
         }
+        if (!fits && t == 1)
+            throw StreamRefused("the fan's test point (the sum of the first representative's rays) leaves int64");
         if (!fits)
-            throw StreamRefused("the test points of the fan leave int64 (--stream keeps them in int64)");
-        for (std::size_t i = 0; i < c_; ++i)
-            p[i] = static_cast<i64>(v[i]);
-        rhs.push_back(p);
+            break;
+        rhs.emplace_back(v.begin(), v.end());
     }
+    const std::size_t point_count = rhs.size();
     const auto& outcomes = ex_.law.outcomes;
     for (std::size_t o = 0; o < outcomes.size(); ++o) {
         const auto g = integral(ex_.base.contact_velocities(outcomes[o].u_minus));
@@ -248,12 +252,15 @@ void Streamed::membership() {
             throw StreamRefused("gamma- of outcome " + in_quotes(outcomes[o].name) + " leaves int64 (--stream keeps it in int64)");
         rhs.push_back(*g);
     }
+    const std::size_t outcome_column = point_count; // outcome o is column point_count + o
     // Facets of the representatives: pos[r][ray id] = 1 + the ray's position in representative r.
     const auto& reps = ex_.representatives;
-    if (c_ > 250)
-        throw StreamRefused("more than 250 contacts");
-    std::vector<std::vector<unsigned char>> pos(reps.size(), std::vector<unsigned char>(ex_.rays.size(), 0));
-    for (std::size_t r = 0; r < reps.size(); ++r)
+    const std::size_t max_bytes = limits_.max_memory_mb > (SIZE_MAX >> 20) ? SIZE_MAX : limits_.max_memory_mb << 20;
+    const std::size_t facet_bytes = reps.size() * ex_.rays.size();
+    const bool facet_tables = ex_.bytes <= max_bytes && facet_bytes <= max_bytes - ex_.bytes;
+    std::vector<std::vector<unsigned char>> pos(facet_tables ? reps.size() : 0,
+                                                std::vector<unsigned char>(ex_.rays.size(), 0));
+    for (std::size_t r = 0; r < pos.size(); ++r)
         for (std::size_t k = 0; k < c_; ++k)
             pos[r][ex_.store.rays(reps[r])[k]] = static_cast<unsigned char>(k + 1);
 
@@ -266,7 +273,7 @@ void Streamed::membership() {
         std::vector<std::vector<std::size_t>> facet_count;
         std::vector<std::vector<u32>> extra;
     };
-    auto scan = [&](u32 lo, u32 hi, const std::vector<std::size_t>& points, bool facets, bool progress, Scan& out) {
+    auto scan = [&](u32 lo, u32 hi, const std::vector<std::size_t>& points, bool first, bool progress, Scan& out) {
         Signs signs_of(c_, rhs);
         out.interior_of.assign(points.size(), {});
         out.on_boundary.assign(points.size(), false);
@@ -276,7 +283,7 @@ void Streamed::membership() {
         std::vector<std::vector<int>> signs;
         std::vector<std::size_t> cols;
         std::vector<char> hit(c_);
-        std::size_t missing_outcomes = facets ? outcomes.size() : 0;
+        std::size_t missing_outcomes = first ? outcomes.size() : 0;
         for (u32 j = lo; j < hi; ++j) {
             if (progress)
                 report("fan", j);
@@ -284,7 +291,7 @@ void Streamed::membership() {
             if (missing_outcomes)
                 for (std::size_t o = 0; o < outcomes.size(); ++o)
                     if (out.outcome_piece[o] == kNone)
-                        cols.push_back(kPoints + o);
+                        cols.push_back(outcome_column + o);
             signs_of.of(ex_, j, cols, signs);
             for (std::size_t t = 0; t < points.size(); ++t) {
                 const bool inside = std::all_of(signs[t].begin(), signs[t].end(), [](int v) { return v > 0; });
@@ -296,10 +303,10 @@ void Streamed::membership() {
             }
             for (std::size_t b = points.size(); b < cols.size(); ++b)
                 if (std::all_of(signs[b].begin(), signs[b].end(), [](int v) { return v >= 0; })) {
-                    out.outcome_piece[cols[b] - kPoints] = j;
+                    out.outcome_piece[cols[b] - outcome_column] = j;
                     --missing_outcomes;
                 }
-            for (std::size_t r = 0; facets && r < reps.size(); ++r) {
+            for (std::size_t r = 0; first && r < pos.size(); ++r) {
                 if (j == reps[r])
                     continue;
                 std::fill(hit.begin(), hit.end(), 0);
@@ -323,21 +330,28 @@ void Streamed::membership() {
         }
     };
     // The pieces in `jobs` consecutive ranges, one thread each; merged in piece order.
-    auto scan_all = [&](const std::vector<std::size_t>& points, bool facets) {
+    auto scan_all = [&](const std::vector<std::size_t>& points, bool first) {
         const std::size_t jobs = std::max<std::size_t>(1, std::min<std::size_t>(limits_.jobs, n_ / 1024 + 1));
         std::vector<Scan> parts(jobs);
         std::vector<std::thread> threads;
         std::vector<std::exception_ptr> errors(jobs);
-        for (std::size_t k = 1; k < jobs; ++k)
-            threads.emplace_back([&, k] {
-                try {
-                    scan(static_cast<u32>(n_ * k / jobs), static_cast<u32>(n_ * (k + 1) / jobs), points, facets, false, parts[k]);
-                } catch (...) {
-                    errors[k] = std::current_exception();
-                }
-            });
         try {
-            scan(0, static_cast<u32>(n_ / jobs), points, facets, true, parts[0]);
+            for (std::size_t k = 1; k < jobs; ++k)
+                threads.emplace_back([&, k] {
+                    try {
+                        scan(static_cast<u32>(n_ * k / jobs), static_cast<u32>(n_ * (k + 1) / jobs), points, first, false,
+                             parts[k]);
+                    } catch (...) {
+                        errors[k] = std::current_exception();
+                    }
+                });
+        } catch (...) { // a thread that could not start: join the others, then report
+            for (auto& t : threads)
+                t.join();
+            throw;
+        }
+        try {
+            scan(0, static_cast<u32>(n_ / jobs), points, first, true, parts[0]);
         } catch (...) {
             errors[0] = std::current_exception();
         }
@@ -369,9 +383,9 @@ void Streamed::membership() {
     Scan first = scan_all({0}, true);
     std::vector<std::vector<u32>> interior_of{first.interior_of[0]};
     std::vector<bool> on_boundary{first.on_boundary[0]};
-    if (on_boundary[0] && interior_of[0].size() == 1) {
+    if (on_boundary[0] && interior_of[0].size() == 1 && point_count > 1) {
         std::vector<std::size_t> more;
-        for (std::size_t t = 1; t < kPoints; ++t)
+        for (std::size_t t = 1; t < point_count; ++t)
             more.push_back(t);
         Scan second = scan_all(more, false);
         interior_of.insert(interior_of.end(), second.interior_of.begin(), second.interior_of.end());
@@ -402,6 +416,11 @@ void Streamed::membership() {
     }
     if (!proved("symmetries")) {
         d_["fan"] = undecided(fan, "--stream decides the fan through the symmetries, which are refuted");
+        return;
+    }
+    if (!facet_tables) {
+        d_["fan"] = undecided(fan, "the facet tables of " + std::to_string(reps.size()) + " orbits need " +
+                                       std::to_string((facet_bytes >> 20) + 1) + " MB beyond --max-memory (raise it with --max-memory)");
         return;
     }
     for (std::size_t r = 0; r < reps.size(); ++r)
@@ -478,14 +497,17 @@ void Streamed::by_rays() {
                 p3 = false;
             kin = kin && nonneg[im];
             const std::uint64_t key = (std::uint64_t{r} << 32) | im;
-            auto it = impulse_ok.find(key);
-            if (it == impulse_ok.end()) {
+            const auto it = impulse_ok.find(key);
+            bool ok = false;
+            if (it != impulse_ok.end()) {
+                ok = it->second;
+            } else {
                 const Vector impulse = H * (ex_.images[im] - ex_.ray(r));
-                it = impulse_ok.emplace(key, std::all_of(impulse.begin(), impulse.end(), [](const Rational& x) {
-                                            return sign_of(x) != Sign::negative;
-                                        })).first;
+                ok = std::all_of(impulse.begin(), impulse.end(), [](const Rational& x) { return sign_of(x) != Sign::negative; });
+                if (impulse_ok.size() < (std::size_t{1} << 20)) // a bounded memo: beyond it, computed each time
+                    impulse_ok.emplace(key, ok);
             }
-            kinetic = kinetic && it->second;
+            kinetic = kinetic && ok;
         }
         if (!p3 && !p3_fail)
             p3_fail = j;
@@ -709,37 +731,32 @@ std::map<std::string, Decision> Streamed::run() {
 } // namespace
 
 StreamResult verify_stream(const Law& law, const Limits& limits, const Progress& progress) {
-    if (!law.representatives_only)
+    if (!law.representatives_only) {
+        const Model validated(law, limits.max_pieces, limits.max_memory_mb); // bad input first, as verify()
         throw StreamRefused("the law lists every piece (--stream expands laws given by orbit representatives, "
                             "\"pieces_listed\": \"orbit-representatives\")");
-    if (law.symmetries.empty())
-        input_error("$.pieces_listed", "orbit representatives need \"symmetries\"");
-    // The listed pieces alone, validated as Model validates them (mechanics, pieces, symmetries,
-    // outcomes); declarations naming generated pieces are resolved after the expansion.
+    }
+    // The listed pieces alone, validated as Model validates them (mechanics, pieces, symmetries);
+    // the declarations after the pieces are validated after the expansion, in Model's order.
     Law listed = law;
     listed.representatives_only = false;
     listed.identities.clear();
     listed.single_impacts.clear();
+    listed.outcomes.clear();
     listed.claims.reset();
     const Model base(listed, limits.max_pieces, limits.max_memory_mb);
+    if (law.symmetries.empty())
+        input_error("$.pieces_listed", "orbit representatives need \"symmetries\"");
+    if (base.contacts() > 250)
+        throw StreamRefused("more than 250 contacts");
     const auto start = std::chrono::steady_clock::now();
     Expansion ex(law, base, limits, progress);
     const auto expanded = std::chrono::steady_clock::now() - start;
-    if (ex.representatives.size() > 4096) // the passes cost (orbits) x (pieces)
-        throw StreamRefused(std::to_string(ex.representatives.size()) + " orbits of pieces (--stream is for laws with few orbits; at most 4096)");
-    auto require_piece = [&](const std::string& name, const std::string& path) {
-        if (!ex.resolve(name))
-            input_error(path, "unknown piece " + in_quotes(name));
-    };
-    for (std::size_t i = 0; i < law.identities.size(); ++i) {
-        const auto& id = law.identities[i];
-        require_piece(id.lhs, idx("$.identities", i) + ".lhs");
-        for (std::size_t k = 0; k < id.product.size(); ++k)
-            require_piece(id.product[k], idx(idx("$.identities", i) + ".product", k));
-    }
-    for (std::size_t i = 0; i < law.single_impacts.size(); ++i)
-        require_piece(law.single_impacts[i].piece, idx("$.single_impacts", i) + ".piece");
-    validate_claims(law);
+    validate_declarations(law, base.balls(), base.contacts(),
+                          [&](const std::string& name) { return ex.resolve(name).has_value(); });
+    if (ex.representatives.size() > kMaxOrbits) // the passes cost (orbits) x (pieces)
+        throw StreamRefused(std::to_string(ex.representatives.size()) + " orbits of pieces (--stream is for laws with few "
+                            "orbits; at most " + std::to_string(kMaxOrbits) + ")");
 
     Streamed s(ex, limits, progress);
     const auto decisions = s.run();

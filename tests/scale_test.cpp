@@ -187,6 +187,58 @@ TEST_CASE("integer kernels: fraction-free PSD and determinant signs equal GMP's 
     CHECK_FALSE(int_psd(big, 2).has_value());
 }
 
+TEST_CASE("integer kernels: the Gram tables find every entrywise non-negative pair form, and only those",
+          "[scale][kernel]") {
+    // A = B1^T H B1 - B2^T H B2 over GMP for every ordered pair, against the kernel's answer.
+    auto check_law = [](const Model& m, bool expect_negative) {
+        const PairKernel kernel(m, true);
+        REQUIRE(kernel.gram_tables());
+        PairKernel::Scratch scratch;
+        const std::size_t c = m.contacts(), n = m.pieces().size();
+        std::size_t negative = 0;
+        for (std::size_t i = 0; i < n; ++i)
+            for (std::size_t j = 0; j < n; ++j) {
+                const Piece &a = m.pieces()[i], &b = m.pieces()[j];
+                Matrix B1(c, 2 * c), B2(c, 2 * c);
+                const Matrix QRa = a.Q * a.R, QRb = b.Q * b.R;
+                for (std::size_t r = 0; r < c; ++r)
+                    for (std::size_t k = 0; k < c; ++k) {
+                        B1(r, k) = a.R(r, k);
+                        B1(r, c + k) = -b.R(r, k);
+                        B2(r, k) = QRa(r, k);
+                        B2(r, c + k) = -QRb(r, k);
+                    }
+                const Matrix A = transpose(B1) * m.H() * B1 - transpose(B2) * m.H() * B2;
+                bool entrywise = true;
+                for (std::size_t x = 0; x < 2 * c; ++x)
+                    for (std::size_t y = 0; y < 2 * c; ++y)
+                        entrywise = entrywise && sign_of(A(x, y)) != Sign::negative;
+                negative += entrywise ? 0 : 1;
+                const auto method = kernel.decide(i, j, scratch);
+                INFO(i << ", " << j);
+                CHECK((method == CopositivityMethod::nonnegative_entries) == entrywise);
+            }
+        CHECK((negative > 0) == expect_negative);
+    };
+    check_law(Model(cradle_law(4, CradleListing::all, false)), false);
+    // Negative control: two columns of one piece's Q exchanged (images stay unit vectors, the
+    // tables stay in use), so that some pair forms have negative entries.
+    Law broken = cradle_law(4, CradleListing::all, false);
+    Matrix& Q = broken.pieces[5].Q;
+    for (std::size_t r = 0; r < 3; ++r)
+        std::swap(Q(r, 0), Q(r, 2));
+    check_law(Model(broken), true);
+    // The paper's law: unit-vector images too, and non-negative forms everywhere but across
+    // its discontinuity-free fan... whatever they are, the tables must find exactly them.
+    const Model paper(paper_law());
+    check_law(paper, PairKernel(paper, true).gram_tables() && false);
+    // Images that are not integral (a derived law with e = 1/2): no tables, the full kernel.
+    DeriveOptions o;
+    o.masses = {Rational(1), Rational(2), Rational(3)};
+    o.restitution = {Rational(1, 2), Rational(1)};
+    CHECK_FALSE(PairKernel(Model(*derive_sequential(o).law), true).gram_tables());
+}
+
 TEST_CASE("integer kernels: the fraction-free inverse equals GMP's, singular and overflowing matrices refused",
           "[scale][kernel]") {
     // intk::inverse (fraction-free Gauss-Jordan, every division checked) against the rational
