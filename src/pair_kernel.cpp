@@ -185,8 +185,7 @@ void PairKernel::build_gram(const Model& m, const std::vector<i64>& Hs) {
         rays.push_back(std::move(*v));
     }
     std::map<std::vector<i64>, std::uint32_t> image_index;
-    ray_of_.resize(pieces * c);
-    image_of_.resize(pieces * c);
+    std::vector<std::uint32_t> ray_of(pieces * c), image_of(pieces * c);
     for (std::size_t p = 0; p < pieces; ++p) {
         const Piece& piece = m.pieces()[p];
         for (std::size_t k = 0; k < c; ++k) {
@@ -199,8 +198,8 @@ void PairKernel::build_gram(const Model& m, const std::vector<i64>& Hs) {
                     return;
                 images.push_back(std::move(*w));
             }
-            ray_of_[p * c + k] = static_cast<std::uint32_t>(piece.ray_ids[k]);
-            image_of_[p * c + k] = it->second;
+            ray_of[p * c + k] = static_cast<std::uint32_t>(piece.ray_ids[k]);
+            image_of[p * c + k] = it->second;
         }
     }
     // x^T Hs y for every pair of a table, checked.
@@ -231,7 +230,22 @@ void PairKernel::build_gram(const Model& m, const std::vector<i64>& Hs) {
     }
     rays_ = rays.size();
     images_ = images.size();
+    ray_of_.swap(ray_of);
+    image_of_.swap(image_of);
     gram_ = true;
+}
+
+std::optional<bool> PairKernel::gram_nonnegative(std::size_t i, std::size_t j) const {
+    if (!gram_ || !pieces_[i].E_nonnegative || !pieces_[j].E_nonnegative)
+        return std::nullopt;
+    // -F_xy = (Q_i r_x)^T H (Q_j s_y) - r_x^T H s_y, times d: two table entries.
+    const std::size_t c = c_;
+    const std::uint32_t *ri = &ray_of_[i * c], *rj = &ray_of_[j * c], *ii = &image_of_[i * c], *ij = &image_of_[j * c];
+    for (std::size_t x = 0; x < c; ++x)
+        for (std::size_t y = 0; y < c; ++y)
+            if (gram_images_[ii[x] * images_ + ij[y]] < gram_rays_[ri[x] * rays_ + rj[y]])
+                return false;
+    return true;
 }
 
 std::size_t PairKernel::pieces_in_kernel() const {
@@ -246,21 +260,9 @@ std::optional<CopositivityMethod> PairKernel::decide(std::size_t i, std::size_t 
         return std::nullopt;
     const PieceData &a = pieces_[i], &b = pieces_[j];
     const std::size_t c = c_, n = 2 * c_;
-    // Lemma K4: -F_xy = (Q_i r_x)^T H (Q_j s_y) - r_x^T H s_y from the tables; the common case
-    // (every entry >= 0) ends here, anything else goes the full way below.
-    if (gram_ && a.E_nonnegative && b.E_nonnegative) {
-        const std::uint32_t *ri = &ray_of_[i * c], *rj = &ray_of_[j * c], *ii = &image_of_[i * c],
-                            *ij = &image_of_[j * c];
-        bool nonnegative = true;
-        for (std::size_t x = 0; x < c && nonnegative; ++x)
-            for (std::size_t y = 0; y < c; ++y)
-                if (static_cast<i128>(gram_images_[ii[x] * images_ + ij[y]]) < gram_rays_[ri[x] * rays_ + rj[y]]) {
-                    nonnegative = false;
-                    break;
-                }
-        if (nonnegative)
-            return CopositivityMethod::nonnegative_entries;
-    }
+    // Lemma K4: the common case (every entry >= 0) ends here; anything else goes the full way.
+    if (gram_nonnegative(i, j).value_or(false))
+        return CopositivityMethod::nonnegative_entries;
     // F = R_i^T H R_j - QR_i^T H QR_j (all scaled); A = [[E_i, -F], [-F^T, E_j]]. When the
     // bounds of the entries show that no partial sum can leave int64 (c terms of two products,
     // each below the bound), F is computed in plain int64 (the common case, vectorised);

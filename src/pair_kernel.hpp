@@ -40,6 +40,9 @@ class PairKernel {
     std::size_t pieces_in_kernel() const;
     // Whether the Gram tables (Lemma K4) are in use; for tests.
     bool gram_tables() const { return gram_; }
+    // The tables' answer for the pair (i, j): nothing without tables or when a diagonal block
+    // has a negative entry; else whether every off-diagonal entry is >= 0 (then A >= 0).
+    std::optional<bool> gram_nonnegative(std::size_t i, std::size_t j) const;
 
   private:
     std::size_t c_ = 0;

@@ -201,11 +201,12 @@ Expansion::Expansion(const Law& law_, const Model& base_, const Limits& limits, 
         if (transpose(syms[g].P_prime) * H * syms[g].P_prime != H)
             input_error(idx("$.symmetries", g) + ".P_prime", "not an H-isometry (P'^T H P' != H): a compact "
                                                              "law's symmetries must be");
-        if (syms[g].name.find('.') != std::string::npos)
-            throw StreamRefused("symmetry name " + in_quotes(syms[g].name) +
-                                " contains \".\" (--stream reads generated names as <piece>.<symmetry>...)");
         P_int_.push_back(intk::to_int(syms[g].P));
     }
+    for (const auto& sym : syms) // after every input rule on the symmetries
+        if (sym.name.find('.') != std::string::npos)
+            throw StreamRefused("symmetry name " + in_quotes(sym.name) +
+                                " contains \".\" (--stream reads generated names as <piece>.<symmetry>...)");
     std::size_t listed_bits = 0;
     for (const auto& p : base.pieces())
         listed_bits = std::max({listed_bits, matrix_bits(p.Q), matrix_bits(p.R)});

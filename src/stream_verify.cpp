@@ -264,83 +264,51 @@ void Streamed::membership() {
         for (std::size_t k = 0; k < c_; ++k)
             pos[r][ex_.store.rays(reps[r])[k]] = static_cast<unsigned char>(k + 1);
 
-    // One scan of a range of pieces: the test points `points` (indices into rhs), the outcomes'
-    // gamma- until each is found, and (first pass) the representatives' facets.
-    struct Scan {
-        std::vector<std::vector<u32>> interior_of;
-        std::vector<bool> on_boundary;
-        std::vector<u32> outcome_piece;
-        std::vector<std::vector<std::size_t>> facet_count;
-        std::vector<std::vector<u32>> extra;
-    };
-    auto scan = [&](u32 lo, u32 hi, const std::vector<std::size_t>& points, bool first, bool progress, Scan& out) {
-        Signs signs_of(c_, rhs);
-        out.interior_of.assign(points.size(), {});
-        out.on_boundary.assign(points.size(), false);
-        out.outcome_piece.assign(outcomes.size(), kNone);
-        out.facet_count.assign(reps.size(), std::vector<std::size_t>(c_, 0));
-        out.extra.assign(reps.size(), std::vector<u32>(c_, kNone));
-        std::vector<std::vector<int>> signs;
-        std::vector<std::size_t> cols;
-        std::vector<char> hit(c_);
-        std::size_t missing_outcomes = first ? outcomes.size() : 0;
-        for (u32 j = lo; j < hi; ++j) {
-            if (progress)
-                report("fan", j);
-            cols = points;
-            if (missing_outcomes)
-                for (std::size_t o = 0; o < outcomes.size(); ++o)
-                    if (out.outcome_piece[o] == kNone)
+    // The exact solves, in `jobs` threads over consecutive ranges of pieces: each thread only
+    // fills the flags of its own pieces (flags[j * width + b]: for a test point 2 interior, 1 on
+    // the boundary, 0 outside; for an outcome 1 when the piece contains its gamma-, evaluated
+    // until the range's first). Everything else is read from the flags in one pass in piece
+    // order, so the result cannot depend on the threads.
+    auto solve_all = [&](const std::vector<std::size_t>& points, bool with_outcomes, std::vector<unsigned char>& flags) {
+        const std::size_t width = points.size() + (with_outcomes ? outcomes.size() : 0);
+        flags.assign(n_ * width, 0);
+        auto scan = [&](u32 lo, u32 hi, bool progress) {
+            Signs signs_of(c_, rhs);
+            std::vector<std::vector<int>> signs;
+            std::vector<std::size_t> cols;
+            std::vector<char> found(outcomes.size(), 0);
+            std::size_t missing = with_outcomes ? outcomes.size() : 0;
+            for (u32 j = lo; j < hi; ++j) {
+                if (progress)
+                    report("fan", j);
+                cols = points;
+                for (std::size_t o = 0; missing && o < outcomes.size(); ++o)
+                    if (!found[o])
                         cols.push_back(outcome_column + o);
-            signs_of.of(ex_, j, cols, signs);
-            for (std::size_t t = 0; t < points.size(); ++t) {
-                const bool inside = std::all_of(signs[t].begin(), signs[t].end(), [](int v) { return v > 0; });
-                const bool closed = std::all_of(signs[t].begin(), signs[t].end(), [](int v) { return v >= 0; });
-                if (inside)
-                    out.interior_of[t].push_back(j);
-                else if (closed)
-                    out.on_boundary[t] = true;
-            }
-            for (std::size_t b = points.size(); b < cols.size(); ++b)
-                if (std::all_of(signs[b].begin(), signs[b].end(), [](int v) { return v >= 0; })) {
-                    out.outcome_piece[cols[b] - outcome_column] = j;
-                    --missing_outcomes;
+                signs_of.of(ex_, j, cols, signs);
+                unsigned char* f = &flags[std::size_t{j} * width];
+                for (std::size_t t = 0; t < points.size(); ++t) {
+                    const bool inside = std::all_of(signs[t].begin(), signs[t].end(), [](int v) { return v > 0; });
+                    const bool closed = std::all_of(signs[t].begin(), signs[t].end(), [](int v) { return v >= 0; });
+                    f[t] = inside ? 2 : closed ? 1 : 0;
                 }
-            for (std::size_t r = 0; first && r < pos.size(); ++r) {
-                if (j == reps[r])
-                    continue;
-                std::fill(hit.begin(), hit.end(), 0);
-                std::size_t shared = 0;
-                u32 other = kNone;
-                for (std::size_t k = 0; k < c_; ++k) {
-                    const u32 id = ex_.store.rays(j)[k];
-                    if (pos[r][id]) {
-                        hit[pos[r][id] - 1] = 1;
-                        ++shared;
-                    } else {
-                        other = id;
+                for (std::size_t b = points.size(); b < cols.size(); ++b)
+                    if (std::all_of(signs[b].begin(), signs[b].end(), [](int v) { return v >= 0; })) {
+                        const std::size_t o = cols[b] - outcome_column;
+                        f[points.size() + o] = 1;
+                        found[o] = 1;
+                        --missing;
                     }
-                }
-                if (shared + 1 != c_)
-                    continue;
-                const auto missing = static_cast<std::size_t>(std::find(hit.begin(), hit.end(), 0) - hit.begin());
-                if (out.facet_count[r][missing]++ == 0)
-                    out.extra[r][missing] = other;
             }
-        }
-    };
-    // The pieces in `jobs` consecutive ranges, one thread each; merged in piece order.
-    auto scan_all = [&](const std::vector<std::size_t>& points, bool first) {
+        };
         const std::size_t jobs = std::max<std::size_t>(1, std::min<std::size_t>(limits_.jobs, n_ / 1024 + 1));
-        std::vector<Scan> parts(jobs);
         std::vector<std::thread> threads;
         std::vector<std::exception_ptr> errors(jobs);
         try {
             for (std::size_t k = 1; k < jobs; ++k)
                 threads.emplace_back([&, k] {
                     try {
-                        scan(static_cast<u32>(n_ * k / jobs), static_cast<u32>(n_ * (k + 1) / jobs), points, first, false,
-                             parts[k]);
+                        scan(static_cast<u32>(n_ * k / jobs), static_cast<u32>(n_ * (k + 1) / jobs), false);
                     } catch (...) {
                         errors[k] = std::current_exception();
                     }
@@ -351,7 +319,7 @@ void Streamed::membership() {
             throw;
         }
         try {
-            scan(0, static_cast<u32>(n_ / jobs), points, first, true, parts[0]);
+            scan(0, static_cast<u32>(n_ / jobs), true);
         } catch (...) {
             errors[0] = std::current_exception();
         }
@@ -360,40 +328,67 @@ void Streamed::membership() {
         for (auto& e : errors)
             if (e)
                 std::rethrow_exception(e);
-        Scan all = parts[0];
-        for (std::size_t k = 1; k < jobs; ++k) {
-            for (std::size_t t = 0; t < points.size(); ++t) {
-                all.interior_of[t].insert(all.interior_of[t].end(), parts[k].interior_of[t].begin(), parts[k].interior_of[t].end());
-                all.on_boundary[t] = all.on_boundary[t] || parts[k].on_boundary[t];
-            }
-            for (std::size_t o = 0; o < outcomes.size(); ++o)
-                if (all.outcome_piece[o] == kNone)
-                    all.outcome_piece[o] = parts[k].outcome_piece[o];
-            for (std::size_t r = 0; r < reps.size(); ++r)
-                for (std::size_t f = 0; f < c_; ++f) {
-                    if (all.facet_count[r][f] == 0)
-                        all.extra[r][f] = parts[k].extra[r][f];
-                    all.facet_count[r][f] += parts[k].facet_count[r][f];
-                }
-        }
-        return all;
+        return width;
     };
-    // First pass: the first test point, the outcomes and the facets; the other points only when
-    // the first lies on another cone's boundary.
-    Scan first = scan_all({0}, true);
-    std::vector<std::vector<u32>> interior_of{first.interior_of[0]};
-    std::vector<bool> on_boundary{first.on_boundary[0]};
+    // The pass in piece order: the pieces whose interior holds each test point, whether one has
+    // it on its boundary, the first piece containing each gamma-, and the representatives'
+    // facets (the pieces with c - 1 of their rays).
+    std::vector<std::vector<u32>> interior_of;
+    std::vector<bool> on_boundary;
+    auto read_points = [&](const std::vector<unsigned char>& flags, std::size_t width, std::size_t count) {
+        for (std::size_t t = 0; t < count; ++t) {
+            interior_of.emplace_back();
+            on_boundary.push_back(false);
+            for (u32 j = 0; j < n_; ++j) {
+                const unsigned char f = flags[std::size_t{j} * width + t];
+                if (f == 2)
+                    interior_of.back().push_back(j);
+                else if (f == 1)
+                    on_boundary.back() = true;
+            }
+        }
+    };
+    std::vector<unsigned char> flags;
+    const std::size_t width = solve_all({0}, true, flags);
+    read_points(flags, width, 1);
+    outcome_piece_.assign(outcomes.size(), kNone);
+    for (std::size_t o = 0; o < outcomes.size(); ++o)
+        for (u32 j = 0; j < n_ && outcome_piece_[o] == kNone; ++j)
+            if (flags[std::size_t{j} * width + 1 + o])
+                outcome_piece_[o] = j;
+    std::vector<std::vector<std::size_t>> facet_count(reps.size(), std::vector<std::size_t>(c_, 0));
+    std::vector<std::vector<u32>> extra(reps.size(), std::vector<u32>(c_, kNone));
+    std::vector<char> hit(c_);
+    for (u32 j = 0; j < n_; ++j)
+        for (std::size_t r = 0; r < pos.size(); ++r) {
+            if (j == reps[r])
+                continue;
+            std::fill(hit.begin(), hit.end(), 0);
+            std::size_t shared = 0;
+            u32 other = kNone;
+            for (std::size_t k = 0; k < c_; ++k) {
+                const u32 id = ex_.store.rays(j)[k];
+                if (pos[r][id]) {
+                    hit[pos[r][id] - 1] = 1;
+                    ++shared;
+                } else {
+                    other = id;
+                }
+            }
+            if (shared + 1 != c_)
+                continue;
+            const auto missing = static_cast<std::size_t>(std::find(hit.begin(), hit.end(), 0) - hit.begin());
+            if (facet_count[r][missing]++ == 0)
+                extra[r][missing] = other;
+        }
+    // The other test points only when the first lies on another cone's boundary.
     if (on_boundary[0] && interior_of[0].size() == 1 && point_count > 1) {
         std::vector<std::size_t> more;
         for (std::size_t t = 1; t < point_count; ++t)
             more.push_back(t);
-        Scan second = scan_all(more, false);
-        interior_of.insert(interior_of.end(), second.interior_of.begin(), second.interior_of.end());
-        on_boundary.insert(on_boundary.end(), second.on_boundary.begin(), second.on_boundary.end());
+        const std::size_t w = solve_all(more, false, flags);
+        read_points(flags, w, more.size());
     }
-    outcome_piece_ = first.outcome_piece;
-    const auto& facet_count = first.facet_count;
-    const auto& extra = first.extra;
 
     Decision fan;
     fan.method = "facet-matching on the orbit representatives' facets, by the symmetries, and one point "

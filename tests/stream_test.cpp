@@ -21,8 +21,8 @@ struct Agreement {
     std::size_t proved = 0, refuted = 0, undecided = 0;
 };
 
-// Every obligation the stream decides has verify()'s verdict; every refutation's witness holds
-// on the expanded model; what it leaves undecided names --stream or a limit.
+// Every obligation the stream decides has verify()'s verdict, and every refutation's witness
+// holds on the expanded model; the counts of each kind are returned for the caller to check.
 Agreement require_agreement(const Law& law, const Limits& limits = {}) {
     const Model m(law, limits.max_pieces, limits.max_memory_mb);
     Limits quick = limits;
@@ -249,12 +249,18 @@ TEST_CASE("stream: the CLI's --stream", "[stream][cli]") {
 TEST_CASE("stream: the membership pass in threads gives the same report, byte for byte", "[stream]") {
     // 5,040 pieces: two and three ranges scanned in parallel; the fan, outcomes and counts merged
     // in piece order.
-    const Law law = cradle_law(7, CradleListing::representatives, true);
+    // The outcome of the fully reversed ordering: its only piece is among the last generated
+    // (the third range), so the pass must read every range.
+    Law law = cradle_law(7, CradleListing::representatives, true);
+    law.outcomes.push_back(OutcomeDecl{"reversed", test::vec({"7", "6", "5", "4", "3", "2", "1"}),
+                                       test::vec({"1", "2", "3", "4", "5", "6", "7"})});
     Limits one, two, three;
     one.jobs = 1;
     two.jobs = 2;
     three.jobs = 3;
-    const std::string a = verdict_json(verify_stream(law, one).report).dump();
+    const StreamResult single = verify_stream(law, one);
+    REQUIRE(single.report.at("outcomes").verdict == Verdict::proved);
+    const std::string a = verdict_json(single.report).dump();
     CHECK(verdict_json(verify_stream(law, two).report).dump() == a);
     CHECK(verdict_json(verify_stream(law, three).report).dump() == a);
     // A refuted fan (an overlapping listed cone and its orbit): the merged witness is the same.
@@ -328,6 +334,20 @@ TEST_CASE("stream: input errors come in Model's order, with Model's messages", "
         Limits three;
         three.max_pieces = 3;
         same(law, three);
+        same(law);
+    }
+    {   // an input error of a later symmetry before a name that --stream refuses
+        Law law = cradle;
+        law.symmetries[0].name = "s.1";
+        law.symmetries[1].P = Rational(2) * Matrix::identity(3);
+        same(law);
+    }
+    {   // a listed name two steps down a path
+        Law law = cradle;
+        PieceDecl other = law.pieces.front();
+        other.name = "sorted.s1.s2";
+        other.rays = std::vector<Vector>{test::vec({"1", "0", "0"}), test::vec({"0", "1", "0"}), test::vec({"1", "1", "2"})};
+        law.pieces.push_back(other);
         same(law);
     }
     {   // an empty piece name before missing symmetries
