@@ -16,9 +16,13 @@
 //     facet, nonexpansive for a law that does not conserve energy, and every reduced obligation
 //     when the symmetries are refuted.
 //   - StreamRefused: the law is outside what the streamed store holds (a law listing every
-//     piece, rays or images of P beyond int64, two listed pieces with one cone, symmetry names
-//     with "."): the CLI reports it in one line with exit status 3, naming --stream.
-//   - InputError: as Model for the same law.
+//     piece -- after Model has validated it --, rays or images of P beyond int64, two listed
+//     pieces with one cone, symmetry names with ".", more than 64 orbits or 250 contacts): the
+//     CLI reports it in one line with exit status 3, naming --stream.
+//   - InputError: as Model for the same law, in Model's order, except that a law the stream
+//     refuses is refused before the declarations that name pieces are validated.
+//   - Threads (limits.jobs) only split the exact membership solves; the report does not depend
+//     on their number.
 #pragma once
 
 #include "law.hpp"
