@@ -62,6 +62,13 @@ std::optional<std::vector<i64>> to_int_vector(const Vector& v) {
     return out;
 }
 
+std::optional<std::vector<i64>> to_int_scaled(const Vector& v) {
+    auto m = to_int(Matrix::from_columns({v}));
+    if (!m)
+        return std::nullopt;
+    return std::move(m->a);
+}
+
 bool apply(const IntMatrix& A, const i64* x, i64* out) {
     for (std::size_t r = 0; r < A.rows; ++r) {
         i128 s = 0;

@@ -40,6 +40,10 @@ std::optional<IntMatrix> to_int(const Matrix& m);
 // not fit.
 std::optional<std::vector<i64>> to_int_vector(const Vector& v);
 
+// v times the least common denominator of its entries (a positive scale: every sign and the
+// direction kept), as int64; nothing when an entry does not fit.
+std::optional<std::vector<i64>> to_int_scaled(const Vector& v);
+
 // out = A.a x (numerators only: the value is out / A.den). False on overflow.
 bool apply(const IntMatrix& A, const i64* x, i64* out);
 

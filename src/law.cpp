@@ -316,12 +316,7 @@ void Model::require_contacts(const Vector& gamma) const {
                                std::to_string(contacts()) + " contacts");
 }
 
-std::optional<std::vector<intk::i64>> Model::scaled(const Vector& gamma) {
-    auto m = intk::to_int(Matrix::from_columns({gamma}));
-    if (!m)
-        return std::nullopt;
-    return std::move(m->a);
-}
+std::optional<std::vector<intk::i64>> Model::scaled(const Vector& gamma) { return intk::to_int_scaled(gamma); }
 
 std::vector<std::size_t> Model::pieces_containing(const Vector& gamma) const {
     require_contacts(gamma);
@@ -348,6 +343,15 @@ bool Model::in_interior(std::size_t p, const Vector& gamma) const {
         throw std::out_of_range("in_interior: no piece " + std::to_string(p));
     require_contacts(gamma);
     return in_cone(p, gamma, scaled(gamma), true);
+}
+
+std::pair<Vector, Vector> interior_pair_along(const Piece& piece, const Vector& x) {
+    const Vector centre = piece.R * Vector(piece.R.cols(), Rational(1));
+    Rational spread = 1;
+    for (const auto& coeff : piece.R_inv * x)
+        spread = std::max(spread, abs_of(coeff) + 1);
+    const Rational eps = Rational(1) / (2 * spread);
+    return {centre + eps * x, centre};
 }
 
 bool law_applies(const Law& law, const std::string& id) {

@@ -20,6 +20,7 @@
 #include <map>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace impactcert {
@@ -111,6 +112,11 @@ struct Piece {
     Matrix R_inv;                   // R^-1: s = R_inv gamma are gamma's cone coordinates
     std::vector<std::size_t> ray_ids; // index into Model::rays() of each column of R
 };
+
+// Two points of the interior of the piece's cone whose difference is a positive multiple of x:
+// a = R 1 + eps x and b = R 1, eps = 1 / (2 max(1, max_k |(R^-1 x)_k| + 1)), so that
+// R^-1 a = 1 + eps R^-1 x > 0 (the lemma's witness for a piece that expands along x).
+std::pair<Vector, Vector> interior_pair_along(const Piece& piece, const Vector& x);
 
 class Model {
   public:

@@ -63,18 +63,6 @@ class MembershipSigns {
     std::vector<i64> m_;
 };
 
-// An integer vector of the direction of v (v scaled by the lcm of its denominators), in int64.
-std::optional<std::vector<i64>> integral_direction(const Vector& v) {
-    mpz_class l = 1;
-    for (const auto& x : v)
-        mpz_lcm(l.get_mpz_t(), l.get_mpz_t(), mpq_denref(x.mpq()));
-    Vector scaled;
-    const Rational L{CGAL::Gmpz(l.get_mpz_t())};
-    for (const auto& x : v)
-        scaled.push_back(x * L);
-    return intk::to_int_vector(scaled);
-}
-
 } // namespace
 
 // Lemma ST1 (the facet criterion on the representatives' facets) and Lemma ST2 (a test point
@@ -110,7 +98,7 @@ void Streamed::membership() {
     const std::size_t point_count = rhs.size();
     const auto& outcomes = ex_.law.outcomes;
     for (std::size_t o = 0; o < outcomes.size(); ++o) {
-        const auto g = integral_direction(ex_.base.contact_velocities(outcomes[o].u_minus));
+        const auto g = intk::to_int_scaled(ex_.base.contact_velocities(outcomes[o].u_minus));
         if (!g)
             throw StreamRefused("gamma- of outcome " + in_quotes(outcomes[o].name) + " leaves int64 (--stream keeps it in int64)");
         rhs.push_back(*g);

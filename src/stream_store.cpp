@@ -246,6 +246,12 @@ Expansion::Expansion(const Law& law_, const Model& base_, const Limits& limits, 
     check_budget();
     for (u32 g = 0; g < syms.size(); ++g)
         symmetry_index_.emplace(syms[g].name, g);
+    for (u32 p = 0; p < base.pieces().size(); ++p) {
+        std::uint64_t h = kNameHashStart;
+        for (const char ch : base.pieces()[p].name)
+            h = name_hash(h, ch);
+        listed_by_hash_.emplace(h, p);
+    }
 
     // As Model: a generated name may not be a listed one. A listed name <listed>.<s1>...<sk> is
     // followed along its path while the pieces are generated; the step that would generate it
@@ -256,30 +262,11 @@ Expansion::Expansion(const Law& law_, const Model& base_, const Limits& limits, 
     };
     std::vector<Taken> taken;
     std::map<u32, std::vector<std::pair<std::size_t, std::size_t>>> following; // piece -> (taken, step)
-    for (std::size_t t = 0; t < base.pieces().size(); ++t) {
-        const std::string& name = base.pieces()[t].name;
-        for (std::size_t p = 0; p < base.pieces().size(); ++p) {
-            const std::string& prefix = base.pieces()[p].name;
-            if (name.size() <= prefix.size() + 1 || name.compare(0, prefix.size(), prefix) != 0 || name[prefix.size()] != '.')
-                continue;
-            std::vector<u32> path;
-            bool ok = true;
-            for (std::size_t at = prefix.size() + 1; ok;) {
-                const std::size_t dot = name.find('.', at);
-                const auto g = symmetry_index_.find(name.substr(at, dot == std::string::npos ? std::string::npos : dot - at));
-                ok = g != symmetry_index_.end();
-                if (ok)
-                    path.push_back(g->second);
-                if (dot == std::string::npos)
-                    break;
-                at = dot + 1;
-            }
-            if (ok) {
-                following[static_cast<u32>(p)].emplace_back(taken.size(), 0);
-                taken.push_back(Taken{t, std::move(path)});
-            }
+    for (std::size_t t = 0; t < base.pieces().size(); ++t)
+        for (auto& [prefix, path] : paths(base.pieces()[t].name)) {
+            following[prefix].emplace_back(taken.size(), 0);
+            taken.push_back(Taken{t, std::move(path)});
         }
-    }
 
     // Breadth first: each piece in order, each symmetry in order.
     std::vector<u32> uf(base.pieces().size());
@@ -349,40 +336,71 @@ std::string Expansion::name(u32 p) const {
     return out;
 }
 
-// The piece named `name`: a listed name, or <listed name>.<symmetry>.<symmetry>... along a path
-// whose every step generated its piece (symmetry names have no "."). Iterative: a name of any
-// length costs one pass per listed prefix.
-std::optional<u32> Expansion::walk(const std::string& name, bool generated_only) {
-    const auto& listed = base.pieces();
-    if (!generated_only)
-        for (std::size_t p = 0; p < listed.size(); ++p)
-            if (listed[p].name == name)
-                return static_cast<u32>(p);
+std::optional<u32> Expansion::listed_named(const std::string& name, std::size_t length, std::uint64_t hash) const {
+    const auto [first, last] = listed_by_hash_.equal_range(hash);
+    for (auto it = first; it != last; ++it) {
+        const std::string& listed = base.pieces()[it->second].name;
+        if (listed.size() == length && name.compare(0, length, listed) == 0)
+            return it->second;
+    }
+    return std::nullopt;
+}
+
+std::vector<std::pair<u32, std::vector<u32>>> Expansion::paths(const std::string& name) const {
+    std::vector<std::pair<u32, std::vector<u32>>> out;
     if (name.size() > kMaxGeneratedName)
-        return std::nullopt; // longer than any generated name
-    std::vector<u32> r(c), im(c);
-    for (std::size_t p = 0; p < listed.size(); ++p) {
-        const std::string& prefix = listed[p].name;
-        if (name.size() <= prefix.size() + 1 || name.compare(0, prefix.size(), prefix) != 0 || name[prefix.size()] != '.')
-            continue;
-        u32 q = static_cast<u32>(p);
-        bool ok = true;
-        for (std::size_t at = prefix.size() + 1; ok;) {
-            const std::size_t dot = name.find('.', at);
-            const std::string segment = name.substr(at, dot == std::string::npos ? std::string::npos : dot - at);
-            const auto g = symmetry_index_.find(segment);
-            if (g == symmetry_index_.end()) {
-                ok = false;
-                break;
+        return out; // longer than any generated name
+    // The dots after which every segment is a symmetry name: a suffix of the dots.
+    std::vector<std::size_t> dots;
+    for (std::size_t at = name.size(); at > 0;) {
+        const std::size_t dot = name.rfind('.', at - 1);
+        if (dot == std::string::npos || !symmetry_index_.count(name.substr(dot + 1, at - dot - 1)))
+            break;
+        dots.push_back(dot);
+        at = dot;
+    }
+    if (dots.empty())
+        return out;
+    std::uint64_t h = kNameHashStart;
+    std::size_t next = dots.size(); // dots[next - 1] is the leftmost dot not yet reached
+    for (std::size_t i = 0; i < name.size() && next > 0; ++i) {
+        if (i == dots[next - 1]) {
+            --next;
+            if (const auto p = listed_named(name, i, h)) {
+                std::vector<u32> path;
+                for (std::size_t k = next + 1; k-- > 0;) {
+                    const std::size_t from = dots[k] + 1, to = k == 0 ? name.size() : dots[k - 1];
+                    path.push_back(symmetry_index_.at(name.substr(from, to - from)));
+                }
+                out.emplace_back(*p, std::move(path));
             }
-            map_piece(q, g->second, r.data(), im.data());
+        }
+        h = name_hash(h, name[i]);
+    }
+    return out;
+}
+
+// The piece named `name`: a listed name, or <listed name>.<symmetry>.<symmetry>... along a path
+// whose every step generated its piece (symmetry names have no ".").
+std::optional<u32> Expansion::walk(const std::string& name, bool generated_only) {
+    if (!generated_only) {
+        std::uint64_t h = kNameHashStart;
+        for (const char ch : name)
+            h = name_hash(h, ch);
+        if (const auto p = listed_named(name, name.size(), h))
+            return p;
+    }
+    std::vector<u32> r(c), im(c);
+    for (const auto& [listed, path] : paths(name)) {
+        u32 q = listed;
+        bool ok = true;
+        for (const u32 g : path) {
+            map_piece(q, g, r.data(), im.data());
             const auto child = store.find(r.data());
-            ok = child && store.generator(*child) == g->second && store.parent(*child) == q;
-            if (ok)
-                q = *child;
-            if (dot == std::string::npos)
+            ok = child && store.generator(*child) == g && store.parent(*child) == q;
+            if (!ok)
                 break;
-            at = dot + 1;
+            q = *child;
         }
         if (ok)
             return q;

@@ -103,6 +103,14 @@ class Expansion {
     void map_piece(u32 p, u32 g, u32* rays_out, u32* images_out); // sorted by ray id
     std::optional<u32> walk(const std::string& name, bool generated_only);
     std::map<std::string, u32> symmetry_index_;
+    std::unordered_multimap<std::uint64_t, u32> listed_by_hash_; // listed names by name_hash
+    static std::uint64_t name_hash(std::uint64_t h, char ch) { return (h ^ static_cast<unsigned char>(ch)) * 0x100000001b3ull; }
+    static constexpr std::uint64_t kNameHashStart = 0xcbf29ce484222325ull;
+    std::optional<u32> listed_named(const std::string& name, std::size_t length, std::uint64_t hash) const;
+    // The readings of `name` as <listed name>.<s1>...<sk>, k >= 1: the listed piece and the
+    // symmetries, one per "." whose prefix is a listed name and whose rest is symmetry names.
+    // Linear in the name's length (a hash of each prefix, compared exactly only on a match).
+    std::vector<std::pair<u32, std::vector<u32>>> paths(const std::string& name) const;
     void check_budget();
 };
 

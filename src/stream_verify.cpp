@@ -227,19 +227,17 @@ void Streamed::nonexpansive() {
             }
         const Rational L{CGAL::Gmpz(l.get_mpz_t())};
         std::vector<i64> t_ray(g_ray.size()), t_img(g_img.size());
-        bool fits = true;
-        for (std::size_t k = 0; k < g_ray.size() && fits; ++k) {
-            const Rational x = g_ray[k] * L;
-            const auto v = intk::to_i64(mpq_numref(x.mpq()));
-            fits = v.has_value();
-            t_ray[k] = v.value_or(0);
-        }
-        for (std::size_t k = 0; k < g_img.size() && fits; ++k) {
-            const Rational x = g_img[k] * L;
-            const auto v = intk::to_i64(mpq_numref(x.mpq()));
-            fits = v.has_value();
-            t_img[k] = v.value_or(0);
-        }
+        auto scale = [&](const std::vector<Rational>& g, std::vector<i64>& t) { // L g: integers
+            for (std::size_t k = 0; k < g.size(); ++k) {
+                const Rational x = g[k] * L;
+                const auto v = intk::to_i64(mpq_numref(x.mpq()));
+                if (!v)
+                    return false;
+                t[k] = *v;
+            }
+            return true;
+        };
+        const bool fits = scale(g_ray, t_ray) && scale(g_img, t_img);
         for (u32 j = 0; j < n_; ++j) {
             report("nonexpansive", j);
             ++d.checks;
@@ -279,14 +277,9 @@ void Streamed::nonexpansive_lemma() {
         ++d.checks;
         if (ldl.psd)
             continue;
-        // Two interior points of the same cone, a - b along the expanding direction x.
-        const Vector& x = ldl.witness;
-        const Vector centre = pc.R * Vector(c_, Rational(1));
-        Rational spread = 1;
-        for (const auto& coeff : pc.R_inv * x)
-            spread = std::max(spread, abs_of(coeff) + 1);
-        const Rational eps = Rational(1) / (2 * spread);
-        d_["nonexpansive-lemma"] = refuted(d, pair_witness(p, p, pc.Q, pc.Q, centre + eps * x, centre));
+        // Two interior points of the same cone, a - b along the expanding direction.
+        const auto [a, b] = interior_pair_along(pc, ldl.witness);
+        d_["nonexpansive-lemma"] = refuted(d, pair_witness(p, p, pc.Q, pc.Q, a, b));
         return;
     }
     d_["nonexpansive-lemma"] = d;

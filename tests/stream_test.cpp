@@ -350,6 +350,18 @@ TEST_CASE("stream: input errors come in Model's order, with Model's messages", "
         law.pieces.push_back(other);
         same(law);
     }
+    {   // a name read through a listed name that has a "." itself: resolved as Model resolves it
+        Law law = cradle;
+        PieceDecl other = law.pieces.front();
+        other.name = "sorted.x";
+        other.rays = std::vector<Vector>{test::vec({"1", "0", "0"}), test::vec({"0", "1", "0"}), test::vec({"1", "1", "2"})};
+        law.pieces.push_back(other);
+        law.identities.push_back(IdentityDecl{"sorted.x.s1", {"sorted.x.s1"}});
+        CHECK(model_error(law).empty());
+        CHECK(stream_error(law).empty());
+        law.identities.back().lhs = "sorted.x.s9";
+        same(law);
+    }
     {   // an empty piece name before missing symmetries
         Law law = cradle;
         law.pieces.front().name = "";

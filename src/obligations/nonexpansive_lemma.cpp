@@ -36,14 +36,9 @@ Outcome Prover::nonexpansive_lemma() {
                                                 {"L", to_json(ldl.L)}, {"D", to_json(ldl.D)}});
             continue;
         }
-        // Two interior points of the same cone, a - b along the expanding direction x.
-        const Vector& x = ldl.witness;
-        const Vector centre = pc.R * Vector(c_, Rational(1));
-        Rational spread = 1;
-        for (const auto& coeff : pc.R_inv * x)
-            spread = std::max(spread, abs_of(coeff) + 1);
-        const Rational eps = Rational(1) / (2 * spread);
-        return refute(o, pair_witness(p, p, centre + eps * x, centre));
+        // Two interior points of the same cone, a - b along the expanding direction.
+        const auto [a, b] = interior_pair_along(pc, ldl.witness);
+        return refute(o, pair_witness(p, p, a, b));
     }
     return o;
 }
