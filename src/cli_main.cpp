@@ -2,32 +2,20 @@
 //
 // Exit status: 0 success / every claim proved; 1 a claim refuted; 2 bad input or usage.
 // Every error is one line on stderr: "impactcert: <place>: <reason>".
-#include "certificate.hpp"
-#include "cli/common.hpp"
-#include "law_json.hpp"
+#include "cli/options.hpp"
+#include "cli/tools.hpp"
 #include "report.hpp"
 #include "smt.hpp"
-#include "shard.hpp"
-#include "stream.hpp"
 #include "sweep.hpp"
-#include "verdict_output.hpp"
-
-#include <CLI/CLI.hpp>
 
 #include <unistd.h>
 
-#include <cerrno>
+#include <algorithm>
 #include <chrono>
-#include <cmath>
-#include <functional>
 #include <cstdio>
-#include <cstdlib>
-#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
-#include <memory>
-#include <optional>
 #include <sstream>
 #include <thread>
 
@@ -35,76 +23,6 @@ namespace impactcert {
 namespace {
 
 using namespace cli;
-
-VerifyReport verify_with_progress(const Model& model, const Limits& limits) {
-    TerminalProgress progress;
-    return verify(model, limits, progress.callback());
-}
-
-int run_verify(const std::string& law_path, bool json, const std::string& junit_path, const Limits& limits) {
-    const Model model = load_model(law_path, limits.max_pieces, limits.max_memory_mb);
-    Limits no_evidence = limits;
-    no_evidence.evidence = false; // a verdict needs no certificate
-    const VerifyReport report = verify_with_progress(model, no_evidence);
-    if (json)
-        std::cout << verdict_json(report).dump(2) << "\n";
-    else
-        std::cout << verdict_table(report, model);
-    if (!junit_path.empty())
-        write_file(junit_path, verdict_junit(report)); // flushed, closed and checked
-    return report.exit_status();
-}
-
-int run_verify_stream(const std::string& law_path, bool json, const std::string& junit_path, const Limits& limits) {
-    if (law_path.empty())
-        throw StreamRefused("the paper's law lists every piece");
-    const Law law = load_law_declaration(law_path);
-    TerminalProgress progress;
-    Limits no_evidence = limits;
-    no_evidence.evidence = false;
-    StreamResult result;
-    try {
-        result = verify_stream(law, no_evidence, progress.callback());
-    } catch (const InputError& e) {
-        throw InputError(law_path + ": " + e.what());
-    }
-    if (json)
-        std::cout << verdict_json(result.report).dump(2) << "\n";
-    else
-        std::cout << verdict_table(result.report, result.balls, result.contacts, result.pieces)
-                  << "  streamed: " << result.pieces << " pieces as ids of " << result.rays << " rays and " << result.images
-                  << " images, " << (result.bytes >> 20) << " MB counted against --max-memory\n";
-    if (!junit_path.empty())
-        write_file(junit_path, verdict_junit(result.report));
-    return result.report.exit_status();
-}
-
-int run_certify(const std::string& law_path, const std::string& out_path, const Limits& limits) {
-    const Model model = load_model(law_path, limits.max_pieces, limits.max_memory_mb);
-    // The header names the top verdict: a first pass without evidence gives it; the second
-    // writes each obligation as it is decided (one obligation's evidence in memory at a time).
-    Limits quick = limits;
-    quick.evidence = false;
-    const VerifyReport first = verify_with_progress(model, quick);
-    std::ofstream out(out_path, std::ios::binary);
-    if (!out)
-        throw InputError(out_path + ": cannot write the certificate");
-    CertificateWriter writer(out, model, first.verdict());
-    TerminalProgress progress;
-    const VerifyReport report =
-        verify_streaming(model, limits, progress.callback(), [&](ObligationResult& r) { writer.add(r); });
-    writer.finish();
-    out.close();
-    if (!out)
-        throw InputError(out_path + ": cannot write the certificate");
-    for (std::size_t k = 0; k < report.obligations.size(); ++k) {
-        const auto &a = first.obligations.at(k), &b = report.obligations[k];
-        if (a.verdict != b.verdict || a.checks != b.checks || a.method != b.method || a.counterexample != b.counterexample)
-            throw std::logic_error("certify: the two passes disagree on " + a.id);
-    }
-    std::cerr << "impactcert: wrote " << out_path << " (" << report.law << ": " << report.verdict() << ")\n";
-    return report.exit_status();
-}
 
 int run_report(const std::string& law_path, const std::string& dir, const Limits& limits) {
     const Model model = load_model(law_path, limits.max_pieces, limits.max_memory_mb);
@@ -203,12 +121,12 @@ int run_smt(const std::string& law_path, const std::string& dir) {
 
 int main(int argc, char** argv) {
     using namespace impactcert;
-    CLI::App app{"impactcert: exact proofs for cone-wise linear impact laws"};
+    CLI::App app{"impactcert: exact proofs for cone-wise linear impact laws", "impactcert"};
     app.set_version_flag("--version", std::string("impactcert ") + IMPACTCERT_VERSION);
     app.require_subcommand(1);
 
-    std::string law_path, junit_path, out_path;
-    bool json = false, velocities = false, as_float = false;
+    std::string law_path, out_path;
+    bool velocities = false, as_float = false;
     FuzzArgs fuzz_args, eval_float_args;
     fuzz::Options& fuzz_options = fuzz_args.options;
     fuzz_options.jobs = std::max(1u, std::thread::hardware_concurrency());
@@ -217,37 +135,17 @@ int main(int argc, char** argv) {
     SweepArgs sweep_args;
     sweep_args.jobs = std::max(1u, std::thread::hardware_concurrency());
 
-    // A short message for a number that must be positive (CLI11's own names the largest double).
-    const std::function<std::string(const std::string&)> positive = [](const std::string& text) -> std::string {
-        char* end = nullptr;
-        const double d = std::strtod(text.c_str(), &end);
-        if (text.empty() || *end != '\0' || !(d > 0) || !std::isfinite(d))
-            return "must be a finite number > 0, got " + text;
-        return {};
-    };
-    // Unsigned options: digits only, so that -1 is refused as -1 (not read as 2^64 - 1).
-    const std::function<std::string(const std::string&)> natural = [](const std::string& text) -> std::string {
-        if (text.empty() || text.size() > 19 || text.find_first_not_of("0123456789") != std::string::npos)
-            return "must be a non-negative integer below 10^19, got " + text;
-        return {};
-    };
+    ProofOptions proof;
+    VerifyArgs verify_args;
     auto* verify_cmd = app.add_subcommand("verify", "decide every proof obligation; exit 0 when every claim is proved, 1 when one is refuted, 2 on bad input");
-    verify_cmd->add_option("--law", law_path, "law file (impactcert-law/1); default: the paper's 3-ball law");
-    verify_cmd->add_flag("--json", json, "print the impactcert-verdict/1 JSON instead of the table");
-    verify_cmd->add_option("--junit", junit_path, "also write a JUnit XML report to this file");
-    bool stream = false;
-    verify_cmd->add_flag("--stream", stream, "keep only the ids of each piece's rays and images (a law given by orbit representatives, "
-                                             "larger than memory as matrices); same verdicts, streamed checks (proofs/README.md, \"Streamed laws\")");
-    std::string shard_text;
-    verify_cmd->add_option("--shard", shard_text, "K/N: decide slice K of N only (obligation i when i mod N = K-1, and nonexpansive's pair blocks b mod N = K-1)");
+    add_verify_options(verify_cmd, verify_args, proof);
 
     auto* certify_cmd = app.add_subcommand("certify", "write the impactcert-certificate/1 JSON; exit 0 when every claim is proved, 1 when one is refuted, 2 on bad input");
     certify_cmd->add_option("--law", law_path, "law file (impactcert-law/1); default: the paper's 3-ball law");
     certify_cmd->add_option("-o,--output", out_path, "certificate file to write")->required();
-    std::size_t shard_block = 1024;
-    for (auto* cmd : {verify_cmd, certify_cmd})
-        cmd->add_option("--shard-block", shard_block, "with --shard: pairs of nonexpansive per block (the merged result does not depend on it)")->check(natural)->check(CLI::Range(std::size_t{1}, std::size_t{1} << 40))->capture_default_str();
+    std::string shard_text;
     certify_cmd->add_option("--shard", shard_text, "K/N: write the part of slice K of N (impactcert-certificate-part/1); impactcert-check PART... merges and checks the parts");
+    add_shard_block_option(certify_cmd, proof);
 
     auto* report_cmd = app.add_subcommand("report", "write report.md (CI job summary) and a self-contained report.html with a picture of the cones");
     report_cmd->add_option("--law", law_path, "law file (impactcert-law/1); default: the paper's 3-ball law");
@@ -263,7 +161,7 @@ int main(int argc, char** argv) {
     eval_cmd->add_flag("--float", as_float, "evaluate the float law in double (inputs read with strtod; output in hex, %a)");
     eval_cmd->add_option("--impl", eval_float_args.impl_spec, "with --float: run LIB.so:SYMBOL and show its output against the correctly rounded exact value");
     eval_cmd->add_option("--impl-cmd", eval_float_args.impl_cmd, "with --float: the same for a command (see fuzz --impl-cmd)");
-    eval_cmd->add_option("--impl-timeout", eval_float_args.timeout, "seconds to wait for --impl-cmd's answer")->check(positive, "> 0");
+    eval_cmd->add_option("--impl-timeout", eval_float_args.timeout, "seconds to wait for --impl-cmd's answer")->check(positive_text, "> 0");
     eval_cmd->add_flag("--pieces", eval_float_args.pieces, "also name the piece(s) each point lies in (for derived laws: the word)");
     eval_cmd->add_option("--masses", eval_float_args.system.masses, "with --float and --impl/--impl-cmd, no --law: check the output's consistency with this chain");
     eval_cmd->add_option("--walls", eval_float_args.system.walls, "with --masses: fixed walls")->capture_default_str();
@@ -288,16 +186,16 @@ int main(int argc, char** argv) {
         cmd->add_option("-o,--output", args->out, "law file to write (default, or -: standard output)");
     }
     for (auto [cmd, args] : {std::pair{sequential_cmd, &derive_args}, std::pair{newton_cmd, &newton_args}, std::pair{poisson_cmd, &poisson_args}})
-        cmd->add_option("--max-bits", args->max_bits, "limit: bits of one matrix entry (numerator and denominator) during the derivation; undecided (exit 3) beyond it")->check(natural)->capture_default_str();
+        cmd->add_option("--max-bits", args->max_bits, "limit: bits of one matrix entry (numerator and denominator) during the derivation; undecided (exit 3) beyond it")->check(natural_text)->capture_default_str();
     sequential_cmd->add_flag("--json", derive_args.json, "with exit 1 (no finite law): the exact witness as JSON on standard output");
     sequential_cmd->add_option("--rule", derive_args.rule, "which approaching contact impacts first: most-negative, left-first or right-first; any: every admissible order (the law when the order never matters, else exit 1 with a witness)")->capture_default_str();
-    sequential_cmd->add_option("--max-words", derive_args.max_words, "with --rule any: limit on the admissible words (cells) examined; undecided (exit 3) beyond it")->check(natural)->capture_default_str();
-    sequential_cmd->add_option("--max-impacts", derive_args.max_impacts, "longest impact sequence allowed")->check(natural)->capture_default_str();
+    sequential_cmd->add_option("--max-words", derive_args.max_words, "with --rule any: limit on the admissible words (cells) examined; undecided (exit 3) beyond it")->check(natural_text)->capture_default_str();
+    sequential_cmd->add_option("--max-impacts", derive_args.max_impacts, "longest impact sequence allowed")->check(natural_text)->capture_default_str();
     newton_cmd->add_option("--restitution-on", newton_args.restitution_on, "all (the classical inequality law) or approaching (restitution only where gamma-_k < 0, as physics engines do)")->capture_default_str();
 
     CradleArgs cradle_args;
     auto* cradle_cmd = derive_cmd->add_subcommand("cradle", "the N-ball equal-mass elastic law (S = sort) with its symmetries declared; exit 0 law written, 2 bad input");
-    cradle_cmd->add_option("--balls", cradle_args.balls, "number of balls N (2..12)")->check(natural)->required();
+    cradle_cmd->add_option("--balls", cradle_args.balls, "number of balls N (2..12)")->check(natural_text)->required();
     cradle_cmd->add_option("--pieces", cradle_args.pieces, "representatives (one piece, the rest generated by the symmetries) or all (every ordering listed)")->capture_default_str();
     cradle_cmd->add_flag("--no-symmetries", cradle_args.no_symmetries, "declare no symmetries (needs --pieces all)");
     cradle_cmd->add_option("-o,--output", cradle_args.out, "law file to write (default: standard output)");
@@ -306,27 +204,18 @@ int main(int argc, char** argv) {
     sweep_cmd->add_option("--masses", sweep_args.masses, "ball masses, numbers or parameter names (1,m,1)");
     sweep_cmd->add_option("--restitution", sweep_args.restitution, "E or E1,...,E(n-1), numbers or parameter names")->capture_default_str();
     sweep_cmd->add_option("--rule", sweep_args.rule, "most-negative, left-first or right-first")->capture_default_str();
-    sweep_cmd->add_option("--max-impacts", sweep_args.max_impacts, "longest impact sequence allowed")->check(natural)->capture_default_str();
-    sweep_cmd->add_option("--max-words", sweep_args.max_words, "the order-independent column: cells walked per point (and 100 pairs per cell); undecided beyond")->check(natural)->capture_default_str();
+    sweep_cmd->add_option("--max-impacts", sweep_args.max_impacts, "longest impact sequence allowed")->check(natural_text)->capture_default_str();
+    sweep_cmd->add_option("--max-words", sweep_args.max_words, "the order-independent column: cells walked per point (and 100 pairs per cell); undecided beyond")->check(natural_text)->capture_default_str();
     sweep_cmd->add_option("--vary", sweep_args.vary, "NAME=LO..HI:COUNT[:log], once or twice");
     sweep_cmd->add_option("--shard", sweep_args.shard, "K/N: only the grid points k with k mod N = K-1, written to DIR/sweep.part-K-of-N.json (merge with --merge)");
     sweep_cmd->add_option("--merge", sweep_args.merge, "PART...: merge the part files of one sharded run (each shard once, every point covered) into DIR");
-    sweep_cmd->add_option("--max-points", sweep_args.max_points, "limit: grid points in all (undecided, exit 3, beyond it)")->check(natural)->capture_default_str();
-    sweep_cmd->add_option("--jobs", sweep_args.jobs, "worker processes (default: all cores)")->check(natural)->check(CLI::Range(1u, 256u));
+    sweep_cmd->add_option("--max-points", sweep_args.max_points, "limit: grid points in all (undecided, exit 3, beyond it)")->check(natural_text)->capture_default_str();
+    sweep_cmd->add_option("--jobs", sweep_args.jobs, "worker processes (default: all cores)")->check(natural_text)->check(CLI::Range(1u, 256u));
     sweep_cmd->add_option("-o,--output", sweep_args.out, "directory to write sweep.csv, sweep.json and sweep.html into")->required();
-    Limits limits;
-    bool no_integer_kernels = false;
-    unsigned verify_jobs = std::max(1u, std::thread::hardware_concurrency());
-    for (auto* cmd : {verify_cmd, certify_cmd, report_cmd, sweep_cmd}) {
-        cmd->add_option("--max-faces", limits.max_faces, "limit: simplex faces of one KKT enumeration (copositivity); beyond it an obligation is undecided")->check(natural)->capture_default_str();
-        cmd->add_option("--max-chambers", limits.max_chambers, "limit: steps of the chamber enumeration that decides a fan not meeting face to face")->check(natural)->capture_default_str();
-        cmd->add_option("--max-subsets", limits.max_subsets, "limit: constraint subsets for the extreme rays of cone intersections (P1, not face to face)")->check(natural)->capture_default_str();
-        cmd->add_option("--max-memory", limits.max_memory_mb, "limit: megabytes of the pieces a law's symmetries generate (counted by the size of their numbers; input error beyond it)")->check(natural)->capture_default_str();
-        cmd->add_option("--max-pieces", limits.max_pieces, "limit: pieces of a law given by orbit representatives, listed and generated (input error beyond it)")->check(natural)->capture_default_str();
-        cmd->add_flag("--no-integer-kernels", no_integer_kernels, "decide the pair forms over GMP alone (same verdicts; for comparison)");
-    }
-    for (auto* cmd : {verify_cmd, certify_cmd, report_cmd})
-        cmd->add_option("--jobs", verify_jobs, "threads for the pairwise checks (default: all cores); the output does not depend on it")->check(natural)->check(CLI::Range(1u, 256u));
+    for (auto* cmd : {certify_cmd, report_cmd, sweep_cmd})
+        add_limit_options(cmd, proof);
+    for (auto* cmd : {certify_cmd, report_cmd})
+        add_jobs_option(cmd, proof);
 
     auto* fuzz_cmd = app.add_subcommand("fuzz", "fuzz a float implementation against the exact law; exit 0 no violation, 1 violation, 2 bad input");
     fuzz_cmd->add_option_function<std::string>("--seed", [&](const std::string& text) {
@@ -336,14 +225,14 @@ int main(int argc, char** argv) {
             throw CLI::ValidationError("--seed", text + ": " + why);
         fuzz_options.seed = *seed;
     }, "seed, a decimal integer in [0, 2^64 - 1] (a run is a pure function of seed and sample index)");
-    fuzz_cmd->add_option("--samples", fuzz_options.samples, "number of samples")->check(positive, "> 0");
+    fuzz_cmd->add_option("--samples", fuzz_options.samples, "number of samples")->check(positive_text, "> 0");
     fuzz_cmd->add_option("--seconds", fuzz_options.seconds, "stop after this many seconds")->check(CLI::NonNegativeNumber);
-    fuzz_cmd->add_option("--jobs", fuzz_options.jobs, "threads")->check(natural)->check(CLI::Range(1u, 256u));
+    fuzz_cmd->add_option("--jobs", fuzz_options.jobs, "threads")->check(natural_text)->check(CLI::Range(1u, 256u));
     fuzz_cmd->add_option("--law", fuzz_args.law_path, "law file (impactcert-law/1); default: the paper's 3-ball law");
     fuzz_cmd->add_flag("--velocities", fuzz_args.velocities, "the implementation maps ball velocities u- to u+ (n doubles) instead of contact velocities");
     fuzz_cmd->add_option("--impl", fuzz_args.impl_spec, "LIB.so:SYMBOL, a C function void f(const double* in, double* out)");
     fuzz_cmd->add_option("--impl-cmd", fuzz_args.impl_cmd, "a command (any language) reading lines of hex doubles on stdin and writing one line of doubles per line");
-    fuzz_cmd->add_option("--impl-timeout", fuzz_args.timeout, "seconds without an answer from --impl-cmd before a point counts as hung")->check(positive, "> 0")->capture_default_str();
+    fuzz_cmd->add_option("--impl-timeout", fuzz_args.timeout, "seconds without an answer from --impl-cmd before a point counts as hung")->check(positive_text, "> 0")->capture_default_str();
     fuzz_cmd->add_option_function<std::string>("--max-ulps", [&](const std::string& text) {
         std::string why;
         const auto k = fuzz::parse_seed(text, &why); // the same grammar: a decimal integer in [0, 2^64 - 1]
@@ -352,7 +241,7 @@ int main(int argc, char** argv) {
         fuzz_args.max_ulps = *k;
     }, "allowed error per component in ulps of the correctly rounded value (default: 0, or the built-in float law's stated bound with --law)");
     fuzz_cmd->add_option("--max-rel-error", fuzz_args.max_rel_error, "allowed normwise error |y - S(x)| <= R |x| in the law's metric (H; M for --velocities)");
-    fuzz_cmd->add_option("--keep", fuzz_options.keep, "violations kept as examples")->check(natural)->check(CLI::Range(std::size_t{0}, std::size_t{1000000}))->capture_default_str();
+    fuzz_cmd->add_option("--keep", fuzz_options.keep, "violations kept as examples")->check(natural_text)->check(CLI::Range(std::size_t{0}, std::size_t{1000000}))->capture_default_str();
     fuzz_cmd->add_option("--masses", fuzz_args.system.masses, "without --law: check the implementation's consistency with this chain (ball masses)");
     fuzz_cmd->add_option("--walls", fuzz_args.system.walls, "with --masses: fixed walls, none, left, right or both")->capture_default_str();
     fuzz_cmd->add_option("--system", fuzz_args.system.system_path, "without --law: check consistency with this system (impactcert-system/1 or a law file)");
@@ -362,85 +251,46 @@ int main(int argc, char** argv) {
     fuzz_cmd->add_flag("--json", fuzz_args.json, "print the summary as impactcert-fuzz/1 JSON");
     fuzz_cmd->add_option("--junit", fuzz_args.junit, "also write a JUnit XML report to this file");
 
-    try {
-        app.parse(argc, argv);
-    } catch (const CLI::Success& e) {
-        return app.exit(e);
-    } catch (const CLI::ParseError& e) {
-        // One line, like every other error (app.exit would add a second line).
-        std::string message = e.what();
-        for (char& ch : message)
-            if (ch == '\n' || ch == '\r')
-                ch = ' ';
-        while (!message.empty() && message.back() == ' ')
-            message.pop_back();
-        std::cerr << "impactcert: " << one_line_text(message) << "\n";
-        return kExitBadInput;
-    }
-    limits.integer_kernels = !no_integer_kernels;
-    limits.shard_block_pairs = shard_block;
-    limits.jobs = verify_jobs;
-    // Every command's standard output is flushed and checked before the exit status is final: a
-    // lost write (a full disk, /dev/full, a closed pipe) is exit 2, never a silent success.
-    auto finished = [](int status) {
-        write_stdout("");
-        return status;
-    };
-    try {
-        if (verify_cmd->parsed() && !shard_text.empty() && !junit_path.empty())
-            throw InputError("--junit: not with --shard (a slice is not a verdict: merge certify's parts with impactcert-check)");
-        if (verify_cmd->parsed() && stream && !shard_text.empty())
-            throw InputError("--stream: not with --shard (a streamed law is decided in one process)");
-        if (verify_cmd->parsed() && stream)
-            return finished(run_verify_stream(law_path, json, junit_path, limits));
-        if (verify_cmd->parsed())
-            return finished(shard_text.empty() ? run_verify(law_path, json, junit_path, limits)
-                                               : cli::run_verify_shard(law_path, parse_shard(shard_text), json, limits));
-        if (certify_cmd->parsed())
-            return finished(shard_text.empty() ? run_certify(law_path, out_path, limits)
-                                               : cli::run_certify_shard(law_path, parse_shard(shard_text), out_path, limits));
-        if (report_cmd->parsed())
-            return finished(run_report(law_path, out_path, limits));
-        if (smt_cmd->parsed())
-            return finished(run_smt(law_path, out_path));
-        if (sequential_cmd->parsed())
-            return finished(run_derive_sequential(derive_args));
-        if (newton_cmd->parsed())
-            return finished(run_derive_classical(newton_args, false));
-        if (poisson_cmd->parsed())
-            return finished(run_derive_classical(poisson_args, true));
-        if (cradle_cmd->parsed())
-            return finished(run_derive_cradle(cradle_args));
-        if (sweep_cmd->parsed()) {
-            limits.jobs = 1; // sweep's --jobs are worker processes: one thread each
-            limits.evidence = false;
-            return finished(run_sweep_command(sweep_args, limits));
+    return run_program(app, argc, argv, [&]() -> int {
+        const Limits limits = proof.resolved();
+        try {
+            if (verify_cmd->parsed())
+                return run_verify_command(verify_args, limits);
+            if (certify_cmd->parsed())
+                return shard_text.empty() ? run_certify(law_path, out_path, limits)
+                                          : run_certify_shard(law_path, parse_shard(shard_text), out_path, limits);
+            if (report_cmd->parsed())
+                return run_report(law_path, out_path, limits);
+            if (smt_cmd->parsed())
+                return run_smt(law_path, out_path);
+            if (sequential_cmd->parsed())
+                return run_derive_sequential(derive_args);
+            if (newton_cmd->parsed())
+                return run_derive_classical(newton_args, false);
+            if (poisson_cmd->parsed())
+                return run_derive_classical(poisson_args, true);
+            if (cradle_cmd->parsed())
+                return run_derive_cradle(cradle_args);
+            if (sweep_cmd->parsed()) {
+                Limits one_thread = limits;
+                one_thread.jobs = 1; // sweep's --jobs are worker processes: one thread each
+                one_thread.evidence = false;
+                return run_sweep_command(sweep_args, one_thread);
+            }
+            if (fuzz_cmd->parsed()) {
+                fuzz_args.impl_given = fuzz_cmd->count("--impl") > 0;
+                fuzz_args.impl_cmd_given = fuzz_cmd->count("--impl-cmd") > 0;
+                return run_fuzz(fuzz_args);
+            }
+            eval_float_args.impl_given = eval_cmd->count("--impl") > 0;
+            eval_float_args.impl_cmd_given = eval_cmd->count("--impl-cmd") > 0;
+            return run_eval(law_path, velocities, eval_args, as_float, eval_float_args);
+        } catch (const DeriveLimit& e) {
+            std::cerr << "impactcert: undecided: derive: " << e.what() << "\n";
+            return kExitUndecided;
+        } catch (const SweepLimit& e) {
+            std::cerr << "impactcert: undecided: " << e.what() << "\n";
+            return kExitUndecided;
         }
-        if (fuzz_cmd->parsed()) {
-            fuzz_args.impl_given = fuzz_cmd->count("--impl") > 0;
-            fuzz_args.impl_cmd_given = fuzz_cmd->count("--impl-cmd") > 0;
-            return finished(run_fuzz(fuzz_args));
-        }
-        eval_float_args.impl_given = eval_cmd->count("--impl") > 0;
-        eval_float_args.impl_cmd_given = eval_cmd->count("--impl-cmd") > 0;
-        return finished(run_eval(law_path, velocities, eval_args, as_float, eval_float_args));
-    } catch (const InputError& e) {
-        std::cerr << "impactcert: " << one_line_text(e.what()) << "\n";
-        return kExitBadInput;
-    } catch (const StreamRefused& e) {
-        std::cerr << "impactcert: undecided: --stream: " << one_line_text(e.what()) << "; verify without --stream\n";
-        return kExitUndecided;
-    } catch (const DeriveLimit& e) {
-        std::cerr << "impactcert: undecided: derive: " << e.what() << "\n";
-        return kExitUndecided;
-    } catch (const SweepLimit& e) {
-        std::cerr << "impactcert: undecided: " << e.what() << "\n";
-        return kExitUndecided;
-    } catch (const std::bad_alloc&) {
-        std::cerr << "impactcert: out of memory (raise the memory limit, or lower the limits that size the work)\n";
-        return kExitUndecided;
-    } catch (const std::exception& e) {
-        std::cerr << "impactcert: internal error (please report): " << e.what() << "\n";
-        return kExitInternal;
-    }
+    });
 }

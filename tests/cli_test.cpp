@@ -7,6 +7,9 @@
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <regex>
+#include <sstream>
+#include <vector>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -128,6 +131,9 @@ namespace {
 
 std::size_t lines_of(const std::string& s) { return static_cast<std::size_t>(std::count(s.begin(), s.end(), '\n')); }
 
+// A verdict table with its times ("0.052 ms") blanked.
+std::string without_times(const std::string& s) { return std::regex_replace(s, std::regex("[0-9.]+ ms"), "- ms"); }
+
 } // namespace
 
 TEST_CASE("cli: every usage error is one line on stderr with exit 2 - --help and --version exit 0", "[cli]") {
@@ -178,7 +184,79 @@ TEST_CASE("cli: a directory, a missing file or an unreadable one as --law is one
     std::remove(path.c_str());
 }
 
-TEST_CASE("scripts: verify configures as before, builds only impactcert, one job per core", "[cli][scripts]") {
+TEST_CASE("impactcert-verify: the output, errors and exit status of impactcert verify, for every kind of run", "[cli]") {
+    // impactcert-verify is `impactcert verify` alone: the same option wiring (cli/options.cpp)
+    // compiled into a program without derive, sweep or fuzz. Each run is made by both programs.
+    const std::string law = source_path("proofs/controls/missing-cone.json"), cradle = source_path("proofs/cradle4/law.json");
+    const std::string junit_a = "/tmp/impactcert-cli-test-verify-a.xml", junit_b = "/tmp/impactcert-cli-test-verify-b.xml";
+    struct Case {
+        std::string args;
+        int status;
+    };
+    for (const Case& c : std::vector<Case>{{"", 0},
+                                           {"--json", 0},
+                                           {"--law '" + law + "' --json", 1},
+                                           {"--law '" + law + "' --jobs 1", 1},
+                                           {"--law '" + cradle + "' --stream", 0},
+                                           {"--law '" + cradle + "' --json --no-integer-kernels", 0},
+                                           {"--shard 2/3 --json", 0},
+                                           {"--shard 1/2 --shard-block 7", 0},
+                                           {"--stream", 3},
+                                           {"--law '" + cradle + "' --max-pieces 3", 2},
+                                           {"--law /nonexistent/law.json", 2},
+                                           {"--law '" + law + "' --shard 1/2 --junit /tmp/x.xml", 2},
+                                           {"--stream --shard 1/2", 2},
+                                           {"--shard 4/3", 2},
+                                           {"--jobs 0", 2},
+                                           {"--max-faces -1", 2},
+                                           {"--frobnicate", 2},
+                                           {"certify", 2}}) {
+        INFO("impactcert verify " << c.args);
+        const auto full = run_cli("verify " + c.args);
+        const auto lean = impactcert::test::run_program(IMPACTCERT_VERIFY_CLI, c.args);
+        CHECK(full.status == c.status);
+        CHECK(lean.status == full.status);
+        CHECK(without_times(lean.out) == without_times(full.out)); // the table's times vary
+        INFO("stderr: " << full.err);
+        if (c.status == 2)
+            CHECK(lines_of(full.err) == 1);
+        // The one difference: the program's name at the start of an error line.
+        REQUIRE(full.err.rfind("impactcert: ", 0) == (full.err.empty() ? std::string::npos : 0));
+        CHECK(lean.err == (full.err.empty() ? "" : "impactcert-verify: " + full.err.substr(12)));
+    }
+    // --junit writes the same report.
+    const auto full = run_cli("verify --law '" + law + "' --junit " + junit_a);
+    const auto lean = impactcert::test::run_program(IMPACTCERT_VERIFY_CLI, "--law '" + law + "' --junit " + junit_b);
+    CHECK(full.status == 1);
+    CHECK(lean.status == 1);
+    auto without_junit_times = [](const std::string& xml) { return std::regex_replace(xml, std::regex("time=\"[0-9.]+\""), "time=\"-\""); };
+    CHECK(without_junit_times(impactcert::test::read_file(junit_a)) == without_junit_times(impactcert::test::read_file(junit_b)));
+    CHECK(impactcert::test::read_file(junit_a).find("<failure") != std::string::npos);
+    std::remove(junit_a.c_str());
+    std::remove(junit_b.c_str());
+    // --help lists the same options; --version names the program.
+    auto options_of = [](const std::string& help) {
+        std::vector<std::string> out;
+        std::istringstream in(help);
+        for (std::string line; std::getline(in, line);)
+            if (line.rfind("  -", 0) == 0)
+                out.push_back(line);
+        return out;
+    };
+    const auto full_help = run_cli("verify --help"), lean_help = impactcert::test::run_program(IMPACTCERT_VERIFY_CLI, "--help");
+    CHECK(full_help.status == 0);
+    CHECK(lean_help.status == 0);
+    const auto full_options = options_of(full_help.out), lean_options = options_of(lean_help.out);
+    CHECK(full_options.size() >= 12);
+    CHECK(lean_options.size() == full_options.size() + 1); // and --version
+    for (const auto& line : full_options)
+        CHECK(std::find(lean_options.begin(), lean_options.end(), line) != lean_options.end());
+    const auto version = impactcert::test::run_program(IMPACTCERT_VERIFY_CLI, "--version");
+    CHECK(version.status == 0);
+    CHECK(version.out.rfind("impactcert-verify ", 0) == 0);
+}
+
+TEST_CASE("scripts: verify configures as before, builds only impactcert-verify, one job per core", "[cli][scripts]") {
     // The scripts run against a scratch root with cmake, dpkg-query, nproc and the built program
     // replaced by stubs that log their arguments.
     const std::string root = "/tmp/impactcert-scripts-test", log = root + "/log";
@@ -188,20 +266,20 @@ TEST_CASE("scripts: verify configures as before, builds only impactcert, one job
         " && printf '#!/bin/sh\\necho \"cmake $*\" >> " + log + "\\n' > bin/cmake" +
         " && printf '#!/bin/sh\\necho \"install ok installed\"\\n' > bin/dpkg-query" +
         " && printf '#!/bin/sh\\necho 7\\n' > bin/nproc" +
-        " && printf '#!/bin/sh\\necho \"impactcert $*\" >> " + log + "\\n' > build/impactcert" +
-        " && chmod +x bin/* build/impactcert";
+        " && printf '#!/bin/sh\\necho \"impactcert-verify $*\" >> " + log + "\\n' > build/impactcert-verify" +
+        " && chmod +x bin/* build/impactcert-verify";
     REQUIRE(std::system(setup.c_str()) == 0);
     REQUIRE(std::system(("PATH=" + root + "/bin:$PATH " + root + "/scripts/verify --json 2>/dev/null").c_str()) == 0);
     CHECK(impactcert::test::read_file(log) == "cmake -S " + root + " -B " + root + "/build -G Ninja -DCMAKE_BUILD_TYPE=Release\n"
-                                  "cmake --build " + root + "/build --target impactcert -j 7\n"
-                                  "impactcert verify --json\n");
+                                  "cmake --build " + root + "/build --target impactcert-verify -j 7\n"
+                                  "impactcert-verify --json\n");
     // A tree configured before keeps its generator (cmake refuses to change it).
     std::remove(log.c_str());
     REQUIRE(std::system(("touch " + root + "/build/CMakeCache.txt && PATH=" + root + "/bin:$PATH " + root +
                          "/scripts/verify 2>/dev/null").c_str()) == 0);
     CHECK(impactcert::test::read_file(log) == "cmake -S " + root + " -B " + root + "/build -DCMAKE_BUILD_TYPE=Release\n"
-                                  "cmake --build " + root + "/build --target impactcert -j 7\n"
-                                  "impactcert verify\n");
+                                  "cmake --build " + root + "/build --target impactcert-verify -j 7\n"
+                                  "impactcert-verify \n"); // the stub's "$*" after a space
     // build_tree (scripts/test) builds everything, also one job per core.
     std::remove(log.c_str());
     REQUIRE(std::system(("PATH=" + root + "/bin:$PATH bash -c 'source " + root + "/scripts/lib.sh && build_tree " + root +

@@ -334,14 +334,14 @@ namespace {
 // Under AddressSanitizer no address-space cap applies (its shadow memory needs the space), so
 // the expansions that must stop at the byte budget stop at a smaller one there: the same
 // decision, on a tenth of the numbers (the Release run keeps the defaults and the 1 GB cap).
-#if defined(__SANITIZE_ADDRESS__)
+#ifdef IMPACTCERT_SANITIZER_BUILD
 const std::string kBudget = " --max-memory 64";
 #else
 const std::string kBudget;
 #endif
 
 int capped(const std::string& command, std::string* err = nullptr) {
-#if defined(__SANITIZE_ADDRESS__)
+#ifdef IMPACTCERT_SANITIZER_BUILD
     const std::string cap;
 #else
     const std::string cap = "ulimit -v 1000000; ";

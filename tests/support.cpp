@@ -319,7 +319,9 @@ void require_sound(const Model& m, const VerifyReport& r) {
     REQUIRE(outcome.status == impactcert_check::kVerified);
 }
 
-CliRun run_cli(const std::string& args, const std::string& stdin_text) {
+CliRun run_cli(const std::string& args, const std::string& stdin_text) { return run_program(IMPACTCERT_CLI, args, stdin_text); }
+
+CliRun run_program(const std::string& program, const std::string& args, const std::string& stdin_text) {
     char in_name[] = "/tmp/impactcert-test-in-XXXXXX";
     char err_name[] = "/tmp/impactcert-test-err-XXXXXX";
     const int in_fd = mkstemp(in_name), err_fd = mkstemp(err_name);
@@ -328,7 +330,7 @@ CliRun run_cli(const std::string& args, const std::string& stdin_text) {
     REQUIRE(write(in_fd, stdin_text.data(), stdin_text.size()) == static_cast<ssize_t>(stdin_text.size()));
     close(in_fd);
     close(err_fd);
-    const std::string cmd = std::string("'") + IMPACTCERT_CLI + "' " + args + " <" + in_name + " 2>" + err_name;
+    const std::string cmd = "'" + program + "' " + args + " <" + in_name + " 2>" + err_name;
     CliRun run;
     FILE* pipe = popen(cmd.c_str(), "r");
     REQUIRE(pipe != nullptr);

@@ -56,5 +56,7 @@ struct CliRun {
     std::string err; // stderr
 };
 CliRun run_cli(const std::string& args, const std::string& stdin_text = "");
+// The same for another built program (IMPACTCERT_VERIFY_CLI, IMPACTCERT_CHECKER, ...).
+CliRun run_program(const std::string& program, const std::string& args, const std::string& stdin_text = "");
 
 } // namespace impactcert::test

@@ -1,6 +1,6 @@
 // cli/consistency.cpp -- `impactcert fuzz --masses ... | --system F` with no --law: the consistency
 // of a black-box impact map (consistency.hpp), and `eval --float` replays of its findings.
-#include "cli/common.hpp"
+#include "cli/tools.hpp"
 
 #include "consistency.hpp"
 #include "json.hpp"

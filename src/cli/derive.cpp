@@ -1,5 +1,5 @@
 // cli/derive.cpp -- `impactcert derive sequential | newton | poisson | cradle`.
-#include "cli/common.hpp"
+#include "cli/tools.hpp"
 
 #include "cradle.hpp"
 #include "json.hpp"

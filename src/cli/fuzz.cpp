@@ -1,6 +1,6 @@
 // cli/fuzz.cpp -- `impactcert fuzz` and `impactcert eval` against a law (cli/consistency.cpp: the
 // consistency of a black-box map against a system alone).
-#include "cli/common.hpp"
+#include "cli/tools.hpp"
 
 #include "float_eval.hpp"
 #include "json.hpp"

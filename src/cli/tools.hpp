@@ -1,0 +1,76 @@
+// cli/tools.hpp -- the commands of the full `impactcert` program beyond verify and certify:
+// derive (cli/derive.cpp), fuzz and eval (cli/fuzz.cpp, cli/consistency.cpp), and the number
+// and system arguments they share (cli/arguments.cpp). impactcert-verify compiles none of them.
+#pragma once
+
+#include "cli/common.hpp"
+#include "derive.hpp"
+#include "fuzz.hpp"
+#include "system.hpp"
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace impactcert::cli {
+
+std::vector<Rational> number_list(const std::string& option, const std::string& text);
+std::vector<std::string> tokens_of(const std::string& text); // white space, commas; brackets ignored
+std::string line_of(const Vector& v);
+double parse_double(const std::string& text, const std::string& where);
+// An exact value for a one-line message: itself when short, else "~1.23457e+1000 (3011 digits)".
+std::string short_text(const Rational& x);
+std::string short_text(const Vector& v);
+
+// The system options shared by derive, sweep and fuzz: --masses (a chain) with --walls, or
+// --system FILE (impactcert-system/1 or a law file).
+struct SystemArgs {
+    std::string masses, walls = "none", system_path;
+    bool given() const { return !masses.empty() || !system_path.empty(); }
+};
+System system_from(const SystemArgs& a); // InputError when both or neither are given
+// The same options as command-line text (for replays).
+std::string system_flags(const SystemArgs& a);
+// One restitution value for every contact, or one per contact.
+std::vector<Rational> restitution_list(const std::string& text, std::size_t contacts);
+
+// ---- derive (cli/derive.cpp)
+struct DeriveArgs {
+    SystemArgs system;
+    std::string restitution = "1", rule = "most-negative", out, outcomes_from;
+    std::string restitution_on = "all";
+    std::size_t max_impacts = 100, max_bits = kDefaultMaxBits, max_words = kDefaultMaxWords;
+    bool json = false;
+};
+int run_derive_sequential(const DeriveArgs& a);
+
+int run_derive_classical(const DeriveArgs& a, bool poisson);
+
+struct CradleArgs {
+    std::size_t balls = 0;
+    std::string pieces = "representatives", out;
+    bool no_symmetries = false;
+};
+int run_derive_cradle(const CradleArgs& a);
+
+// ---- fuzz and eval (cli/fuzz.cpp)
+struct FuzzArgs {
+    std::string law_path, impl_spec, impl_cmd, junit, range, float_law;
+    SystemArgs system;
+    std::string require;
+    bool velocities = false, json = false, pair = false, pieces = false;
+    bool impl_given = false, impl_cmd_given = false; // given, even as an empty string
+    std::optional<std::uint64_t> max_ulps;
+    std::optional<double> max_rel_error;
+    double timeout = 10;
+    fuzz::Options options;
+};
+int run_fuzz(FuzzArgs a);
+// cli/consistency.cpp
+int run_consistency_fuzz(const FuzzArgs& a);
+int run_consistency_eval(const FuzzArgs& a, const std::vector<std::vector<std::string>>& points);
+int run_eval(const std::string& law_path, bool velocities, const std::vector<std::string>& args, bool as_float,
+             FuzzArgs float_args);
+
+} // namespace impactcert::cli
