@@ -146,17 +146,7 @@ Model::Model(Law law, std::size_t max_pieces, std::size_t max_memory_mb) : law_(
     if (law_.representatives_only) {
         if (law_.symmetries.empty())
             input_error("$.pieces_listed", "orbit representatives need \"symmetries\"");
-        // Generating pieces is only meaningful (and only bounded) for H-isometries: a compact
-        // law whose P or P' is not one is an input error, before anything is generated.
-        for (std::size_t g = 0; g < law_.symmetries.size(); ++g) {
-            const SymmetryDecl& sym = law_.symmetries[g];
-            if (transpose(sym.P) * H_ * sym.P != H_)
-                input_error(idx("$.symmetries", g) + ".P", "not an H-isometry (P^T H P != H): a compact law's "
-                                                           "symmetries must be");
-            if (transpose(sym.P_prime) * H_ * sym.P_prime != H_)
-                input_error(idx("$.symmetries", g) + ".P_prime", "not an H-isometry (P'^T H P' != H): a compact "
-                                                                 "law's symmetries must be");
-        }
+        validate_compact_symmetries(law_, H_);
         std::map<std::vector<std::size_t>, std::size_t> by_rays;
         auto key_of = [](std::vector<std::size_t> ids) {
             std::sort(ids.begin(), ids.end());
@@ -370,6 +360,29 @@ bool law_claims(const Law& law, const std::string& id) {
     if (!law.claims)
         return law_applies(law, id);
     return std::find(law.claims->begin(), law.claims->end(), id) != law.claims->end();
+}
+
+void validate_compact_symmetries(const Law& law, const Matrix& H) {
+    // Generating pieces is only meaningful (and only bounded) for H-isometries of finite order.
+    for (std::size_t g = 0; g < law.symmetries.size(); ++g) {
+        const SymmetryDecl& sym = law.symmetries[g];
+        if (transpose(sym.P) * H * sym.P != H)
+            input_error(idx("$.symmetries", g) + ".P", "not an H-isometry (P^T H P != H): a compact law's "
+                                                       "symmetries must be");
+        if (transpose(sym.P_prime) * H * sym.P_prime != H)
+            input_error(idx("$.symmetries", g) + ".P_prime", "not an H-isometry (P'^T H P' != H): a compact "
+                                                             "law's symmetries must be");
+        if (sym.P.rows() <= kMaxOrderCheckContacts) {
+            const std::vector<Rational> a = characteristic_polynomial(sym.P);
+            for (std::size_t k = 1; k < a.size(); ++k)
+                if (a[k].denominator() != 1)
+                    input_error(idx("$.symmetries", g) + ".P",
+                                "of infinite order: the coefficient of x^" + std::to_string(a.size() - 1 - k) +
+                                    " in det(xI - P) is " + to_string(a[k]) +
+                                    ", not an integer, so the powers of P never return to I and generate pieces "
+                                    "without end (proofs/README.md, Lemma S0)");
+        }
+    }
 }
 
 void validate_declarations(const Law& law, std::size_t n, std::size_t c,

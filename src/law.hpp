@@ -102,6 +102,15 @@ void validate_claims(const Law& law);
 void validate_declarations(const Law& law, std::size_t n, std::size_t c,
                            const std::function<bool(const std::string&)>& piece_exists);
 
+// The symmetries of a compact law, before anything is generated (Model's and the stream's input
+// rule, in this order for each symmetry): P and P' are H-isometries, and P has finite order --
+// for c <= 32, decided by the characteristic polynomial of P, which has integer coefficients
+// exactly when an H-isometry has finite order (proofs/README.md, "Compact laws", Lemma S0). A P
+// of infinite order generates pieces without end; it is refused at once instead of by the
+// growth of the generated numbers. Throws InputError.
+void validate_compact_symmetries(const Law& law, const Matrix& H);
+inline constexpr std::size_t kMaxOrderCheckContacts = 32;
+
 // ---------------------------------------------------------------------------------------------
 // Prepared law
 

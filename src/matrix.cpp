@@ -219,6 +219,28 @@ std::optional<Vector> solve(const Matrix& a, const Vector& b) {
     return rhs.column(0);
 }
 
+std::vector<Rational> characteristic_polynomial(const Matrix& a) {
+    // With e_k the elementary symmetric functions of the eigenvalues and p_j = tr(A^j):
+    // k e_k = sum_{i=1..k} (-1)^(i-1) e_(k-i) p_i, and a_k = (-1)^k e_k.
+    const std::size_t c = a.rows();
+    std::vector<Rational> e{Rational(1)}, p{Rational(0)}, out{Rational(1)};
+    Matrix power = a;
+    for (std::size_t k = 1; k <= c; ++k) {
+        if (k > 1)
+            power = power * a;
+        Rational trace = 0;
+        for (std::size_t i = 0; i < c; ++i)
+            trace += power(i, i);
+        p.push_back(trace);
+        Rational sum = 0;
+        for (std::size_t i = 1; i <= k; ++i)
+            sum += (i % 2 == 1 ? e[k - i] : -e[k - i]) * p[i];
+        e.push_back(sum / Rational(static_cast<long>(k)));
+        out.push_back(k % 2 == 1 ? -e.back() : e.back());
+    }
+    return out;
+}
+
 Rational determinant(const Matrix& a) {
     require(a.rows() == a.cols(), "determinant of a non-square matrix");
     Matrix m = a;

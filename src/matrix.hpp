@@ -58,6 +58,9 @@ bool is_zero(const Vector& v);
 // Inverse by Gauss-Jordan with exact pivots; nothing when singular.
 std::optional<Matrix> inverse(const Matrix& a);
 Rational determinant(const Matrix& a);
+// The coefficients a_0 = 1, a_1, ..., a_c of det(xI - A) = x^c + a_1 x^(c-1) + ... + a_c (A
+// square), by Newton's identities from the traces of A, A^2, ..., A^c: c products.
+std::vector<Rational> characteristic_polynomial(const Matrix& a);
 // Solution of a x = b for square non-singular a; nothing when singular.
 std::optional<Vector> solve(const Matrix& a, const Vector& b);
 

@@ -193,16 +193,11 @@ Expansion::Expansion(const Law& law_, const Model& base_, const Limits& limits, 
     : law(law_), base(base_), c(base_.contacts()), store(base_.contacts()), limits_(limits) {
     const auto& syms = law.symmetries;
     const auto& H = base.H();
-    // As Model: a compact law's P and P' are H-isometries, checked before anything is generated.
-    for (std::size_t g = 0; g < syms.size(); ++g) {
-        if (transpose(syms[g].P) * H * syms[g].P != H)
-            input_error(idx("$.symmetries", g) + ".P", "not an H-isometry (P^T H P != H): a compact law's "
-                                                       "symmetries must be");
-        if (transpose(syms[g].P_prime) * H * syms[g].P_prime != H)
-            input_error(idx("$.symmetries", g) + ".P_prime", "not an H-isometry (P'^T H P' != H): a compact "
-                                                             "law's symmetries must be");
+    // As Model: a compact law's P and P' are H-isometries of finite order, checked before
+    // anything is generated.
+    validate_compact_symmetries(law, H);
+    for (std::size_t g = 0; g < syms.size(); ++g)
         P_int_.push_back(intk::to_int(syms[g].P));
-    }
     for (const auto& sym : syms) // after every input rule on the symmetries
         if (sym.name.find('.') != std::string::npos)
             throw StreamRefused("symmetry name " + in_quotes(sym.name) +

@@ -13,14 +13,15 @@ depends=$(dpkg-deb -f "$deb" Depends)
 echo "package: $(basename "$deb"); Depends: $depends"
 # The programs link libstdc++, GMP, MPFR and PPL statically by default (IMPACTCERT_STATIC_LIBS);
 # every shared library they need must be declared.
-needed=$(readelf -d "$build/impactcert" "$build/impactcert-check" | sed -n 's/.*NEEDED.*\[\(lib[a-z+]*\).*/\1/p' | sort -u)
+needed=$(readelf -d "$build/impactcert" "$build/impactcert-verify" "$build/impactcert-check" | sed -n 's/.*NEEDED.*\[\(lib[a-z+]*\).*/\1/p' | sort -u)
 for lib in $needed; do
     case "$lib" in libm) lib=libc6 ;; libc) lib=libc6 ;; libstdc) lib=libstdc++ ;; esac
     case "$depends" in *"$lib"*) ;; *) echo "Depends lacks $lib" >&2; exit 1 ;; esac
 done
-test -x "$dir/root/usr/bin/impactcert" && test -x "$dir/root/usr/bin/impactcert-check"
+test -x "$dir/root/usr/bin/impactcert" && test -x "$dir/root/usr/bin/impactcert-verify" && test -x "$dir/root/usr/bin/impactcert-check"
 test -f "$dir/root/usr/include/impactcert/float_law.hpp"
 test -n "$(find "$dir/root/usr/lib" -name impactcertConfig.cmake -path '*cmake/impactcert*')"
 "$dir/root/usr/bin/impactcert" verify >/dev/null
+"$dir/root/usr/bin/impactcert-verify" >/dev/null
 "$dir/root/usr/bin/impactcert" certify -o "$dir/paper.cert.json" 2>/dev/null
 "$dir/root/usr/bin/impactcert-check" "$dir/paper.cert.json"

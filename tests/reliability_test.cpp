@@ -385,6 +385,15 @@ const char* kRotations = R"({"format": "impactcert-law/1", "name": "rot", "masse
                    {"name": "b", "P": [["5/13", "-12/13"], ["12/13", "5/13"]], "P_prime": [["5/13", "-12/13"], ["12/13", "5/13"]]}],
     "pieces_listed": "orbit-representatives", "claims": ["fan"]})";
 
+// Two reflections of order 2 whose product is the rotation above: not refused by Lemma S0 (each
+// generator has finite order); the growth rule stops the expansion.
+const char* kReflections = R"({"format": "impactcert-law/1", "name": "refl", "masses": ["1", "1"],
+    "contacts": {"W": [["1", "0"], ["0", "1"]]},
+    "pieces": [{"name": "o", "Q": [["1", "0"], ["0", "1"]], "rays": [["1", "0"], ["0", "1"]]}],
+    "symmetries": [{"name": "a", "P": [["1", "0"], ["0", "-1"]], "P_prime": [["1", "0"], ["0", "-1"]]},
+                   {"name": "b", "P": [["3/5", "4/5"], ["4/5", "-3/5"]], "P_prime": [["3/5", "4/5"], ["4/5", "-3/5"]]}],
+    "pieces_listed": "orbit-representatives", "claims": ["fan"]})";
+
 } // namespace
 
 TEST_CASE("defect 18.2 fail: memory is budgeted in bytes, growth is stopped, under a 1 GB cap", "[reliability][cli]") {
@@ -393,6 +402,7 @@ TEST_CASE("defect 18.2 fail: memory is budgeted in bytes, growth is stopped, und
     std::ofstream(dir + "/flips20.json") << compact_flips_law(20);
     std::ofstream(dir + "/flips4.json") << compact_flips_law(4);
     std::ofstream(dir + "/rot.json") << kRotations;
+    std::ofstream(dir + "/refl.json") << kReflections;
     const std::string cli = std::string("'") + IMPACTCERT_CLI + "' ";
     const std::string checker = std::string("'") + IMPACTCERT_CHECKER + "' ";
     std::string err;
@@ -400,9 +410,14 @@ TEST_CASE("defect 18.2 fail: memory is budgeted in bytes, growth is stopped, und
     REQUIRE(capped(cli + "verify --law " + dir + "/flips20.json" + kBudget, &err) == 2);
     REQUIRE(err.find("--max-memory") != std::string::npos);
     REQUIRE(std::count(err.begin(), err.end(), '\n') == 1);
-    // (c) two rational rotations: the numbers grow; stopped at once.
+    // (c) two rational rotations: refused at once (Lemma S0: each is of infinite order), and two
+    // reflections whose product is a rotation: the numbers grow, stopped by the growth rule.
     REQUIRE(capped(cli + "verify --law " + dir + "/rot.json", &err) == 2);
-    REQUIRE(err.find("infinite order") != std::string::npos);
+    REQUIRE(err.find("$.symmetries[0].P: of infinite order") != std::string::npos);
+    REQUIRE(capped(cli + "verify --law " + dir + "/rot.json --stream", &err) == 2);
+    REQUIRE(err.find("$.symmetries[0].P: of infinite order") != std::string::npos);
+    REQUIRE(capped(cli + "verify --law " + dir + "/refl.json", &err) == 2);
+    REQUIRE(err.find("the numbers grow (a symmetry of infinite order?)") != std::string::npos);
     // Positive control: the same construction with 16 orthants is proved.
     REQUIRE(capped(cli + "verify --law " + dir + "/flips4.json") == 0);
     // (a) the checker, on certificates carrying those laws (the certificate of the c = 4 law with
@@ -413,17 +428,19 @@ TEST_CASE("defect 18.2 fail: memory is budgeted in bytes, growth is stopped, und
     // The law's hash is recomputed, so that the checker must expand the law to refuse it (with
     // the stale hash it rejected the certificate before any expansion, which tested nothing):
     // the 2^20 orthants stop at the byte budget (undecided, naming the option), the rotations
-    // at their growing numbers (rejected).
+    // at once (Lemma S0), the reflections at their growing numbers (both rejected).
     for (const auto& [name, text, want_status, want_text] :
          std::vector<std::tuple<std::string, std::string, int, std::string>>{
-             {"flips20", compact_flips_law(20), 3, "--max-memory"}, {"rot", kRotations, 1, "infinite order"}}) {
+             {"flips20", compact_flips_law(20), 3, "--max-memory"},
+             {"rot", kRotations, 1, "$.law.symmetries[0].P: of infinite order"},
+             {"refl", kReflections, 1, "has numbers of more than 16 times the bits"}}) {
         Json law = Json::parse(text);
         law.erase("claims");
         Json forged = cert;
         forged["law"] = law;
         forged["law_sha256"] = sha256_hex(law.dump());
         std::ofstream(dir + "/" + name + ".cert.json") << forged.dump();
-        // (The rotations keep the default budget: at ASan's smaller one the bytes run out first.)
+        // (The reflections keep the default budget: at ASan's smaller one the bytes run out first.)
         const int status = capped(checker + dir + "/" + name + ".cert.json" + (name == "flips20" ? kBudget : ""), &err);
         INFO(name << " -> " << status << ": " << err);
         CHECK(status == want_status);

@@ -473,10 +473,21 @@ TEST_CASE("symmetries: law files are validated with paths, and compact laws are 
         "pieces": [{"name": "I", "Q": [["1","0"],["0","1"]], "rays": [["1","0"],["0","1"]]}],
         "symmetries": [{"name": "s", "P": [["3/5","-4/5"],["4/5","3/5"]], "P_prime": [["3/5","-4/5"],["4/5","3/5"]]}],
         "pieces_listed": "orbit-representatives"})";
-    // Stopped as soon as the numbers grow (long before the 4,096-character name bound).
-    const std::string rotation_error = error_of(rotation);
-    CHECK(rotation_error.rfind("law.json: $.symmetries: generated piece \"I.s.s.", 0) == 0);
-    CHECK(rotation_error.find("the numbers grow (a symmetry of infinite order?)") != std::string::npos);
+    // Refused before anything is generated (Lemma S0: det(xI - P) = x^2 - 6/5 x + 1).
+    CHECK(error_of(rotation) == "law.json: $.symmetries[0].P: of infinite order: the coefficient of x^1 in det(xI - P) is "
+                                "-6/5, not an integer, so the powers of P never return to I and generate pieces without "
+                                "end (proofs/README.md, Lemma S0)");
+    // Two reflections (order 2 each) whose product is that rotation: no generator is refused by
+    // Lemma S0, and the expansion is stopped as soon as the numbers grow (long before the
+    // 4,096-character name bound).
+    std::string reflections = rotation;
+    reflections.replace(reflections.find(R"("symmetries": [)"), std::string::npos,
+                        R"("symmetries": [{"name": "s", "P": [["1","0"],["0","-1"]], "P_prime": [["1","0"],["0","-1"]]},
+                           {"name": "t", "P": [["3/5","4/5"],["4/5","-3/5"]], "P_prime": [["3/5","4/5"],["4/5","-3/5"]]}],
+                           "pieces_listed": "orbit-representatives"})");
+    const std::string reflections_error = error_of(reflections);
+    CHECK(reflections_error.rfind("law.json: $.symmetries: generated piece \"I.", 0) == 0);
+    CHECK(reflections_error.find("the numbers grow (a symmetry of infinite order?)") != std::string::npos);
     // A shear is no isometry: generating from it is refused before anything is generated.
     std::string shear = rotation;
     shear.replace(shear.find(R"("P": [["3/5","-4/5"],["4/5","3/5"]])"), 35, R"("P": [["1","1"],["0","1"]])");
@@ -485,6 +496,92 @@ TEST_CASE("symmetries: law files are validated with paths, and compact laws are 
     CHECK_THROWS_WITH(Model(grow, 100), Catch::Contains("--max-pieces"));
     // The n = 8 law is a small file.
     CHECK(law_to_json(cradle_law(8, CradleListing::representatives, true)).dump().size() < 20000);
+}
+
+TEST_CASE("symmetries: Lemma S0, det(xI - P) by Newton's identities, and finite order read off it",
+          "[scale][symmetries]") {
+    // The polynomial against determinants of xI - A at c + 1 points (a second route).
+    std::mt19937_64 rng(19);
+    auto small = [&] { return Rational(static_cast<int>(rng() % 13) - 6, static_cast<int>(rng() % 5) + 1); };
+    for (std::size_t c = 1; c <= 6; ++c)
+        for (int trial = 0; trial < 30; ++trial) {
+            Matrix A(c, c);
+            for (std::size_t i = 0; i < c; ++i)
+                for (std::size_t j = 0; j < c; ++j)
+                    A(i, j) = small();
+            const std::vector<Rational> a = characteristic_polynomial(A);
+            REQUIRE(a.size() == c + 1);
+            for (long x = -1; x <= static_cast<long>(c); ++x) {
+                Matrix xI_A(c, c);
+                for (std::size_t i = 0; i < c; ++i)
+                    for (std::size_t j = 0; j < c; ++j)
+                        xI_A(i, j) = (i == j ? Rational(x) : Rational(0)) - A(i, j);
+                Rational value = 0;
+                for (std::size_t k = 0; k <= c; ++k)
+                    value = value * Rational(x) + a[k];
+                CHECK(value == determinant(xI_A));
+            }
+        }
+    // Finite order, by a second route: in GL(2, Q) and GL(3, Q) an element of finite order has
+    // order 1, 2, 3, 4 or 6, so P^k = I for some k <= 6 decides it. The rule: every coefficient
+    // of det(xI - P) an integer.
+    auto integral = [](const Matrix& P) {
+        for (const auto& x : characteristic_polynomial(P))
+            if (x.denominator() != 1)
+                return false;
+        return true;
+    };
+    auto finite_by_powers = [](const Matrix& P) {
+        Matrix power = P;
+        for (int k = 1; k <= 6; ++k, power = power * P)
+            if (power == Matrix::identity(P.rows()))
+                return true;
+        return false;
+    };
+    std::size_t finite = 0, infinite = 0;
+    auto require_rule = [&](const Matrix& P) {
+        REQUIRE(transpose(P) * P == Matrix::identity(P.rows())); // an isometry of H = I
+        const bool by_powers = finite_by_powers(P);
+        CHECK(integral(P) == by_powers);
+        ++(by_powers ? finite : infinite);
+    };
+    // Rotations and reflections of the Pythagorean triples (m^2 - n^2, 2mn, m^2 + n^2), in the
+    // plane and with a third axis fixed or reversed.
+    for (int m = 2; m <= 9; ++m)
+        for (int n = 1; n < m; ++n) {
+            const Rational x(m * m - n * n, m * m + n * n), y(2 * m * n, m * m + n * n);
+            for (const Matrix& P2 : {Matrix::from_rows({{x, -y}, {y, x}}), Matrix::from_rows({{x, y}, {y, -x}})}) {
+                require_rule(P2);
+                for (int sign : {1, -1}) {
+                    Matrix P3(3, 3);
+                    for (std::size_t i = 0; i < 2; ++i)
+                        for (std::size_t j = 0; j < 2; ++j)
+                            P3(i, j) = P2(i, j);
+                    P3(2, 2) = Rational(sign);
+                    require_rule(P3);
+                }
+            }
+        }
+    // Every signed permutation of 2 and 3 axes (finite order), and the rotations by a quarter turn.
+    for (std::size_t c : {2u, 3u}) {
+        std::vector<std::size_t> perm(c);
+        for (std::size_t i = 0; i < c; ++i)
+            perm[i] = i;
+        do {
+            for (unsigned signs = 0; signs < (1u << c); ++signs) {
+                Matrix P(c, c);
+                for (std::size_t i = 0; i < c; ++i)
+                    P(perm[i], i) = Rational((signs >> i) & 1 ? -1 : 1);
+                require_rule(P);
+            }
+        } while (std::next_permutation(perm.begin(), perm.end()));
+    }
+    CHECK(finite >= 2 * 8 + 6 * 8);
+    CHECK(infinite >= 40);
+    // The order-6 rotation of the hexagonal lattice is an isometry of its metric, not of I.
+    const Matrix hex = Matrix::from_rows({{Rational(0), Rational(-1)}, {Rational(1), Rational(1)}});
+    CHECK(integral(hex));
+    CHECK(finite_by_powers(hex));
 }
 
 TEST_CASE("jobs: the verdict, the evidence and the certificate do not depend on the number of threads",

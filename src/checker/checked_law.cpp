@@ -13,6 +13,33 @@ namespace {
 // read_law has checked that each is an array when present).
 bool declares(const Json& law, const char* key) { return law.contains(key) && !law.at(key).empty(); }
 
+// Whether the H-isometry P has finite order (the prover's rule, proofs/README.md Lemma S0): the
+// characteristic polynomial det(xI - P) has integer coefficients. Its coefficients from the
+// traces of P, P^2, ..., P^c (Newton's identities), each required to be an integer as soon as
+// it is known.
+bool integral_characteristic_polynomial(const Mat& P) {
+    const std::size_t c = P.size();
+    std::vector<Q> e{Q(1)}, traces{Q(0)};
+    Mat power = P;
+    for (std::size_t k = 1; k <= c; ++k) {
+        if (k > 1)
+            power = mul(power, P);
+        Q trace = 0;
+        for (std::size_t i = 0; i < c; ++i)
+            trace += power[i][i];
+        traces.push_back(trace);
+        Q sum = 0;
+        for (std::size_t i = 1; i <= k; ++i)
+            sum += (i % 2 == 1 ? 1 : -1) * e[k - i] * traces[i];
+        Q ek = sum / static_cast<long>(k);
+        ek.canonicalize();
+        if (ek.get_den() != 1)
+            return false;
+        e.push_back(ek);
+    }
+    return true;
+}
+
 } // namespace
 
 bool applies(const Json& law, const std::string& id) {
@@ -173,14 +200,18 @@ Law read_law(const Json& j, const std::string& path, std::size_t max_pieces, std
                 "expected \"all\" or \"orbit-representatives\"");
         if (listed == "orbit-representatives") {
             require(!law.symmetries.empty(), at(path, "pieces_listed"), "orbit representatives need symmetries");
-            // The prover's input rules: a compact law's symmetries are H-isometries, and
-            // generated names stay within 4,096 characters.
+            // The prover's input rules: a compact law's symmetries are H-isometries, each P of
+            // finite order, and generated names stay within 4,096 characters.
             for (std::size_t g = 0; g < law.symmetries.size(); ++g) {
                 const Symmetry& sym = law.symmetries[g];
                 const std::string sp = at(at(path, "symmetries"), g);
                 require(mul(mul(tr(sym.P), law.H), sym.P) == law.H, at(sp, "P"), "not an H-isometry in a compact law");
                 require(mul(mul(tr(sym.P_prime), law.H), sym.P_prime) == law.H, at(sp, "P_prime"),
                         "not an H-isometry in a compact law");
+                // c <= 32 (kMaxOrderCheckContacts of the prover); beyond, the growth rule below.
+                require(sym.P.size() > 32 || integral_characteristic_polynomial(sym.P), at(sp, "P"),
+                        "of infinite order (its characteristic polynomial has a coefficient that is not an "
+                        "integer): it generates pieces without end");
             }
             std::map<std::vector<std::size_t>, std::size_t> by_rays;
             auto key = [&](const std::vector<Vec>& rays) {

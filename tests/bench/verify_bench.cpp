@@ -102,6 +102,7 @@ int main(int argc, char** argv) {
     print("impactcert verify (embedded paper law)", embedded);
     print("impactcert verify --law proofs/newton3/law.json", time_process({cli, "verify", "--law", law_file}, runs));
     print("impactcert verify --json", time_process({cli, "verify", "--json"}, runs));
+    print("impactcert-verify (verify alone, what scripts/verify builds)", time_process({cli + "-verify"}, runs));
 
     std::vector<double> in_process;
     const impactcert::Model model(impactcert::paper_law());
