@@ -340,6 +340,57 @@ std::vector<Vector> facet_hyperplanes(const Model& model) {
     return {lines.begin(), lines.end()};
 }
 
+// ---- unmatched facets: a point just outside a facet that no other cone has, in no closed cone
+// (proofs/README.md, "Check, gaps"). For the first kMaxGapCandidates facets with one cone (in
+// the order of their sorted ray ids), with f the sum of the facet's rays and d the cone's other
+// ray: y = 2 f - d has coordinate -1 on d in that cone, so it is not in it; if no closed cone
+// contains y, the cones leave a gap there.
+namespace {
+
+std::optional<FanResult> unmatched_facet_gap(const Model& model) {
+    const std::size_t c = model.contacts();
+    const auto& pieces = model.pieces();
+    std::map<std::vector<std::size_t>, std::vector<std::pair<std::size_t, std::size_t>>> owners; // (piece, dropped ray)
+    for (std::size_t p = 0; p < pieces.size(); ++p)
+        for (std::size_t drop = 0; drop < c; ++drop) {
+            std::vector<std::size_t> ids;
+            for (std::size_t k = 0; k < c; ++k)
+                if (k != drop)
+                    ids.push_back(pieces[p].ray_ids[k]);
+            std::sort(ids.begin(), ids.end());
+            owners[ids].push_back({p, drop});
+        }
+    FanResult r;
+    r.method = "unmatched-facet";
+    std::size_t tried = 0;
+    for (const auto& [ids, own] : owners) {
+        if (own.size() != 1)
+            continue;
+        if (tried++ == kMaxGapCandidates)
+            break;
+        const auto [p, drop] = own.front();
+        Vector y = Rational(-1) * model.rays()[pieces[p].ray_ids[drop]];
+        for (auto id : ids)
+            y = y + Rational(2) * model.rays()[id];
+        r.checks += pieces.size();
+        if (!model.pieces_containing(y).empty())
+            continue;
+        FanResult::Facet facet;
+        for (auto id : ids)
+            facet.rays.push_back(model.rays()[id]);
+        facet.pieces = {p};
+        r.facets = {std::move(facet)};
+        r.test_points = {y};
+        r.covering = {{}};
+        r.failing = 0;
+        r.proved = false;
+        return r;
+    }
+    return std::nullopt;
+}
+
+} // namespace
+
 FanResult check_fan(const Model& model, const Limits& limits) {
     FanResult r;
     if (model.contacts() == 2) {
@@ -373,6 +424,11 @@ FanResult check_fan(const Model& model, const Limits& limits) {
                 throw std::logic_error("check_fan: the walls balance but the generic point is not covered once");
             return walls;
         }
+    }
+    // A gap next to a facet that no other cone has: decided without enumerating chambers.
+    if (auto gap = unmatched_facet_gap(model)) {
+        gap->checks += r.checks;
+        return *gap;
     }
     // Complete decision: one point in every chamber of the facet arrangement.
     FanResult full;

@@ -37,7 +37,7 @@ struct FanResult {
     bool proved = false;
     bool fast_path = false;    // proved by sectors or by facet matching: a fan meeting face to face
     std::size_t checks = 0;
-    std::string method;        // "angular-sectors", "facet-matching", "walls" or "chambers"
+    std::string method;        // "angular-sectors", "facet-matching", "walls", "unmatched-facet" or "chambers"
     std::vector<Vector> rays_by_angle; // angular-sectors: the distinct rays, sorted by angle
     struct Facet {
         std::vector<Vector> rays;         // the facet's c-1 rays (in ray-id order)
@@ -53,6 +53,8 @@ struct FanResult {
 };
 
 FanResult check_fan(const Model& model, const Limits& limits);
+// The facets with one cone that check_fan tries for a gap point (the checker's bound too).
+inline constexpr std::size_t kMaxGapCandidates = 64;
 
 struct DomainResult {
     bool function = true;                // S is defined and single-valued off the boundaries

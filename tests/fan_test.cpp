@@ -5,6 +5,7 @@
 
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <random>
 #include <set>
 
@@ -154,14 +155,63 @@ TEST_CASE("fan: the 4-ball sorting law's 24 cones take the face-to-face fast pat
     CHECK(r.method == "facet-matching");
 }
 
+namespace {
+
+// The unmatched-facet point, by a second route: y = 2 (sum of the facet's rays) - d, with d the
+// ray of the facet's one cone off the facet, is outside that cone and in no closed cone.
+void require_gap_beside_its_facet(const Model& m, const FanResult& r) {
+    REQUIRE(r.method == "unmatched-facet");
+    REQUIRE(r.facets.size() == 1);
+    REQUIRE(r.facets[0].pieces.size() == 1);
+    const auto& piece = m.pieces()[r.facets[0].pieces[0]];
+    Vector y(m.contacts());
+    std::size_t on_facet = 0;
+    for (std::size_t k = 0; k < m.contacts(); ++k) {
+        const Vector ray = primitive_ray(piece.R.column(k));
+        const bool in = std::find(r.facets[0].rays.begin(), r.facets[0].rays.end(), ray) != r.facets[0].rays.end();
+        on_facet += in ? 1 : 0;
+        y = y + Rational(in ? 2 : -1) * ray;
+    }
+    CHECK(on_facet + 1 == m.contacts());
+    CHECK(r.test_points.at(0) == y);
+    CHECK(r.covering.at(0).empty());
+    CHECK(m.pieces_containing(y).empty());
+    for (const auto& other : m.pieces()) { // and by the cone coordinates R^-1 y: one is negative
+        const Vector coordinates = other.R_inv * y;
+        CHECK(std::any_of(coordinates.begin(), coordinates.end(), [](const Rational& x) { return x < 0; }));
+    }
+    // No other cone has the facet.
+    std::size_t owners = 0;
+    for (const auto& other : m.pieces()) {
+        std::size_t shared = 0;
+        for (std::size_t k = 0; k < m.contacts(); ++k)
+            shared += std::find(r.facets[0].rays.begin(), r.facets[0].rays.end(), primitive_ray(other.R.column(k))) !=
+                              r.facets[0].rays.end()
+                          ? 1
+                          : 0;
+        owners += shared + 1 == m.contacts() ? 1 : 0;
+    }
+    CHECK(owners == 1);
+}
+
+} // namespace
+
 TEST_CASE("fan: dropping one of the 24 cones in R^3 leaves a gap, found as a point", "[fan]") {
     Law law = test::sorting_law(4);
     law.pieces.erase(law.pieces.begin() + 7);
     const Model m(law);
     const auto r = check_fan(m, Limits{});
     REQUIRE_FALSE(r.proved);
-    CHECK(r.method == "chambers"); // the walls do not balance; the chambers give the point
+    // The walls do not balance; a point beside a facet the dropped cone shared is in no cone.
+    CHECK(r.method == "unmatched-facet");
+    REQUIRE(r.test_points.size() == 1);
     CHECK(m.pieces_containing(r.test_points[*r.failing]).empty());
+    require_gap_beside_its_facet(m, r);
+    // A second route: the chambers of the facet arrangement leave one uncovered.
+    std::size_t steps = 0, uncovered = 0;
+    for (const auto& x : chamber_points(facet_hyperplanes(m), m.contacts(), 10000000, steps))
+        uncovered += m.pieces_containing(x).empty() ? 1 : 0;
+    CHECK(uncovered >= 1);
 }
 
 TEST_CASE("fan: tilings that are not face to face are proved by walls, and the chambers agree", "[fan][walls]") {
@@ -187,7 +237,8 @@ TEST_CASE("fan: tilings that are not face to face are proved by walls, and the c
     const Model gap(load_law_file(source_path("tests/laws/gap-newton4-missing-cone.json")));
     const auto r = check_fan(gap, Limits{});
     CHECK_FALSE(r.proved);
-    CHECK(r.method == "chambers");
+    CHECK(r.method == "unmatched-facet");
+    require_gap_beside_its_facet(gap, r);
 }
 
 TEST_CASE("fan: random edge splits of the 4-ball fan still tile - moving one ray never does", "[fan][chambers]") {
@@ -218,10 +269,24 @@ TEST_CASE("fan: random edge splits of the 4-ball fan still tile - moving one ray
 }
 
 TEST_CASE("fan: the chamber enumeration stops at its limit", "[fan][chambers]") {
-    const Model m(load_law_file(source_path("tests/laws/one-piece-c12.json")));
+    // A gap beside a facet of one cone is found without chambers, whatever the limit.
+    const Model one(load_law_file(source_path("tests/laws/one-piece-c12.json")));
     Limits tight;
     tight.max_chambers = 100;
-    CHECK_THROWS_AS(check_fan(m, tight), LimitExceeded);
+    const auto gap = check_fan(one, tight);
+    CHECK(gap.method == "unmatched-facet");
+    require_gap_beside_its_facet(one, gap);
+    // A cone listed twice (in R^4): every facet has three cones or two, none has one, and the
+    // walls do not balance: only the chambers decide it, and they stop at the limit.
+    Law law = test::sorting_law(5);
+    law.pieces.push_back(law.pieces[17]);
+    law.pieces.back().name += "-again";
+    const Model twice(law);
+    CHECK_THROWS_AS(check_fan(twice, tight), LimitExceeded);
+    const auto r = check_fan(twice, Limits{});
+    CHECK(r.method == "chambers");
+    REQUIRE_FALSE(r.proved);
+    CHECK(r.covering[*r.failing].size() == 2); // the overlap
 }
 
 TEST_CASE("fan: overlapping cones with different matrices give a two-valued witness", "[fan]") {

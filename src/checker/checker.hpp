@@ -152,6 +152,13 @@ class Checker {
     bool fan_facets(const Json& data, const std::string& dp);
     bool facet_criterion() const;
     bool walls_tile();
+    // The prover's gap point beside a facet with one cone (proofs/README.md, "Check, gaps").
+    struct GapPoint {
+        std::vector<std::size_t> ids; // the facet's rays
+        std::size_t piece;            // its one cone
+        Vec point;                    // in no closed cone
+    };
+    std::optional<GapPoint> gap_point() const;
     bool face_to_face();
     std::vector<Vec> facet_hyperplanes() const;
     bool fan_chambers(const Json& data, const std::string& dp);

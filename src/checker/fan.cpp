@@ -1,6 +1,7 @@
 // The Checker's fan (proofs/README.md, "fan", and "What the checker establishes", 5): the
 // evidence of each method re-decided independently (sectors for c = 2, the facet criterion, the
-// walls, the canonical chamber points counted by a second route), and whether S is a function,
+// walls, the gap beside a facet with one cone, the canonical chamber points counted by a second
+// route), and whether S is a function,
 // with the canonical domain witness.
 #include "checker.hpp"
 
@@ -196,6 +197,33 @@ bool Checker::fan_facets(const Json& data, const std::string& dp) {
     fan_points_ = {p};
     fan_cover_ = {law_.interiors(p).size()};
     return fan_cover_[0] == 1;
+}
+
+// The prover's gap rule, with this checker's arithmetic: for the first 64 facets with one cone
+// (in the order of their sorted ray ids), y = 2 (the sum of the facet's rays) - (the cone's other
+// ray); the first y in no closed cone.
+std::optional<Checker::GapPoint> Checker::gap_point() const {
+    std::size_t tried = 0;
+    for (const auto& [ids, owners] : all_facets()) {
+        if (owners.size() != 1)
+            continue;
+        if (tried++ == 64)
+            break;
+        const std::size_t p = owners.front().first;
+        Vec y(law_.c, Q(0));
+        for (const auto& r : pc(p).rays) {
+            const std::size_t id = ray_id(r);
+            const int weight = std::binary_search(ids.begin(), ids.end(), id) ? 2 : -1;
+            for (std::size_t i = 0; i < law_.c; ++i)
+                y[i] += weight * law_.distinct_rays[id][i];
+        }
+        bool in_none = true;
+        for (std::size_t q = 0; q < P() && in_none; ++q)
+            in_none = !law_.in_cone(q, y);
+        if (in_none)
+            return GapPoint{ids, p, y};
+    }
+    return std::nullopt;
 }
 
 // The fast path: every facet shared by exactly two cones on opposite sides, and the first

@@ -85,7 +85,7 @@ void Checker::could_be_undecided(const std::string& id, const std::string& limit
     }
     require(!option.empty(), path, "names no limit that can stop " + id + " (expected \"... (raise it with " + expected + ")\")");
     if (id == "fan")
-        require(law_.c != 2 && !facet_criterion() && !walls_tile(), path,
+        require(law_.c != 2 && !facet_criterion() && !walls_tile() && !gap_point(), path,
                 "the fan is decided without enumerating chambers");
     else if (option == "--max-chambers")
         require(holds("fan") == Truth::undecided, path, "the fan is not undecided");
@@ -132,6 +132,21 @@ bool Checker::evidence(const std::string& id, const Json& data, const std::strin
             fan_points_ = {x0};
             fan_cover_ = {1};
             return true;
+        }
+        if (const auto gap = gap_point()) {
+            expect_keys(data, dp, {"facet", "gap_point"});
+            const std::string fp = at(dp, "facet");
+            const Json& facet = field(data, dp, "facet");
+            expect_keys(facet, fp, {"rays", "pieces"});
+            require(listed_rays(field(facet, fp, "rays"), at(fp, "rays")) == facet_rays(gap->ids), at(fp, "rays"),
+                    "is not the first facet with one cone and a gap beside it");
+            require(listed_names(field(facet, fp, "pieces"), at(fp, "pieces")) == std::vector<std::string>{name(gap->piece)},
+                    at(fp, "pieces"), "is not the facet's one cone");
+            require(vec(field(data, dp, "gap_point"), at(dp, "gap_point")) == gap->point, at(dp, "gap_point"),
+                    "is not 2 (the sum of the facet's rays) - (the cone's other ray)");
+            fan_points_ = {gap->point};
+            fan_cover_ = {0};
+            return false;
         }
         expect_keys(data, dp, {"hyperplanes", "chamber_points"});
         return fan_chambers(data, dp);

@@ -4,7 +4,8 @@
 // to face. By Lemma T they tile iff N(x) = #{i : x in int C_i} = 1 at every generic x.
 // Check (check_fan, src/fan.cpp): N = 1 at one direction per angular sector (c = 2); else every
 // facet matched by one cone on its other side and N = 1 at one generic point; else the walls
-// balance; else N = 1 at one point of every chamber of the facet arrangement. The first test
+// balance; else a point outside a facet that no other cone has lies in no cone (a gap); else
+// N = 1 at one point of every chamber of the facet arrangement. The first test
 // point covered k != 1 times is the witness. S is a function (check_domain) iff at every test
 // point of a complete method N >= 1 and the cones containing it have equal matrices.
 #include "prover.hpp"
@@ -59,6 +60,12 @@ Outcome Prover::fan() {
             }
             o.data["facets"] = facets;
             o.data["generic_point"] = points.at(0);
+        } else if (f.method == "unmatched-facet") {
+            Json rays = Json::array();
+            for (const auto& r : f.facets.at(0).rays)
+                rays.push_back(to_json(r));
+            o.data["facet"] = Json{{"rays", rays}, {"pieces", names_of(f.facets.at(0).pieces)}};
+            o.data["gap_point"] = points.at(0);
         } else {
             Json planes = Json::array();
             for (const auto& n : f.hyperplanes)
