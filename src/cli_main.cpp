@@ -1,7 +1,8 @@
 // cli_main.cpp -- the `impactcert` command (SPEC section 6).
 //
 // Exit status: 0 success / every claim proved; 1 a claim refuted; 2 bad input or usage.
-// Every error is one line on stderr: "impactcert: <place>: <reason>".
+// Every error is one line on stderr: "impactcert: <place>: <reason>" (cli/options.cpp,
+// run_program; impactcert-verify's lines start with its own name).
 #include "cli/options.hpp"
 #include "cli/tools.hpp"
 #include "report.hpp"
@@ -286,11 +287,9 @@ int main(int argc, char** argv) {
             eval_float_args.impl_cmd_given = eval_cmd->count("--impl-cmd") > 0;
             return run_eval(law_path, velocities, eval_args, as_float, eval_float_args);
         } catch (const DeriveLimit& e) {
-            std::cerr << "impactcert: undecided: derive: " << e.what() << "\n";
-            return kExitUndecided;
+            throw Undecided(std::string("derive: ") + e.what());
         } catch (const SweepLimit& e) {
-            std::cerr << "impactcert: undecided: " << e.what() << "\n";
-            return kExitUndecided;
+            throw Undecided(e.what());
         }
     });
 }

@@ -403,6 +403,7 @@ FanResult check_fan(const Model& model, const Limits& limits) {
         return r;
     }
     // Walls: a tiling that need not be face to face, decided without enumerating chambers.
+    std::size_t checks = r.checks;
     {
         FanResult walls;
         walls.method = "walls";
@@ -424,16 +425,17 @@ FanResult check_fan(const Model& model, const Limits& limits) {
                 throw std::logic_error("check_fan: the walls balance but the generic point is not covered once");
             return walls;
         }
+        checks = walls.checks;
     }
     // A gap next to a facet that no other cone has: decided without enumerating chambers.
     if (auto gap = unmatched_facet_gap(model)) {
-        gap->checks += r.checks;
+        gap->checks += checks;
         return *gap;
     }
     // Complete decision: one point in every chamber of the facet arrangement.
     FanResult full;
     full.method = "chambers";
-    full.checks = r.checks;
+    full.checks = checks;
     full.hyperplanes = facet_hyperplanes(model);
     std::size_t steps = 0;
     full.test_points = chamber_points(full.hyperplanes, model.contacts(), limits.max_chambers, steps);

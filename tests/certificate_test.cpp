@@ -391,6 +391,56 @@ TEST_CASE("certificates: the checker rejects every single-change mutation of con
     CHECK(unnamed == 0);
 }
 
+TEST_CASE("certificates: a gap beside a facet with one cone is held to the prover's facet, cone and point",
+          "[certificate][fan]") {
+    // The 4-ball sort law without one cone (c = 3): refuted by the point beside the first facet
+    // with one cone that has a gap beside it (method unmatched-facet).
+    const Model m(load_law_file(source_path("tests/laws/gap-newton4-missing-cone.json")));
+    const VerifyReport r = verify(m);
+    REQUIRE(r.at("fan").method == "unmatched-facet");
+    const Json cert = make_certificate(m, r);
+    REQUIRE(impactcert_check::check_text(cert.dump()).status == impactcert_check::kVerified);
+    std::size_t fan = 0;
+    while (cert["obligations"][fan]["id"] != "fan")
+        ++fan;
+    const Json data = cert["obligations"][fan]["data"];
+    REQUIRE(data.contains("gap_point"));
+    auto rejected = [&](const std::function<void(Json&)>& change, const std::string& reason) {
+        Json forged = cert;
+        change(forged);
+        const auto outcome = impactcert_check::check_text(forged.dump());
+        INFO(outcome.message);
+        CHECK(outcome.status != impactcert_check::kVerified); // rejected, or malformed (a key missing)
+        CHECK(outcome.message.find(reason) != std::string::npos);
+    };
+    auto& at = fan; // the fan's index in every copy
+    // Another point: scaled (still in no cone, but not the prover's), or moved into a cone.
+    rejected([&](Json& c) {
+        for (auto& x : c["obligations"][at]["data"]["gap_point"])
+            x = to_string(parse_rational(x.get<std::string>()).value() * Rational(2));
+    }, "gap_point");
+    rejected([&](Json& c) { c["obligations"][at]["data"]["gap_point"] = Json::array({"1", "1", "1"}); }, "gap_point");
+    // Another facet (its rays swapped), another cone, a missing key.
+    rejected([&](Json& c) {
+        auto& rays = c["obligations"][at]["data"]["facet"]["rays"];
+        std::swap(rays[0], rays[1]);
+    }, "facet.rays");
+    rejected([&](Json& c) { c["obligations"][at]["data"]["facet"]["pieces"] = Json::array({m.pieces()[0].name == c["obligations"][at]["data"]["facet"]["pieces"][0] ? m.pieces()[1].name : m.pieces()[0].name}); },
+             "facet.pieces");
+    rejected([&](Json& c) { c["obligations"][at]["data"].erase("facet"); }, "facet");
+    // The chambers' evidence in its place, or the fan left undecided by --max-chambers.
+    rejected([&](Json& c) {
+        c["obligations"][at]["data"] = Json{{"hyperplanes", Json::array()}, {"chamber_points", Json::array()}};
+    }, "data");
+    rejected([&](Json& c) {
+        auto& o = c["obligations"][at];
+        o["verdict"] = "undecided";
+        o.erase("counterexample");
+        o["data"] = Json::object();
+        o["limit"] = "the facet arrangement needs more than 1 chamber-enumeration steps (raise it with --max-chambers)";
+    }, "the fan is decided without enumerating chambers");
+}
+
 TEST_CASE("checker: products of integer rows and columns are summed as integers, equal to the rational sums", "[certificate]") {
     // The checker's mul sums integer-valued entries with mpz_addmul; any fraction in a row or a
     // column takes the rational sum. Both must give what the textbook triple loop gives, on

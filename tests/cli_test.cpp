@@ -131,8 +131,8 @@ namespace {
 
 std::size_t lines_of(const std::string& s) { return static_cast<std::size_t>(std::count(s.begin(), s.end(), '\n')); }
 
-// A verdict table with its times ("0.052 ms") blanked.
-std::string without_times(const std::string& s) { return std::regex_replace(s, std::regex("[0-9.]+ ms"), "- ms"); }
+// A verdict table with its times ("    0.052 ms", right-aligned) blanked, padding included.
+std::string without_times(const std::string& s) { return std::regex_replace(s, std::regex(" +[0-9.]+ ms"), " - ms"); }
 
 } // namespace
 

@@ -385,6 +385,15 @@ const char* kRotations = R"({"format": "impactcert-law/1", "name": "rot", "masse
                    {"name": "b", "P": [["5/13", "-12/13"], ["12/13", "5/13"]], "P_prime": [["5/13", "-12/13"], ["12/13", "5/13"]]}],
     "pieces_listed": "orbit-representatives", "claims": ["fan"]})";
 
+// In R^4, two rotations whose traces cancel: tr P is an integer (0), the coefficient of x^2 in
+// det(xI - P) is 14/25 (Lemma S0 needs every coefficient, not the trace alone).
+const char* kCancelling = R"({"format": "impactcert-law/1", "name": "p4", "masses": ["1", "1", "1", "1"],
+    "contacts": {"W": [["1", "0", "0", "0"], ["0", "1", "0", "0"], ["0", "0", "1", "0"], ["0", "0", "0", "1"]]},
+    "pieces": [{"name": "o", "Q": [["1", "0", "0", "0"], ["0", "1", "0", "0"], ["0", "0", "1", "0"], ["0", "0", "0", "1"]]}],
+    "symmetries": [{"name": "a", "P": [["3/5", "-4/5", "0", "0"], ["4/5", "3/5", "0", "0"], ["0", "0", "-3/5", "-4/5"], ["0", "0", "4/5", "-3/5"]],
+                    "P_prime": [["1", "0", "0", "0"], ["0", "1", "0", "0"], ["0", "0", "1", "0"], ["0", "0", "0", "1"]]}],
+    "pieces_listed": "orbit-representatives", "claims": ["fan"]})";
+
 // Two reflections of order 2 whose product is the rotation above: not refused by Lemma S0 (each
 // generator has finite order); the growth rule stops the expansion.
 const char* kReflections = R"({"format": "impactcert-law/1", "name": "refl", "masses": ["1", "1"],
@@ -403,6 +412,7 @@ TEST_CASE("defect 18.2 fail: memory is budgeted in bytes, growth is stopped, und
     std::ofstream(dir + "/flips4.json") << compact_flips_law(4);
     std::ofstream(dir + "/rot.json") << kRotations;
     std::ofstream(dir + "/refl.json") << kReflections;
+    std::ofstream(dir + "/p4.json") << kCancelling;
     const std::string cli = std::string("'") + IMPACTCERT_CLI + "' ";
     const std::string checker = std::string("'") + IMPACTCERT_CHECKER + "' ";
     std::string err;
@@ -415,6 +425,10 @@ TEST_CASE("defect 18.2 fail: memory is budgeted in bytes, growth is stopped, und
     REQUIRE(capped(cli + "verify --law " + dir + "/rot.json", &err) == 2);
     REQUIRE(err.find("$.symmetries[0].P: of infinite order") != std::string::npos);
     REQUIRE(capped(cli + "verify --law " + dir + "/rot.json --stream", &err) == 2);
+    REQUIRE(err.find("$.symmetries[0].P: of infinite order") != std::string::npos);
+    REQUIRE(capped(cli + "verify --law " + dir + "/p4.json", &err) == 2);
+    REQUIRE(err.find("$.symmetries[0].P: of infinite order: the coefficient of x^2 in det(xI - P) is 14/25") != std::string::npos);
+    REQUIRE(capped(cli + "verify --law " + dir + "/p4.json --stream", &err) == 2);
     REQUIRE(err.find("$.symmetries[0].P: of infinite order") != std::string::npos);
     REQUIRE(capped(cli + "verify --law " + dir + "/refl.json", &err) == 2);
     REQUIRE(err.find("the numbers grow (a symmetry of infinite order?)") != std::string::npos);
@@ -433,6 +447,7 @@ TEST_CASE("defect 18.2 fail: memory is budgeted in bytes, growth is stopped, und
          std::vector<std::tuple<std::string, std::string, int, std::string>>{
              {"flips20", compact_flips_law(20), 3, "--max-memory"},
              {"rot", kRotations, 1, "$.law.symmetries[0].P: of infinite order"},
+             {"p4", kCancelling, 1, "$.law.symmetries[0].P: of infinite order"},
              {"refl", kReflections, 1, "has numbers of more than 16 times the bits"}}) {
         Json law = Json::parse(text);
         law.erase("claims");

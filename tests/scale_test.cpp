@@ -522,9 +522,9 @@ TEST_CASE("symmetries: Lemma S0, det(xI - P) by Newton's identities, and finite 
                 CHECK(value == determinant(xI_A));
             }
         }
-    // Finite order, by a second route: in GL(2, Q) and GL(3, Q) an element of finite order has
-    // order 1, 2, 3, 4 or 6, so P^k = I for some k <= 6 decides it. The rule: every coefficient
-    // of det(xI - P) an integer.
+    // Finite order, by a second route: in GL(c, Q) for c <= 4 an element of finite order has
+    // order at most 12 (1, 2, 3, 4, 5, 6, 8, 10 or 12), so P^k = I for some k <= 12 decides it.
+    // The rule: every coefficient of det(xI - P) an integer.
     auto integral = [](const Matrix& P) {
         for (const auto& x : characteristic_polynomial(P))
             if (x.denominator() != 1)
@@ -533,7 +533,7 @@ TEST_CASE("symmetries: Lemma S0, det(xI - P) by Newton's identities, and finite 
     };
     auto finite_by_powers = [](const Matrix& P) {
         Matrix power = P;
-        for (int k = 1; k <= 6; ++k, power = power * P)
+        for (int k = 1; k <= 12; ++k, power = power * P)
             if (power == Matrix::identity(P.rows()))
                 return true;
         return false;
@@ -578,6 +578,30 @@ TEST_CASE("symmetries: Lemma S0, det(xI - P) by Newton's identities, and finite 
     }
     CHECK(finite >= 2 * 8 + 6 * 8);
     CHECK(infinite >= 40);
+    // In R^4: two planar rotations whose traces cancel (3/5 + 3/5 - 3/5 - 3/5 = 0): an integer
+    // trace, but det(xI - P) = x^4 + 14/25 x^2 + 1. With the rotation by pi - theta replaced by
+    // a quarter turn, a rotation of infinite order beside one of order 4; with both quarter
+    // turns, order 4.
+    auto block = [](const Matrix& a, const Matrix& b) {
+        Matrix P(4, 4);
+        for (std::size_t i = 0; i < 2; ++i)
+            for (std::size_t j = 0; j < 2; ++j) {
+                P(i, j) = a(i, j);
+                P(i + 2, j + 2) = b(i, j);
+            }
+        return P;
+    };
+    const Matrix theta = Matrix::from_rows({{Rational(3, 5), Rational(-4, 5)}, {Rational(4, 5), Rational(3, 5)}});
+    const Matrix pi_minus_theta = Matrix::from_rows({{Rational(-3, 5), Rational(-4, 5)}, {Rational(4, 5), Rational(-3, 5)}});
+    const Matrix quarter = Matrix::from_rows({{Rational(0), Rational(-1)}, {Rational(1), Rational(0)}});
+    const Matrix p4 = block(theta, pi_minus_theta);
+    const auto coefficients = characteristic_polynomial(p4);
+    CHECK(coefficients == std::vector<Rational>{Rational(1), Rational(0), Rational(14, 25), Rational(0), Rational(1)});
+    require_rule(p4);
+    require_rule(block(theta, quarter));
+    require_rule(block(quarter, quarter));
+    CHECK_FALSE(integral(p4));
+    CHECK(integral(block(quarter, quarter)));
     // The order-6 rotation of the hexagonal lattice is an isometry of its metric, not of I.
     const Matrix hex = Matrix::from_rows({{Rational(0), Rational(-1)}, {Rational(1), Rational(1)}});
     CHECK(integral(hex));

@@ -48,6 +48,16 @@ std::string one_line_text(const std::string& text) {
     return out;
 }
 
+namespace {
+std::string& name_storage() {
+    static std::string name = "impactcert";
+    return name;
+}
+} // namespace
+
+void set_program_name(const std::string& name) { name_storage() = name; }
+const std::string& program_name() { return name_storage(); }
+
 Model load_model(const std::string& law_path, std::size_t max_pieces, std::size_t max_memory_mb) {
     return law_path.empty() ? Model(paper_law(), max_pieces, max_memory_mb)
                             : load_model_file(law_path, max_pieces, max_memory_mb);
@@ -69,7 +79,7 @@ Progress TerminalProgress::callback() {
             return;
         last_ = now;
         shown_ = true;
-        std::fprintf(stderr, "\r\033[Kimpactcert: %s %s", id.c_str(), status.c_str());
+        std::fprintf(stderr, "\r\033[K%s: %s %s", program_name().c_str(), id.c_str(), status.c_str());
         std::fflush(stderr);
     };
 }

@@ -29,6 +29,11 @@ constexpr int kExitInternal = 4;
 // escapes its messages with its own copy, one_line in src/checker/check.cpp: it shares no code.)
 std::string one_line_text(const std::string& text);
 
+// The program's name at the start of its messages ("impactcert", "impactcert-verify"); set by
+// run_program.
+void set_program_name(const std::string& name);
+const std::string& program_name();
+
 Model load_model(const std::string& law_path, std::size_t max_pieces = Limits{}.max_pieces,
                  std::size_t max_memory_mb = Limits{}.max_memory_mb);
 

@@ -65,6 +65,7 @@ void add_verify_options(CLI::App* cmd, VerifyArgs& args, ProofOptions& proof) {
 }
 
 int run_program(CLI::App& app, int argc, char** argv, const std::function<int()>& run) {
+    set_program_name(app.get_name());
     try {
         app.parse(argc, argv);
     } catch (const CLI::Success& e) {
@@ -90,6 +91,9 @@ int run_program(CLI::App& app, int argc, char** argv, const std::function<int()>
     } catch (const InputError& e) {
         std::cerr << app.get_name() << ": " << one_line_text(e.what()) << "\n";
         return kExitBadInput;
+    } catch (const Undecided& e) {
+        std::cerr << app.get_name() << ": undecided: " << one_line_text(e.what()) << "\n";
+        return kExitUndecided;
     } catch (const StreamRefused& e) {
         std::cerr << app.get_name() << ": undecided: --stream: " << one_line_text(e.what()) << "; verify without --stream\n";
         return kExitUndecided;

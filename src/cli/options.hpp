@@ -11,6 +11,7 @@
 
 #include <cstddef>
 #include <functional>
+#include <stdexcept>
 #include <string>
 
 namespace impactcert::cli {
@@ -43,6 +44,12 @@ void add_verify_options(CLI::App* cmd, VerifyArgs& args, ProofOptions& proof);
 VerifyReport verify_with_progress(const Model& model, const Limits& limits); // with TerminalProgress
 int run_verify_command(const VerifyArgs& args, const Limits& limits); // cli/verify.cpp
 int run_certify(const std::string& law_path, const std::string& out_path, const Limits& limits);
+
+// A command's own "undecided" (a limit of derive or sweep): run_program prints
+// "<program>: undecided: <what>" and exits 3, like every other limit.
+struct Undecided : std::runtime_error {
+    using std::runtime_error::runtime_error;
+};
 
 // Parses the command line (an error: one line, exit 2), runs `run`, checks that standard output
 // was written (a lost write: exit 2), and maps every exception to its exit status and one line.
