@@ -64,9 +64,27 @@ void check_planar(const Model& model, FanResult& r) {
     r.fast_path = r.proved;
 }
 
+// Every facet of every cone, by its sorted ray ids: the cones having it, each with the index of
+// the ray it leaves out, in piece order. Built once, for the facet criterion and the gap check.
+using FacetOwners = std::map<std::vector<std::size_t>, std::vector<std::pair<std::size_t, std::size_t>>>;
+FacetOwners facet_owners(const Model& model) {
+    const std::size_t c = model.contacts();
+    FacetOwners owners;
+    for (std::size_t p = 0; p < model.pieces().size(); ++p)
+        for (std::size_t drop = 0; drop < c; ++drop) {
+            std::vector<std::size_t> ids;
+            for (std::size_t k = 0; k < c; ++k)
+                if (k != drop)
+                    ids.push_back(model.pieces()[p].ray_ids[k]);
+            std::sort(ids.begin(), ids.end());
+            owners[ids].push_back({p, drop});
+        }
+    return owners;
+}
+
 // The facet criterion: true when every facet is shared by exactly two cones on opposite sides
 // and the first generic point of the moment curve is covered once.
-bool check_facets(const Model& model, FanResult& r) {
+bool check_facets(const Model& model, const FacetOwners& owners, FanResult& r) {
     const std::size_t c = model.contacts();
     const auto& pieces = model.pieces();
     struct Side {
@@ -100,13 +118,8 @@ bool check_facets(const Model& model, FanResult& r) {
         cols.push_back(last);
         return sign_of(determinant(Matrix::from_columns(cols)));
     };
-    for (std::size_t p = 0; p < pieces.size(); ++p)
-        for (std::size_t drop = 0; drop < c; ++drop) {
-            std::vector<std::size_t> ids;
-            for (std::size_t k = 0; k < c; ++k)
-                if (k != drop)
-                    ids.push_back(pieces[p].ray_ids[k]);
-            std::sort(ids.begin(), ids.end());
+    for (const auto& [ids, own] : owners)
+        for (const auto& [p, drop] : own) {
             facets[ids].push_back({p, facet_sign(ids, pieces[p].R.column(drop))});
             ++r.checks;
         }
@@ -347,19 +360,8 @@ std::vector<Vector> facet_hyperplanes(const Model& model) {
 // contains y, the cones leave a gap there.
 namespace {
 
-std::optional<FanResult> unmatched_facet_gap(const Model& model) {
-    const std::size_t c = model.contacts();
+std::optional<FanResult> unmatched_facet_gap(const Model& model, const FacetOwners& owners) {
     const auto& pieces = model.pieces();
-    std::map<std::vector<std::size_t>, std::vector<std::pair<std::size_t, std::size_t>>> owners; // (piece, dropped ray)
-    for (std::size_t p = 0; p < pieces.size(); ++p)
-        for (std::size_t drop = 0; drop < c; ++drop) {
-            std::vector<std::size_t> ids;
-            for (std::size_t k = 0; k < c; ++k)
-                if (k != drop)
-                    ids.push_back(pieces[p].ray_ids[k]);
-            std::sort(ids.begin(), ids.end());
-            owners[ids].push_back({p, drop});
-        }
     FanResult r;
     r.method = "unmatched-facet";
     std::size_t tried = 0;
@@ -398,7 +400,8 @@ FanResult check_fan(const Model& model, const Limits& limits) {
         return r;
     }
     r.method = "facet-matching";
-    if (check_facets(model, r)) {
+    const FacetOwners owners = facet_owners(model);
+    if (check_facets(model, owners, r)) {
         r.fast_path = true;
         return r;
     }
@@ -428,7 +431,7 @@ FanResult check_fan(const Model& model, const Limits& limits) {
         checks = walls.checks;
     }
     // A gap next to a facet that no other cone has: decided without enumerating chambers.
-    if (auto gap = unmatched_facet_gap(model)) {
+    if (auto gap = unmatched_facet_gap(model, owners)) {
         gap->checks += checks;
         return *gap;
     }
