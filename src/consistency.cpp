@@ -2,6 +2,7 @@
 
 #include "errors.hpp"
 #include "exact_double.hpp"
+#include "parallel.hpp"
 #include "splitmix.hpp"
 
 #include <gmp.h>
@@ -12,6 +13,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <exception>
 #include <mutex>
 #include <thread>
 
@@ -478,10 +480,10 @@ ConsistencySummary run_consistency(const Mechanics& m, const ConsistencyOptions&
             done.fetch_add(last - first);
         }
     };
-    std::vector<std::thread> threads;
-    for (unsigned j = 1; j < jobs; ++j)
-        threads.emplace_back(worker, j);
-    std::thread watcher([&] {
+    // The watcher first (the time limit needs it), then the workers: those that cannot start
+    // leave their blocks to the others (parallel.hpp). A worker's exception stops them all and is
+    // rethrown after the joins.
+    std::thread watcher = start_required_thread([&] {
         while (done.load() < o.samples && !stop.load()) {
             std::this_thread::sleep_for(std::chrono::milliseconds(200));
             const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -493,11 +495,26 @@ ConsistencySummary run_consistency(const Mechanics& m, const ConsistencyOptions&
                 break;
         }
     });
-    worker(0);
+    std::vector<std::exception_ptr> errors(jobs);
+    auto guarded = [&](unsigned j) {
+        try {
+            worker(j);
+        } catch (...) {
+            errors[j] = std::current_exception();
+            stop = true;
+        }
+    };
+    std::vector<std::thread> threads;
+    for (unsigned j = 1; j < jobs; ++j)
+        start_thread(threads, [&guarded, j] { guarded(j); });
+    guarded(0);
     for (auto& t : threads)
         t.join();
     stop = true;
     watcher.join();
+    for (const auto& e : errors)
+        if (e)
+            std::rethrow_exception(e);
 
     ConsistencySummary sum;
     sum.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

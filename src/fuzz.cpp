@@ -6,6 +6,7 @@
 #include "eft.hpp"
 #include "float_eval.hpp"
 #include "paper_law.hpp"
+#include "parallel.hpp"
 
 #include <algorithm>
 #include <cfenv>
@@ -14,6 +15,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <exception>
 #include <limits>
 #include <memory>
 #include <condition_variable>
@@ -784,9 +786,10 @@ Summary run(const Options& options, const LawReference& reference, const Impleme
     std::atomic<std::uint64_t> next{0}, done{0};
     const auto start = std::chrono::steady_clock::now();
     const std::uint64_t n = options.samples;
-    std::vector<std::thread> threads;
-    for (unsigned j = 0; j < jobs; ++j)
-        threads.emplace_back([&, j] {
+    // A worker's exception stops the others and is rethrown after the joins.
+    std::vector<std::exception_ptr> errors(jobs);
+    auto work = [&](unsigned j) {
+        try {
             // The reference's error-free transformations need IEEE round-to-nearest.
             std::fesetround(FE_TONEAREST);
             for (;;) {
@@ -799,12 +802,18 @@ Summary run(const Options& options, const LawReference& reference, const Impleme
                 workers[j]->run_chunk(begin, end);
                 done.fetch_add(end - begin, std::memory_order_relaxed);
             }
-        });
-    // Progress and the time limit, from a watcher that wakes every 200 ms or when the work ends.
+        } catch (...) {
+            errors[j] = std::current_exception();
+            stop = true;
+        }
+    };
+    // Progress and the time limit, from a watcher that wakes every 200 ms or when the work ends;
+    // it starts first (the time limit needs it). Workers that cannot start leave their chunks to
+    // the others (parallel.hpp); worker 0 runs on this thread.
     std::mutex mutex;
     std::condition_variable wake;
     bool finished = false;
-    std::thread watcher([&] {
+    std::thread watcher = start_required_thread([&] {
         std::unique_lock<std::mutex> lock(mutex);
         while (!wake.wait_for(lock, std::chrono::milliseconds(200), [&] { return finished; })) {
             const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -814,6 +823,10 @@ Summary run(const Options& options, const LawReference& reference, const Impleme
                 progress(done.load());
         }
     });
+    std::vector<std::thread> threads;
+    for (unsigned j = 1; j < jobs; ++j)
+        start_thread(threads, [&work, j] { work(j); });
+    work(0);
     for (auto& t : threads)
         t.join();
     const auto end = std::chrono::steady_clock::now();
@@ -823,6 +836,9 @@ Summary run(const Options& options, const LawReference& reference, const Impleme
     }
     wake.notify_all();
     watcher.join();
+    for (const auto& e : errors)
+        if (e)
+            std::rethrow_exception(e);
     Summary total;
     total.seconds = std::chrono::duration<double>(end - start).count();
     total.max_ulps.assign(reference.out_dim(), 0);

@@ -7,6 +7,7 @@
 #include <fstream>
 #include <set>
 #include <sstream>
+#include <vector>
 
 namespace impactcert {
 
@@ -357,9 +358,7 @@ Law parse_law_text(const std::string& text, const std::string& origin, std::size
     }
 }
 
-namespace {
-
-std::string read_law_text(const std::string& path) {
+std::string read_file_text(const std::string& path) {
     // A directory opens like a file and reads as empty ("unexpected end of input"): say so.
     std::error_code ec;
     if (std::filesystem::is_directory(path, ec))
@@ -368,14 +367,26 @@ std::string read_law_text(const std::string& path) {
     std::ifstream in(path, std::ios::binary);
     if (!in)
         throw InputError(path + ": cannot read file: " + (errno ? std::strerror(errno) : "cannot open"));
-    std::ostringstream text;
-    text << in.rdbuf();
-    if (in.bad())
+    // Not `text << in.rdbuf()`: a string buffer that cannot grow ends that copy early without an
+    // error, and a truncated law would be reported as malformed. Here a failed allocation is
+    // std::bad_alloc (out of memory, exit 3) and a failed read is an error.
+    std::string text;
+    if (const auto size = std::filesystem::file_size(path, ec); !ec && size > 0) {
+        if (size > text.max_size())
+            throw std::bad_alloc();
+        text.reserve(static_cast<std::size_t>(size));
+    }
+    std::vector<char> buffer(1 << 16);
+    for (;;) {
+        in.read(buffer.data(), static_cast<std::streamsize>(buffer.size()));
+        text.append(buffer.data(), static_cast<std::size_t>(in.gcount()));
+        if (!in)
+            break;
+    }
+    if (in.bad() || !in.eof())
         throw InputError(path + ": cannot read file: read error");
-    return text.str();
+    return text;
 }
-
-} // namespace
 
 System parse_system_text(const std::string& text, const std::string& origin) {
     try {
@@ -407,14 +418,14 @@ System parse_system_text(const std::string& text, const std::string& origin) {
     }
 }
 
-System load_system_file(const std::string& path) { return parse_system_text(read_law_text(path), path); }
+System load_system_file(const std::string& path) { return parse_system_text(read_file_text(path), path); }
 
 Law load_law_file(const std::string& path, std::size_t max_pieces, std::size_t max_memory_mb) {
-    return parse_law_text(read_law_text(path), path, max_pieces, max_memory_mb);
+    return parse_law_text(read_file_text(path), path, max_pieces, max_memory_mb);
 }
 
 Law load_law_declaration(const std::string& path) {
-    const std::string text = read_law_text(path);
+    const std::string text = read_file_text(path);
     try {
         return parse_document(parse_syntax(text));
     } catch (const InputError& e) {
@@ -423,7 +434,7 @@ Law load_law_declaration(const std::string& path) {
 }
 
 Model load_model_file(const std::string& path, std::size_t max_pieces, std::size_t max_memory_mb) {
-    const std::string text = read_law_text(path);
+    const std::string text = read_file_text(path);
     try {
         return Model(parse_document(parse_syntax(text)), max_pieces, max_memory_mb); // validated once
     } catch (const InputError& e) {

@@ -1,6 +1,7 @@
 // stream_fan.cpp -- verify --stream: the fan (Lemmas ST1 and ST2 of proofs/README.md, "Streamed
 // laws") and the pieces containing the outcomes' gamma-, in one membership pass over the pieces.
 #include "stream.hpp"
+#include "parallel.hpp"
 #include "stream_decide.hpp"
 
 #include <algorithm>
@@ -153,29 +154,14 @@ void Streamed::membership() {
             }
         };
         const std::size_t jobs = std::max<std::size_t>(1, std::min<std::size_t>(limits_.jobs, n_ / 1024 + 1));
-        std::vector<std::thread> threads;
         std::vector<std::exception_ptr> errors(jobs);
-        try {
-            for (std::size_t k = 1; k < jobs; ++k)
-                threads.emplace_back([&, k] {
-                    try {
-                        scan(static_cast<u32>(n_ * k / jobs), static_cast<u32>(n_ * (k + 1) / jobs), false);
-                    } catch (...) {
-                        errors[k] = std::current_exception();
-                    }
-                });
-        } catch (...) { // a thread that could not start: join the others, then report
-            for (auto& t : threads)
-                t.join();
-            throw;
-        }
-        try {
-            scan(0, static_cast<u32>(n_ / jobs), true);
-        } catch (...) {
-            errors[0] = std::current_exception();
-        }
-        for (auto& t : threads)
-            t.join();
+        run_shares(jobs, [&](std::size_t k) {
+            try {
+                scan(static_cast<u32>(n_ * k / jobs), static_cast<u32>(n_ * (k + 1) / jobs), k == 0);
+            } catch (...) {
+                errors[k] = std::current_exception();
+            }
+        });
         for (auto& e : errors)
             if (e)
                 std::rethrow_exception(e);

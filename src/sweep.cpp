@@ -3,6 +3,7 @@
 
 #include "errors.hpp"
 #include "json.hpp"
+#include "law_json.hpp"
 #include "obligations.hpp"
 #include "verdict_output.hpp"
 #include "certificate.hpp"
@@ -711,14 +712,10 @@ void merge_sweep_parts(const std::vector<std::string>& paths, const std::string&
         throw InputError("--merge: no part files given");
     std::vector<Json> parts;
     for (const auto& path : paths) {
-        std::ifstream in(path, std::ios::binary);
-        if (!in)
-            throw InputError(path + ": cannot read");
-        std::ostringstream text;
-        text << in.rdbuf();
+        const std::string text = read_file_text(path);
         Json part;
         try {
-            part = Json::parse(text.str());
+            part = Json::parse(text);
         } catch (const Json::exception&) {
             throw InputError(path + ": not JSON (a sweep part, " + std::string(kSweepPartFormat) + ")");
         }

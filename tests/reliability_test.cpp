@@ -15,6 +15,7 @@
 #include <catch2/catch.hpp>
 
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <cctype>
 #include <cstdlib>
@@ -471,6 +472,99 @@ TEST_CASE("defect 18.2 fail: memory is budgeted in bytes, growth is stopped, und
     REQUIRE(err.find("raise it with --max-") != std::string::npos);
     const auto small = run_cli("derive cradle --balls 6 -o " + dir + "/c6.json");
     REQUIRE(small.err.find("note:") == std::string::npos);
+}
+
+// Under an address-space cap (ulimit -v, as batch systems set one), every run ends with its exit
+// status and one line: out of memory is exit 3 (impactcert) or 2 (impactcert-check, "not
+// checked"), never a signal. Caught by this test: a thread that could not start (no memory for
+// its stack) destroyed with its joinable siblings (std::terminate, SIGABRT); mimalloc's own
+// operator new, which aborts (src/allocation.cpp); a file read into a string that could not grow,
+// silently shortened and then reported as malformed JSON. The caps start above the programs'
+// start-up footprint (about 44 MB of address space with mimalloc: below it the loader and the
+// static initialisers cannot run, which no program can report). Release build only: the
+// sanitizers' shadow memory needs terabytes of address space.
+TEST_CASE("memory caps: at every address-space cap a status and one line, never a signal", "[reliability][cli][checker]") {
+#ifdef IMPACTCERT_SANITIZER_BUILD
+    WARN("not run under the sanitizers (their shadow memory needs the address space a cap takes away)");
+#else
+    const std::string dir = "/tmp/impactcert-rel-caps-" + std::to_string(::getpid());
+    std::filesystem::create_directories(dir);
+    const std::string cli = std::string("'") + IMPACTCERT_CLI + "' ";
+    const std::string checker = std::string("'") + IMPACTCERT_CHECKER + "' ";
+    // Uncapped references: the paper's certificate, a derived chain.
+    REQUIRE(std::system((cli + "certify -o " + dir + "/paper.cert.json 2>/dev/null").c_str()) == 0);
+    REQUIRE(std::system((cli + "derive sequential --masses 1,2,3,4 --restitution 1/2 -o " + dir + "/d4.json 2>/dev/null").c_str()) == 0);
+    const std::string want_cert = test::read_file(dir + "/paper.cert.json"), want_law = test::read_file(dir + "/d4.json");
+    auto run = [&](int kb, const std::string& command, std::string& out, std::string& err) {
+        const std::string line = "ulimit -v " + std::to_string(kb) + "; " + command + " >" + dir + "/out 2>" + dir + "/err";
+        const int status = std::system(line.c_str());
+        out = test::read_file(dir + "/out");
+        err = test::read_file(dir + "/err");
+        return WIFEXITED(status) ? WEXITSTATUS(status) : -WTERMSIG(status);
+    };
+    int completed = 0, out_of_memory = 0;
+    for (const int mb : {48, 52, 56, 60, 64, 72, 80, 96, 128, 256}) {
+        const int kb = mb * 1000;
+        std::string out, err;
+        auto expect_oom_line = [&](int status, int oom_status, const std::string& what) {
+            INFO(what << " under " << mb << " MB: status " << status << ", stderr: " << err);
+            REQUIRE(status == oom_status);
+            REQUIRE(std::count(err.begin(), err.end(), '\n') == 1);
+            REQUIRE(err.find("out of memory") != std::string::npos);
+            ++out_of_memory;
+        };
+        // verify on 8 threads (more than can start under the small caps): the same verdict.
+        int status = run(kb, cli + "verify --jobs 8", out, err);
+        if (status == 0) {
+            REQUIRE(out.find("verdict: proved (12/12 claimed obligations proved") != std::string::npos);
+            ++completed;
+        } else {
+            expect_oom_line(status, 3, "verify --jobs 8");
+        }
+        status = run(kb, cli + "certify --jobs 8 -o " + dir + "/capped.cert.json", out, err);
+        if (status == 0) {
+            REQUIRE(test::read_file(dir + "/capped.cert.json") == want_cert);
+            ++completed;
+        } else {
+            expect_oom_line(status, 3, "certify --jobs 8");
+        }
+        status = run(kb, cli + "derive sequential --masses 1,2,3,4 --restitution 1/2 -o " + dir + "/capped.json", out, err);
+        if (status == 0) {
+            REQUIRE(test::read_file(dir + "/capped.json") == want_law);
+            ++completed;
+        } else {
+            expect_oom_line(status, 3, "derive sequential");
+        }
+        status = run(kb, checker + "--jobs 8 " + dir + "/paper.cert.json", out, err);
+        if (status == 0) {
+            REQUIRE(out.find("verified (newton3-sequential: proved)") != std::string::npos);
+            ++completed;
+        } else {
+            expect_oom_line(status, 2, "impactcert-check --jobs 8");
+        }
+    }
+    // The largest caps leave room for everything: each command completed there at least.
+    CHECK(completed >= 8);
+    // A file larger than the cap (2 GB, sparse: nothing on disk) is out of memory, not "malformed".
+    const std::string big = dir + "/big.json", small = dir + "/small.json";
+    std::ofstream(big).close();
+    std::ofstream(small).close();
+    std::filesystem::resize_file(big, 2000000000);
+    std::filesystem::resize_file(small, 50000000);
+    std::string out, err;
+    REQUIRE(run(1000000, cli + "verify --law " + big, out, err) == 3);
+    REQUIRE(err == "impactcert: out of memory (raise the memory limit, or lower the limits that size the work)\n");
+    REQUIRE(run(1000000, checker + big, out, err) == 2);
+    REQUIRE(err == "impactcert-check: " + big + ": error: out of memory while reading (status 2: not checked)\n");
+    // Negative control: under the same cap, a file of the same kind that fits (50 MB) is read in
+    // full and refused for what it is.
+    REQUIRE(run(1000000, checker + small, out, err) == 2);
+    REQUIRE(err.find("a NUL character") != std::string::npos);
+    REQUIRE(run(1000000, cli + "verify --law " + small, out, err) == 2);
+    REQUIRE(err.find("a NUL character") != std::string::npos);
+    INFO(completed << " completed, " << out_of_memory << " out of memory");
+    std::filesystem::remove_all(dir);
+#endif
 }
 
 TEST_CASE("defect 18.10g: impactcert-check as a program: exit 0, 1, 2 and 3, and its options", "[reliability][cli][checker]") {

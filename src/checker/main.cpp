@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <exception>
+#include <new>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
@@ -16,6 +17,19 @@ namespace {
 
 using impactcert_check::detail::Limits;
 using impactcert_check::detail::one_line;
+
+// The stream to its end into `text`. Not `text << in.rdbuf()`: a string buffer that cannot grow
+// ends that copy early without an error, and a shortened certificate would be reported as
+// malformed JSON. Here a failed allocation is std::bad_alloc, a failed read is false.
+bool read_all(std::ifstream& in, std::string& text) {
+    std::vector<char> buffer(1 << 16);
+    for (;;) {
+        in.read(buffer.data(), static_cast<std::streamsize>(buffer.size()));
+        text.append(buffer.data(), static_cast<std::size_t>(in.gcount()));
+        if (!in)
+            return !in.bad() && in.eof();
+    }
+}
 
 const char* const kUsage =
     "usage: impactcert-check [--jobs J] [--max-faces N] [--max-chambers N] [--max-subsets N]\n"
@@ -103,13 +117,16 @@ int main(int argc, char** argv) {
         std::vector<std::string> texts;
         for (const auto& file : files) {
             std::ifstream in(file, std::ios::binary);
-            if (!in) {
+            std::string text;
+            if (in && !read_all(in, text)) {
+                std::cerr << "impactcert-check: " << one_line(file) << ": cannot read file: read error\n";
+                return impactcert_check::kMalformed;
+            }
+            if (!in && !in.eof()) {
                 std::cerr << "impactcert-check: " << one_line(file) << ": cannot read file\n";
                 return impactcert_check::kMalformed;
             }
-            std::ostringstream text;
-            text << in.rdbuf();
-            texts.push_back(text.str());
+            texts.push_back(std::move(text));
         }
         const bool parts = files.size() > 1 || impactcert_check::is_part_text(texts[0]);
         if (!parts && !merged_path.empty())
@@ -135,6 +152,9 @@ int main(int argc, char** argv) {
             return impactcert_check::kMalformed;
         }
         return outcome.status;
+    } catch (const std::bad_alloc&) {
+        std::cerr << "impactcert-check: " << label << ": error: out of memory while reading (status 2: not checked)\n";
+        return impactcert_check::kMalformed;
     } catch (const std::exception& e) {
         std::cerr << "impactcert-check: " << label << ": error: " << one_line(e.what()) << "\n";
         return impactcert_check::kMalformed;

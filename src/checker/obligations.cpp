@@ -367,12 +367,24 @@ bool Checker::evidence(const std::string& id, const Json& data, const std::strin
             for (std::size_t k = 0; k < count; ++k)
                 check_entry(k);
         } else {
+            // Thread t checks the entries t, t + jobs, ...; a thread that cannot start (no memory
+            // for its stack under a cap) leaves its share to this thread, which joins the others
+            // before anything else: the result cannot depend on how many started.
+            auto share = [&](std::size_t t) {
+                for (std::size_t k = t; k < count; k += jobs)
+                    check_entry(k);
+            };
             std::vector<std::thread> threads;
-            for (std::size_t t = 0; t < jobs; ++t)
-                threads.emplace_back([&, t] {
-                    for (std::size_t k = t; k < count; k += jobs)
-                        check_entry(k);
-                });
+            std::vector<std::size_t> here{0};
+            for (std::size_t t = 1; t < jobs; ++t) {
+                try {
+                    threads.emplace_back(share, t);
+                } catch (...) {
+                    here.push_back(t);
+                }
+            }
+            for (const std::size_t t : here)
+                share(t);
             for (auto& th : threads)
                 th.join();
         }

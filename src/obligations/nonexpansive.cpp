@@ -15,6 +15,7 @@
 // Witness: a negative z moved into the open orthant (interior_witness), so that gamma_a and
 // gamma_b are interior to their cones.
 #include "pair_kernel.hpp"
+#include "parallel.hpp"
 #include "prover.hpp"
 
 #include <gmpxx.h>
@@ -184,19 +185,15 @@ Outcome Prover::nonexpansive() {
                     decide_pair(start + k, scratch[0], outcomes[k]);
             } else {
                 // Thread t takes the pairs t, t + jobs, ... of the block; results land in place.
-                std::vector<std::thread> threads;
                 std::vector<std::exception_ptr> errors(jobs);
-                for (std::size_t t = 0; t < jobs; ++t)
-                    threads.emplace_back([&, t] {
-                        try {
-                            for (std::size_t k = t; k < count; k += jobs)
-                                decide_pair(start + k, scratch[t], outcomes[k]);
-                        } catch (...) {
-                            errors[t] = std::current_exception();
-                        }
-                    });
-                for (auto& th : threads)
-                    th.join();
+                run_shares(jobs, [&](std::size_t t) {
+                    try {
+                        for (std::size_t k = t; k < count; k += jobs)
+                            decide_pair(start + k, scratch[t], outcomes[k]);
+                    } catch (...) {
+                        errors[t] = std::current_exception();
+                    }
+                });
                 for (auto& e : errors)
                     if (e)
                         std::rethrow_exception(e);
