@@ -1,12 +1,13 @@
 // allocation.cpp -- the global operator new and delete of the three programs, over malloc.
 //
-// The programs link mimalloc (CMakeLists.txt, IMPACTCERT_ALLOCATOR), which replaces malloc and
-// free, and would replace operator new as well: Debian builds it as C, where a failed `new`
-// cannot throw and calls abort(). A memory cap (ulimit -v, a batch system's limit) must give
-// std::bad_alloc, which run_program reports in one line with exit 3, never a signal. These
-// definitions, in the program itself, take precedence over every shared library's: they take
-// their memory from malloc (mimalloc's) and follow the standard's loop, the new-handler, then
-// std::bad_alloc. Not linked in sanitizer builds (AddressSanitizer brings its own).
+// The programs link mimalloc or jemalloc (CMakeLists.txt, IMPACTCERT_ALLOCATOR), which replace
+// malloc and free. mimalloc would replace operator new as well: Debian builds it as C, where a
+// failed `new` cannot throw and calls abort(). A memory cap (ulimit -v, a batch system's limit)
+// must give std::bad_alloc, which run_program reports in one line with exit 3, never a signal.
+// These definitions, in the program itself, take precedence over every shared library's: they
+// take their memory from malloc (the linked allocator's) and follow the standard's loop, the
+// new-handler, then std::bad_alloc. Not linked in sanitizer builds (AddressSanitizer brings its
+// own).
 #include <cstdlib>
 #include <new>
 

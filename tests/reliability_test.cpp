@@ -489,6 +489,13 @@ TEST_CASE("memory caps: at every address-space cap a status and one line, never 
 #else
     const std::string dir = "/tmp/impactcert-rel-caps-" + std::to_string(::getpid());
     std::filesystem::create_directories(dir);
+    struct RemoveAtEnd { // passed or failed
+        std::string path;
+        ~RemoveAtEnd() {
+            std::error_code ec;
+            std::filesystem::remove_all(path, ec);
+        }
+    } remove_at_end{dir};
     const std::string cli = std::string("'") + IMPACTCERT_CLI + "' ";
     const std::string checker = std::string("'") + IMPACTCERT_CHECKER + "' ";
     // Uncapped references: the paper's certificate, a derived chain.
@@ -544,6 +551,7 @@ TEST_CASE("memory caps: at every address-space cap a status and one line, never 
         }
     }
     // The largest caps leave room for everything: each command completed there at least.
+    INFO(completed << " completed, " << out_of_memory << " out of memory");
     CHECK(completed >= 8);
     // A file larger than the cap (2 GB, sparse: nothing on disk) is out of memory, not "malformed".
     const std::string big = dir + "/big.json", small = dir + "/small.json";
@@ -562,8 +570,6 @@ TEST_CASE("memory caps: at every address-space cap a status and one line, never 
     REQUIRE(err.find("a NUL character") != std::string::npos);
     REQUIRE(run(1000000, cli + "verify --law " + small, out, err) == 2);
     REQUIRE(err.find("a NUL character") != std::string::npos);
-    INFO(completed << " completed, " << out_of_memory << " out of memory");
-    std::filesystem::remove_all(dir);
 #endif
 }
 
