@@ -483,6 +483,9 @@ ConsistencySummary run_consistency(const Mechanics& m, const ConsistencyOptions&
     // The watcher first (the time limit needs it), then the workers: those that cannot start
     // leave their blocks to the others (parallel.hpp). A worker's exception stops them all and is
     // rethrown after the joins.
+    std::vector<std::exception_ptr> errors(jobs); // before any thread starts
+    std::vector<std::thread> threads;
+    threads.reserve(jobs); // before the watcher starts: a failure here leaves no thread to join
     std::thread watcher = start_required_thread([&] {
         while (done.load() < o.samples && !stop.load()) {
             std::this_thread::sleep_for(std::chrono::milliseconds(200));
@@ -495,7 +498,6 @@ ConsistencySummary run_consistency(const Mechanics& m, const ConsistencyOptions&
                 break;
         }
     });
-    std::vector<std::exception_ptr> errors(jobs);
     auto guarded = [&](unsigned j) {
         try {
             worker(j);
@@ -504,7 +506,6 @@ ConsistencySummary run_consistency(const Mechanics& m, const ConsistencyOptions&
             stop = true;
         }
     };
-    std::vector<std::thread> threads;
     for (unsigned j = 1; j < jobs; ++j)
         start_thread(threads, [&guarded, j] { guarded(j); });
     guarded(0);

@@ -813,6 +813,8 @@ Summary run(const Options& options, const LawReference& reference, const Impleme
     std::mutex mutex;
     std::condition_variable wake;
     bool finished = false;
+    std::vector<std::thread> threads;
+    threads.reserve(jobs); // before the watcher starts: a failure here leaves no thread to join
     std::thread watcher = start_required_thread([&] {
         std::unique_lock<std::mutex> lock(mutex);
         while (!wake.wait_for(lock, std::chrono::milliseconds(200), [&] { return finished; })) {
@@ -823,10 +825,16 @@ Summary run(const Options& options, const LawReference& reference, const Impleme
                 progress(done.load());
         }
     });
-    std::vector<std::thread> threads;
     for (unsigned j = 1; j < jobs; ++j)
         start_thread(threads, [&work, j] { work(j); });
-    work(0);
+    {
+        // Worker 0 runs here: the floating-point environment an in-process implementation may
+        // change (traps, flush-to-zero) is this thread's again afterwards.
+        std::fenv_t env;
+        std::fegetenv(&env);
+        work(0);
+        std::fesetenv(&env);
+    }
     for (auto& t : threads)
         t.join();
     const auto end = std::chrono::steady_clock::now();

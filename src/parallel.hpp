@@ -3,8 +3,9 @@
 // std::thread's constructor throws when the system cannot start one more thread (no memory for
 // its stack under a cap such as `ulimit -v`, or no threads left), and a vector of joinable
 // threads destroyed by that exception calls std::terminate (SIGABRT). Every parallel section
-// starts its threads through start_thread and does the shares that did not start itself, so a
-// run under a cap gives the same result on fewer threads, or std::bad_alloc (exit 3).
+// starts its threads through start_thread and does the shares that did not start, or ran out of
+// memory on their thread, itself: a run under a cap gives the same result on fewer threads, or
+// std::bad_alloc (exit 3) when one thread alone would run out too.
 #pragma once
 
 #include <cstddef>
@@ -37,29 +38,52 @@ template <class F> std::thread start_required_thread(F&& f) {
     }
 }
 
-// Runs share(t) for t = 0 .. jobs - 1: shares 1.. on threads when they start, share 0 and every
-// share whose thread did not start on the calling thread, then joins them all. Shares on the
-// threads must not throw (they keep their exception for the caller to read after the join); an
-// exception of a share run here is rethrown once every thread is joined.
+// Runs share(t) once to completion for t = 0 .. jobs - 1: shares 1.. on threads when they start,
+// share 0 and every share whose thread did not start on the calling thread. Under an
+// address-space cap a thread can start and still find no memory for its own heap (mimalloc gives
+// each thread its own segments): a share that ends in std::bad_alloc on a thread is run again on
+// the calling thread after the joins, so the run succeeds whenever one thread alone would. A share
+// must therefore be safe to repeat (its results written in place, each reset before it is
+// written). Any other exception, and std::bad_alloc on the calling thread, is rethrown after the
+// joins: that of the lowest share, as one thread would have met it first.
 template <class F> void run_shares(std::size_t jobs, F&& share) {
+    std::vector<std::exception_ptr> errors(jobs); // allocated before any thread starts
+    std::vector<char> again(jobs, 0);
+    std::vector<std::size_t> here;
+    here.reserve(jobs);
     std::vector<std::thread> threads;
-    std::vector<std::size_t> here{0};
-    for (std::size_t t = 1; t < jobs; ++t)
-        if (!start_thread(threads, [&share, t] { share(t); }))
+    threads.reserve(jobs); // the emplace_back below then never reallocates
+    here.push_back(0);
+    for (std::size_t t = 1; t < jobs; ++t) {
+        auto on_thread = [&share, &errors, &again, t] {
+            try {
+                share(t);
+            } catch (const std::bad_alloc&) {
+                again[t] = 1;
+            } catch (...) {
+                errors[t] = std::current_exception();
+            }
+        };
+        if (!start_thread(threads, on_thread))
             here.push_back(t);
-    std::exception_ptr error;
-    for (const std::size_t t : here) {
+    }
+    auto on_this_thread = [&](std::size_t t) {
         try {
             share(t);
         } catch (...) {
-            if (!error)
-                error = std::current_exception();
+            errors[t] = std::current_exception();
         }
-    }
+    };
+    for (const std::size_t t : here)
+        on_this_thread(t);
     for (auto& th : threads)
         th.join();
-    if (error)
-        std::rethrow_exception(error);
+    for (std::size_t t = 0; t < jobs; ++t)
+        if (again[t])
+            on_this_thread(t);
+    for (const auto& e : errors)
+        if (e)
+            std::rethrow_exception(e);
 }
 
 } // namespace impactcert

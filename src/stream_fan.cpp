@@ -154,17 +154,10 @@ void Streamed::membership() {
             }
         };
         const std::size_t jobs = std::max<std::size_t>(1, std::min<std::size_t>(limits_.jobs, n_ / 1024 + 1));
-        std::vector<std::exception_ptr> errors(jobs);
+        // (A share run again by run_shares writes the same flags: scan only assigns them.)
         run_shares(jobs, [&](std::size_t k) {
-            try {
-                scan(static_cast<u32>(n_ * k / jobs), static_cast<u32>(n_ * (k + 1) / jobs), k == 0);
-            } catch (...) {
-                errors[k] = std::current_exception();
-            }
+            scan(static_cast<u32>(n_ * k / jobs), static_cast<u32>(n_ * (k + 1) / jobs), k == 0);
         });
-        for (auto& e : errors)
-            if (e)
-                std::rethrow_exception(e);
         return width;
     };
     // The pass in piece order: the pieces whose interior holds each test point, whether one has

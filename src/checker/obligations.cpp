@@ -10,6 +10,7 @@
 #include <exception>
 #include <functional>
 #include <numeric>
+#include <new>
 #include <thread>
 
 namespace impactcert_check::detail {
@@ -349,45 +350,68 @@ bool Checker::evidence(const std::string& id, const Json& data, const std::strin
         std::vector<char> entry_ok(count, 0);
         std::vector<std::exception_ptr> error(count);
         auto check_entry = [&](std::size_t k) {
-            try {
-                const std::size_t i = ps[k / P()], j = k % P();
-                const std::string ep = at(at(dp, "pairs"), k);
-                expect_keys(l[k], ep, {"piece_a", "piece_b", "certificate"});
-                expect_piece(l[k], ep, "piece_a", i);
-                expect_piece(l[k], ep, "piece_b", j);
-                const Mat A = pair_form(i, j); // recomputed from the law, never read
-                entry_ok[k] = check_copositive_evidence(A, field(l[k], ep, "certificate"), at(ep, "certificate"),
-                                                        limits_.max_faces);
-            } catch (...) {
-                error[k] = std::current_exception();
-            }
+            const std::size_t i = ps[k / P()], j = k % P();
+            const std::string ep = at(at(dp, "pairs"), k);
+            expect_keys(l[k], ep, {"piece_a", "piece_b", "certificate"});
+            expect_piece(l[k], ep, "piece_a", i);
+            expect_piece(l[k], ep, "piece_b", j);
+            const Mat A = pair_form(i, j); // recomputed from the law, never read
+            entry_ok[k] = check_copositive_evidence(A, field(l[k], ep, "certificate"), at(ep, "certificate"),
+                                                    limits_.max_faces);
         };
+        // Share t checks the entries t, t + jobs, ... and stops at its first exception, kept in
+        // error[k]: the reading below stops there, before any entry the share left unchecked, and
+        // at most one exception per share is alive (hundreds, each holding memory, once used up
+        // the runtime's reserve for exceptions under a memory cap). Each entry is reset before it
+        // is checked, so a share can be run again.
         const std::size_t jobs = std::max<std::size_t>(1, std::min<std::size_t>(limits_.jobs, count));
-        if (jobs <= 1) {
-            for (std::size_t k = 0; k < count; ++k)
-                check_entry(k);
-        } else {
-            // Thread t checks the entries t, t + jobs, ...; a thread that cannot start (no memory
-            // for its stack under a cap) leaves its share to this thread, which joins the others
-            // before anything else: the result cannot depend on how many started.
-            auto share = [&](std::size_t t) {
-                for (std::size_t k = t; k < count; k += jobs)
-                    check_entry(k);
-            };
-            std::vector<std::thread> threads;
-            std::vector<std::size_t> here{0};
-            for (std::size_t t = 1; t < jobs; ++t) {
+        auto share = [&](std::size_t t, bool on_thread) {
+            for (std::size_t k = t; k < count; k += jobs) {
+                entry_ok[k] = 0;
+                error[k] = nullptr;
                 try {
-                    threads.emplace_back(share, t);
+                    check_entry(k);
+                } catch (const std::bad_alloc&) {
+                    if (on_thread)
+                        throw; // run again on this thread, below
+                    error[k] = std::current_exception();
+                    return;
                 } catch (...) {
-                    here.push_back(t);
+                    error[k] = std::current_exception();
+                    return;
                 }
             }
-            for (const std::size_t t : here)
-                share(t);
-            for (auto& th : threads)
-                th.join();
+        };
+        // Shares 1.. on threads. A thread that cannot start (no memory for its stack under a cap)
+        // leaves its share to this thread; one that starts and then runs out of memory (its own
+        // heap, under the cap) has its share run again here after the joins. The result cannot
+        // depend on how many threads started or finished: it is the single thread's.
+        std::vector<char> again(jobs, 0);
+        std::vector<std::size_t> here;
+        here.reserve(jobs);
+        here.push_back(0);
+        std::vector<std::thread> threads;
+        threads.reserve(jobs);
+        for (std::size_t t = 1; t < jobs; ++t) {
+            try {
+                threads.emplace_back([&share, &again, t] {
+                    try {
+                        share(t, true);
+                    } catch (...) {
+                        again[t] = 1;
+                    }
+                });
+            } catch (...) {
+                here.push_back(t);
+            }
         }
+        for (const std::size_t t : here)
+            share(t, false);
+        for (auto& th : threads)
+            th.join();
+        for (std::size_t t = 1; t < jobs; ++t)
+            if (again[t])
+                share(t, false);
         bool ok = true;
         for (std::size_t k = 0; k < count; ++k) {
             if (error[k])

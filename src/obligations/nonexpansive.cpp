@@ -96,7 +96,7 @@ namespace {
 struct PairOutcome {
     CopositivityMethod method = CopositivityMethod::nonnegative_entries;
     std::size_t checks = 0;
-    bool copositive = true;
+    bool copositive = false; // until a decision says so: an undecided pair is never read as copositive
     std::optional<LimitExceeded> limit;
     Json evidence; // with evidence: the certificate's entry
     Vector witness; // not copositive: z >= 0 with z^T A z < 0
@@ -142,6 +142,7 @@ Outcome Prover::nonexpansive() {
             if (auto method = kernel.decide(i, j, scratch)) {
                 out.method = *method;
                 out.checks = 1;
+                out.copositive = true; // the kernel decides copositive pairs only
                 return;
             }
         }
@@ -185,18 +186,13 @@ Outcome Prover::nonexpansive() {
                     decide_pair(start + k, scratch[0], outcomes[k]);
             } else {
                 // Thread t takes the pairs t, t + jobs, ... of the block; results land in place.
-                std::vector<std::exception_ptr> errors(jobs);
+                // (Each outcome reset first: run_shares may run a share again, parallel.hpp.)
                 run_shares(jobs, [&](std::size_t t) {
-                    try {
-                        for (std::size_t k = t; k < count; k += jobs)
-                            decide_pair(start + k, scratch[t], outcomes[k]);
-                    } catch (...) {
-                        errors[t] = std::current_exception();
+                    for (std::size_t k = t; k < count; k += jobs) {
+                        outcomes[k] = PairOutcome{};
+                        decide_pair(start + k, scratch[t], outcomes[k]);
                     }
                 });
-                for (auto& e : errors)
-                    if (e)
-                        std::rethrow_exception(e);
             }
             for (std::size_t k = 0; k < count; ++k) {
                 PairOutcome& r = outcomes[k];
