@@ -571,6 +571,47 @@ TEST_CASE("memory caps: a run that fits completes on any threads, one that does 
 #endif
 }
 
+// certify streams its certificate as the obligations are decided: a run killed half-way (a
+// batch system's time limit), out of memory or beyond a limit used to leave a shortened file
+// under the certificate's name. Written beside it and renamed at the end, the file is the old
+// one or the whole new one at every moment. The kill times straddle the run (about 1.5 s in
+// Release, more under the sanitizers): each outcome is accepted but a third one.
+TEST_CASE("output files: a run that ends early leaves the previous file, never a shortened one", "[reliability][cli]") {
+    const std::string dir = "/tmp/impactcert-rel-output-" + std::to_string(::getpid());
+    std::filesystem::create_directories(dir);
+    struct RemoveAtEnd {
+        std::string path;
+        ~RemoveAtEnd() {
+            std::error_code ec;
+            std::filesystem::remove_all(path, ec);
+        }
+    } remove_at_end{dir};
+    const std::string cli = std::string("'") + IMPACTCERT_CLI + "' ";
+    REQUIRE(std::system((cli + "derive cradle --balls 5 --pieces all --no-symmetries -o " + dir + "/c5.json 2>/dev/null").c_str()) == 0);
+    REQUIRE(std::system((cli + "certify --law " + dir + "/c5.json -o " + dir + "/whole.json 2>/dev/null").c_str()) == 0);
+    const std::string whole = test::read_file(dir + "/whole.json");
+    REQUIRE(whole.size() > 1000000);
+    int killed = 0, finished = 0;
+    for (const char* after : {"0.1", "0.3", "0.6", "1.0", "60"}) {
+        std::ofstream(dir + "/cert.json") << "the previous file\n";
+        const int status = std::system(("timeout -s KILL " + std::string(after) + " " + cli + "certify --law " + dir +
+                                        "/c5.json -o " + dir + "/cert.json 2>/dev/null").c_str());
+        const std::string now = test::read_file(dir + "/cert.json");
+        INFO("killed after " << after << " s: status " << status << ", " << now.size() << " bytes");
+        REQUIRE((now == "the previous file\n" || now == whole));
+        (now == whole ? finished : killed)++;
+        // The destination of a run that finished is never left beside a temporary file.
+        if (now == whole)
+            for (const auto& e : std::filesystem::directory_iterator(dir))
+                REQUIRE(e.path().filename().string().find(".partial-") == std::string::npos);
+        for (const auto& e : std::filesystem::directory_iterator(dir))
+            if (e.path().filename().string().find(".partial-") != std::string::npos)
+                std::filesystem::remove(e.path());
+    }
+    INFO(killed << " killed, " << finished << " finished");
+    REQUIRE(finished >= 1); // the last run has a minute
+}
+
 TEST_CASE("defect 18.10g: impactcert-check as a program: exit 0, 1, 2 and 3, and its options", "[reliability][cli][checker]") {
     const std::string checker = std::string("'") + IMPACTCERT_CHECKER + "' ";
     const std::string cradle = test::source_path("proofs/cradle4/certificate.json");

@@ -8,6 +8,7 @@
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 
@@ -84,12 +85,43 @@ Progress TerminalProgress::callback() {
     };
 }
 
+OutputFile::OutputFile(std::string path) : path_(std::move(path)) {
+    std::error_code ec;
+    const auto status = std::filesystem::status(path_, ec);
+    if (!std::filesystem::exists(status) || std::filesystem::is_regular_file(status)) {
+        temporary_ = path_ + ".partial-" + std::to_string(::getpid());
+        out_.open(temporary_, std::ios::binary | std::ios::trunc);
+        if (!out_) // a directory we may not write in: the file itself, in place
+            temporary_.clear();
+    }
+    if (temporary_.empty()) {
+        errno = 0;
+        out_.open(path_, std::ios::binary | std::ios::trunc);
+    }
+    if (!out_)
+        throw InputError(path_ + ": cannot write" + (errno ? std::string(": ") + std::strerror(errno) : ""));
+}
+
+OutputFile::~OutputFile() {
+    if (!committed_ && !temporary_.empty()) {
+        out_.close();
+        std::remove(temporary_.c_str());
+    }
+}
+
+void OutputFile::commit() {
+    out_.close();
+    if (!out_)
+        throw InputError(path_ + ": cannot write");
+    if (!temporary_.empty() && std::rename(temporary_.c_str(), path_.c_str()) != 0)
+        throw InputError(path_ + ": cannot write: " + std::strerror(errno));
+    committed_ = true;
+}
+
 void write_file(const std::string& path, const std::string& text) {
-    std::ofstream out(path, std::ios::binary);
-    out << text;
-    out.close();
-    if (!out)
-        throw InputError(path + ": cannot write");
+    OutputFile out(path);
+    out.stream() << text;
+    out.commit();
 }
 
 void write_stdout(const std::string& text) {

@@ -13,6 +13,7 @@
 #include "shard.hpp"
 
 #include <chrono>
+#include <fstream>
 #include <string>
 
 namespace impactcert::cli {
@@ -52,7 +53,27 @@ class TerminalProgress {
     std::chrono::steady_clock::time_point start_, last_{};
 };
 
-void write_file(const std::string& path, const std::string& text); // checked
+// An output file written completely or not at all. A regular file (or a new one) is written to a
+// temporary file beside it, which commit() renames over it: a run that ends early (out of
+// memory, a limit, a full disk, a signal) leaves the previous file or none, never a shortened
+// one. Anything else (/dev/stdout, a pipe, /dev/full) is written in place. commit() and the
+// constructor throw InputError naming the path when the file cannot be written.
+class OutputFile {
+  public:
+    explicit OutputFile(std::string path);
+    OutputFile(const OutputFile&) = delete;
+    OutputFile& operator=(const OutputFile&) = delete;
+    ~OutputFile(); // without commit(): the temporary file is removed
+    std::ostream& stream() { return out_; }
+    void commit();
+
+  private:
+    std::string path_, temporary_; // temporary_ empty: written in place
+    std::ofstream out_;
+    bool committed_ = false;
+};
+
+void write_file(const std::string& path, const std::string& text); // checked, through OutputFile
 void write_stdout(const std::string& text);                        // checked (fflush, ferror)
 
 int run_verify_shard(const std::string& law_path, const Shard& shard, bool json, Limits limits); // cli/shard.cpp

@@ -78,22 +78,18 @@ int run_certify(const std::string& law_path, const std::string& out_path, const 
     Limits quick = limits;
     quick.evidence = false;
     const VerifyReport first = verify_with_progress(model, quick);
-    std::ofstream out(out_path, std::ios::binary);
-    if (!out)
-        throw InputError(out_path + ": cannot write the certificate");
-    CertificateWriter writer(out, model, first.verdict());
+    OutputFile out(out_path); // the whole certificate or none (common.hpp)
+    CertificateWriter writer(out.stream(), model, first.verdict());
     TerminalProgress progress;
     const VerifyReport report =
         verify_streaming(model, limits, progress.callback(), [&](ObligationResult& r) { writer.add(r); });
     writer.finish();
-    out.close();
-    if (!out)
-        throw InputError(out_path + ": cannot write the certificate");
     for (std::size_t k = 0; k < report.obligations.size(); ++k) {
         const auto &a = first.obligations.at(k), &b = report.obligations[k];
         if (a.verdict != b.verdict || a.checks != b.checks || a.method != b.method || a.counterexample != b.counterexample)
             throw std::logic_error("certify: the two passes disagree on " + a.id);
     }
+    out.commit();
     std::cerr << "impactcert: wrote " << out_path << " (" << report.law << ": " << report.verdict() << ")\n";
     return report.exit_status();
 }
