@@ -615,6 +615,30 @@ TEST_CASE("output files: a run that ends early leaves the previous file, never a
         INFO("run " << k << ": " << left[k].size() << " bytes");
         REQUIRE((left[k] == "the previous file\n" || left[k] == whole));
     }
+    // What the rename must not change: a symbolic link stays a link (its target is written), a
+    // file's mode is kept, hard links keep sharing their file, and -o /dev/stdout writes to the
+    // standard output (a rename over the /dev/stdout link would break it for the machine).
+    namespace fs = std::filesystem;
+    const std::string paper = test::read_file(test::source_path("proofs/newton3/certificate.json"));
+    auto certify_to = [&](const std::string& out, const std::string& redirect = "") {
+        return std::system((cli + "certify -o " + out + " 2>/dev/null" + redirect).c_str());
+    };
+    std::ofstream(dir + "/target.json") << "old\n";
+    fs::create_symlink("target.json", dir + "/link.json");
+    REQUIRE(certify_to(dir + "/link.json") == 0);
+    REQUIRE(fs::is_symlink(fs::symlink_status(dir + "/link.json")));
+    REQUIRE(test::read_file(dir + "/target.json") == paper);
+    std::ofstream(dir + "/private.json") << "old\n";
+    fs::permissions(dir + "/private.json", fs::perms::owner_read | fs::perms::owner_write);
+    REQUIRE(certify_to(dir + "/private.json") == 0);
+    REQUIRE(fs::status(dir + "/private.json").permissions() == (fs::perms::owner_read | fs::perms::owner_write));
+    REQUIRE(test::read_file(dir + "/private.json") == paper);
+    std::ofstream(dir + "/h1.json") << "old\n";
+    fs::create_hard_link(dir + "/h1.json", dir + "/h2.json");
+    REQUIRE(certify_to(dir + "/h1.json") == 0);
+    REQUIRE(test::read_file(dir + "/h2.json") == paper);
+    REQUIRE(certify_to("/dev/stdout", " >" + dir + "/piped.json") == 0);
+    REQUIRE(test::read_file(dir + "/piped.json") == paper);
 }
 
 TEST_CASE("defect 18.10g: impactcert-check as a program: exit 0, 1, 2 and 3, and its options", "[reliability][cli][checker]") {

@@ -3,6 +3,7 @@
 #include "law_json.hpp"
 #include "paper_law.hpp"
 
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -86,13 +87,24 @@ Progress TerminalProgress::callback() {
 }
 
 OutputFile::OutputFile(std::string path) : path_(std::move(path)) {
-    std::error_code ec;
-    const auto status = std::filesystem::status(path_, ec);
-    if (!std::filesystem::exists(status) || std::filesystem::is_regular_file(status)) {
+    // Through a temporary file only where the rename leaves the file as writing it in place
+    // would: a new file, or a regular file of ours (one link, our user, writable by us), whose
+    // mode the temporary file takes. Anything else -- a symbolic link (a rename would replace the
+    // link), a device such as /dev/stdout or /dev/full, a pipe, a file of another user, a read-only
+    // file, a file with hard links -- is written in place, as before.
+    struct stat st {};
+    const bool exists = ::lstat(path_.c_str(), &st) == 0;
+    const bool ours = exists && S_ISREG(st.st_mode) && st.st_nlink == 1 && st.st_uid == ::geteuid() &&
+                      ::access(path_.c_str(), W_OK) == 0;
+    if (!exists || ours) {
         temporary_ = path_ + ".partial-" + std::to_string(::getpid());
         out_.open(temporary_, std::ios::binary | std::ios::trunc);
-        if (!out_) // a directory we may not write in: the file itself, in place
+        if (!out_ || (ours && ::chmod(temporary_.c_str(), st.st_mode & 07777) != 0)) {
+            // A directory we may not write in (or a name too long for the suffix): in place.
+            out_.close();
+            std::remove(temporary_.c_str());
             temporary_.clear();
+        }
     }
     if (temporary_.empty()) {
         errno = 0;
@@ -113,8 +125,17 @@ void OutputFile::commit() {
     out_.close();
     if (!out_)
         throw InputError(path_ + ": cannot write");
-    if (!temporary_.empty() && std::rename(temporary_.c_str(), path_.c_str()) != 0)
-        throw InputError(path_ + ": cannot write: " + std::strerror(errno));
+    if (!temporary_.empty() && std::rename(temporary_.c_str(), path_.c_str()) != 0) {
+        // A destination that cannot be renamed over (a bind mount, another file system under the
+        // same name): the complete text is copied into it in place.
+        const std::string text = read_file_text(temporary_);
+        std::remove(temporary_.c_str());
+        std::ofstream out(path_, std::ios::binary | std::ios::trunc);
+        out.write(text.data(), static_cast<std::streamsize>(text.size()));
+        out.close();
+        if (!out)
+            throw InputError(path_ + ": cannot write");
+    }
     committed_ = true;
 }
 

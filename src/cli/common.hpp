@@ -53,11 +53,13 @@ class TerminalProgress {
     std::chrono::steady_clock::time_point start_, last_{};
 };
 
-// An output file written completely or not at all. A regular file (or a new one) is written to a
-// temporary file beside it, which commit() renames over it: a run that ends early (out of
-// memory, a limit, a full disk, a signal) leaves the previous file or none, never a shortened
-// one. Anything else (/dev/stdout, a pipe, /dev/full) is written in place. commit() and the
-// constructor throw InputError naming the path when the file cannot be written.
+// An output file written completely or not at all. A new file, or a regular file of ours (one
+// link, our user, writable), is written to a temporary file beside it (PATH.partial-PID, with the
+// old file's mode), which commit() renames over it: a run that ends early (out of memory, a full
+// disk, a signal) leaves the previous file or none, never a shortened one. Anything else (a
+// symbolic link, /dev/stdout, a pipe, /dev/full, another user's or a read-only file) is written in
+// place, as before. commit() and the constructor throw InputError naming the path when the file
+// cannot be written.
 class OutputFile {
   public:
     explicit OutputFile(std::string path);
