@@ -5,7 +5,7 @@
 // threads destroyed by that exception calls std::terminate (SIGABRT). Every parallel section
 // starts its threads through start_thread and does the shares that did not start, or ran out of
 // memory on their thread, itself: a run under a cap gives the same result on fewer threads, or
-// std::bad_alloc (exit 3) when one thread alone would run out too.
+// std::bad_alloc (exit 3) when the calling thread runs out too.
 #pragma once
 
 #include <cstddef>
@@ -42,10 +42,13 @@ template <class F> std::thread start_required_thread(F&& f) {
 // share 0 and every share whose thread did not start on the calling thread. Under an
 // address-space cap a thread can start and still find no memory for its own heap (mimalloc gives
 // each thread its own segments): a share that ends in std::bad_alloc on a thread is run again on
-// the calling thread after the joins, so the run succeeds whenever one thread alone would. A share
-// must therefore be safe to repeat (its results written in place, each reset before it is
-// written). Any other exception, and std::bad_alloc on the calling thread, is rethrown after the
-// joins: that of the lowest share, as one thread would have met it first.
+// the calling thread after the joins (the memory of the other threads' heaps given back). A
+// share must therefore be safe to repeat (its results written in place, each reset before it is
+// written). Any other exception, and std::bad_alloc on the calling thread (which is not retried:
+// exit 3), is rethrown after the joins: that of the lowest share. Where shares take contiguous
+// ranges that is the one a single thread meets first; where they are dealt out round-robin, two
+// different exceptions in one call could be reported differently (callers keep limits, which
+// must be read in order, out of the exceptions).
 template <class F> void run_shares(std::size_t jobs, F&& share) {
     std::vector<std::exception_ptr> errors(jobs); // allocated before any thread starts
     std::vector<char> again(jobs, 0);
