@@ -15,7 +15,6 @@
 #include <catch2/catch.hpp>
 
 #include <sys/wait.h>
-#include <unistd.h>
 
 #include <cctype>
 #include <cstdlib>
@@ -491,15 +490,8 @@ TEST_CASE("memory caps: a run that fits completes on any threads, one that does 
 #ifdef IMPACTCERT_SANITIZER_BUILD
     WARN("not run under the sanitizers (their shadow memory needs the address space a cap takes away)");
 #else
-    const std::string dir = "/tmp/impactcert-rel-caps-" + std::to_string(::getpid());
-    std::filesystem::create_directories(dir);
-    struct RemoveAtEnd { // passed or failed
-        std::string path;
-        ~RemoveAtEnd() {
-            std::error_code ec;
-            std::filesystem::remove_all(path, ec);
-        }
-    } remove_at_end{dir};
+    const test::ScratchDir scratch("rel-caps");
+    const std::string& dir = scratch.path;
     const std::string cli = std::string("'") + IMPACTCERT_CLI + "' ";
     const std::string checker = std::string("'") + IMPACTCERT_CHECKER + "' ";
     auto uncapped = [&](const std::string& args) {
@@ -577,15 +569,8 @@ TEST_CASE("memory caps: a run that fits completes on any threads, one that does 
 // one or the whole new one at every moment. The kill times straddle the run (about 1.5 s in
 // Release, more under the sanitizers): each outcome is accepted but a third one.
 TEST_CASE("output files: a run that ends early leaves the previous file, never a shortened one", "[reliability][cli]") {
-    const std::string dir = "/tmp/impactcert-rel-output-" + std::to_string(::getpid());
-    std::filesystem::create_directories(dir);
-    struct RemoveAtEnd {
-        std::string path;
-        ~RemoveAtEnd() {
-            std::error_code ec;
-            std::filesystem::remove_all(path, ec);
-        }
-    } remove_at_end{dir};
+    const test::ScratchDir scratch("rel-output");
+    const std::string& dir = scratch.path;
     const std::string cli = std::string("'") + IMPACTCERT_CLI + "' ";
     REQUIRE(std::system((cli + "derive cradle --balls 5 --pieces all --no-symmetries -o " + dir + "/c5.json 2>/dev/null").c_str()) == 0);
     // Killed after 0.1 .. 1 s, then given a minute: the last run's certificate is the whole one

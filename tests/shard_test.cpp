@@ -24,21 +24,6 @@ using CJson = impactcert_check::detail::Json;
 
 namespace {
 
-// A fresh directory for one test, removed when the test ends (passed or failed).
-struct ScratchDir {
-    std::string path;
-    explicit ScratchDir(const std::string& name)
-        : path((fs::temp_directory_path() / ("impactcert-shard-" + name + "-" + std::to_string(getpid()))).string()) {
-        fs::remove_all(path);
-        fs::create_directories(path);
-    }
-    ScratchDir(const ScratchDir&) = delete;
-    ScratchDir& operator=(const ScratchDir&) = delete;
-    ~ScratchDir() {
-        std::error_code ec;
-        fs::remove_all(path, ec);
-    }
-};
 
 void write_text(const std::string& path, const std::string& text) {
     std::ofstream out(path, std::ios::binary);
@@ -95,7 +80,7 @@ CJson& nonexpansive_of(CJson& part) {
 
 TEST_CASE("shards: certify in three processes, merged by impactcert-check, is the single run's certificate",
           "[shard][issue19]") {
-    const ScratchDir scratch("certify");
+    const impactcert::test::ScratchDir scratch("shard-certify");
     const std::string& dir = scratch.path;
     // A continuous inelastic law whose pair forms take every route (A >= 0, PSD, PSD + N, KKT),
     // cut into blocks of 7 pairs; a law refuted by a pair form; a law with symmetries; a law
@@ -134,7 +119,7 @@ TEST_CASE("shards: certify in three processes, merged by impactcert-check, is th
 }
 
 TEST_CASE("shards: a missing, duplicated, foreign or forged part is rejected", "[shard][issue19]") {
-    const ScratchDir scratch("forged");
+    const impactcert::test::ScratchDir scratch("shard-forged");
     const std::string& dir = scratch.path;
     REQUIRE(run_cli("derive sequential --masses 1,1/3,1 --restitution 1/3 -o '" + dir + "/m13.json'").status == 0);
     REQUIRE(run_cli("derive sequential --masses 1,1/2,1 --restitution 1/2 -o '" + dir + "/m12.json'").status == 0);
@@ -202,7 +187,7 @@ TEST_CASE("shards: a missing, duplicated, foreign or forged part is rejected", "
 }
 
 TEST_CASE("shards: sweep --shard in three processes, sweep --merge equals the single sweep", "[shard][sweep][issue19]") {
-    const ScratchDir scratch("sweep");
+    const impactcert::test::ScratchDir scratch("shard-sweep");
     const std::string& dir = scratch.path;
     const std::string spec = "--masses 1,m,1 --restitution e --vary m=1/2..2:3 --vary e=1/4..1:3 --jobs 1";
     REQUIRE(run_cli("sweep " + spec + " -o '" + dir + "/single'").status == 0);
@@ -253,7 +238,7 @@ TEST_CASE("shards: sweep --shard in three processes, sweep --merge equals the si
 
 TEST_CASE("shards: a certificate is routed by its top-level format, whatever its names say", "[shard][issue19]") {
     // A law named like the part format, with a piece named "shard": still a certificate.
-    const ScratchDir scratch("route");
+    const impactcert::test::ScratchDir scratch("shard-route");
     const std::string& dir = scratch.path;
     CJson law = CJson::parse(read_file(source_path("proofs/newton3/law.json")));
     law["name"] = "impactcert-certificate-part/1";
@@ -269,7 +254,7 @@ TEST_CASE("shards: a certificate is routed by its top-level format, whatever its
 
 TEST_CASE("shards: sweep --merge refuses malformed parts with one line, and oversized grids before allocating",
           "[shard][sweep][issue19]") {
-    const ScratchDir scratch("malformed");
+    const impactcert::test::ScratchDir scratch("shard-malformed");
     const std::string& dir = scratch.path;
     REQUIRE(run_cli("sweep --masses 1,1,1 --restitution e,f --vary e=0..1:2 --vary f=0..1:2 --jobs 1 --shard 1/1 -o '" + dir +
                     "/R'").status == 0);

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <numeric>
 #include <sstream>
@@ -45,6 +46,17 @@ std::string read_file(const std::string& path) {
     std::ostringstream s;
     s << in.rdbuf();
     return s.str();
+}
+
+ScratchDir::ScratchDir(const std::string& name)
+    : path((std::filesystem::temp_directory_path() / ("impactcert-" + name + "-" + std::to_string(::getpid()))).string()) {
+    std::filesystem::remove_all(path);
+    std::filesystem::create_directories(path);
+}
+
+ScratchDir::~ScratchDir() {
+    std::error_code ec;
+    std::filesystem::remove_all(path, ec);
 }
 
 Law sorting_law(std::size_t n) {

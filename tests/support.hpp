@@ -39,6 +39,16 @@ Vector vec_of(const Json& j);
 std::string source_path(const std::string& relative);
 std::string read_file(const std::string& path);
 
+// A fresh directory for one test (the system's temporary directory, impactcert-NAME-PID), removed
+// when the test ends, passed or failed.
+struct ScratchDir {
+    std::string path;
+    explicit ScratchDir(const std::string& name);
+    ScratchDir(const ScratchDir&) = delete;
+    ScratchDir& operator=(const ScratchDir&) = delete;
+    ~ScratchDir();
+};
+
 Law sorting_law(std::size_t n);
 
 void revalidate(const Model& model, const ObligationResult& result);
