@@ -239,7 +239,7 @@ void declare_outcomes(Law& law, const std::vector<OutcomeDecl>& override_outcome
     // agrees with it. Containment by the signs of Cramer's determinants (gamma = R s, s >= 0),
     // without building a Model: the pieces of a long word carry numbers of thousands of digits,
     // and inverting every ray matrix cost more than the derivation.
-    const Mechanics mech = make_mechanics(law.masses, law.M, law.W);
+    const Mechanics mech = make_mechanics(law.masses, law.M, law.W, law.friction);
     const std::size_t c = mech.contacts();
     auto det = [c](const Matrix& a) -> Sign {
         if (c == 2)

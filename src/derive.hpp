@@ -144,6 +144,43 @@ inline constexpr std::size_t kMaxNewtonContacts = 8, kMaxApproachingContacts = 7
 Law derive_newton(const ClassicalOptions& options);
 Law derive_poisson(const ClassicalOptions& options);
 
+// ---- The Newton-type law with Coulomb friction (SPEC section 9), derive_friction.cpp.
+//
+// The system has friction (its tangents' mu and e_T are the system's; restitution: one per
+// normal contact). Every contact mode (open; closed, and per tangent stick or slip either way)
+// is a polyhedral cone in (gamma-, Lambda); the law is a function exactly when no two modes
+// (a mode with itself included) admit one gamma- with two impulses (proofs/README.md, "Friction",
+// Lemma U), decided on the generators of the pair cones; the regions of the modes with an
+// invertible system then give the pieces, and their fan decides that every gamma- has a
+// solution. Otherwise `not_a_function`: an exact gamma- with two solutions (their modes,
+// impulses and gamma+), or one with none.
+struct NotAFunction {
+    Vector gamma_minus;
+    bool none = false;             // no solution at gamma_minus (else two)
+    std::string mode_a, mode_b;
+    Vector lambda_a, lambda_b, gamma_a, gamma_b;
+};
+struct FrictionResult {
+    std::optional<Law> law;
+    std::optional<NotAFunction> not_a_function;
+    std::size_t modes = 0, pairs = 0, regions = 0;
+};
+// Modes enumerated at most (pairs compared: about its square over two).
+inline constexpr std::size_t kMaxFrictionModes = 400;
+struct FrictionOptions : ClassicalOptions {
+    DeriveProgress progress;
+};
+FrictionResult derive_newton_friction(const FrictionOptions& options);
+// Every solution at gamma- (distinct gamma+), by the modes with an invertible system (the
+// modes that found them appended to modes_found, when given).
+std::vector<Vector> newton_friction_solutions(const Mechanics& m, const std::vector<Rational>& restitution,
+                                              RestitutionOn on, const Vector& gamma_minus,
+                                              std::string* modes_found = nullptr);
+// In body velocities, without G: u+ when exactly one mode with an invertible system gives a
+// solution (distinct u+), else nothing.
+std::optional<Vector> simulate_newton_friction(const Mechanics& m, const std::vector<Rational>& restitution,
+                                               RestitutionOn on, const Vector& u_minus);
+
 // Independent solutions in ball velocities: the LCPs solved by enumerating active sets over the
 // rationals (M (u+ - u-) = W_J Lambda_J, W_J^T u+ = -E rho_J, Lambda_J >= 0, the rest
 // non-negative). G positive definite: exactly one solution, whatever active set finds it.

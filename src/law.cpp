@@ -9,8 +9,14 @@
 
 namespace impactcert {
 
+std::vector<const char*> obligation_ids(bool friction) {
+    if (friction)
+        return {kFrictionObligationIds.begin(), kFrictionObligationIds.end()};
+    return {kObligationIds.begin(), kObligationIds.end()};
+}
+
 bool is_obligation_id(const std::string& id) {
-    return std::find(kObligationIds.begin(), kObligationIds.end(), id) != kObligationIds.end();
+    return std::find(kFrictionObligationIds.begin(), kFrictionObligationIds.end(), id) != kFrictionObligationIds.end();
 }
 
 namespace {
@@ -72,7 +78,9 @@ Model::Model(Law law, std::size_t max_pieces, std::size_t max_memory_mb) : law_(
 
     // Masses and contacts (system.hpp: the same rules as a system file).
     {
-        Mechanics mech = make_mechanics(law_.masses, law_.M, law_.W);
+        Mechanics mech = make_mechanics(law_.masses, law_.M, law_.W, law_.friction);
+        normals_ = mech.normals;
+        tangents_ = std::move(mech.tangents);
         M_ = std::move(mech.M);
         M_inv_ = std::move(mech.M_inv);
         W_ = std::move(mech.W);
@@ -353,6 +361,10 @@ bool law_applies(const Law& law, const std::string& id) {
         return !law.outcomes.empty();
     if (id == "symmetries")
         return !law.symmetries.empty();
+    if (id == "coulomb")
+        return !law.friction.empty();
+    if (id == "P3") // the images of rays in the orthant: no sign for a tangential velocity
+        return law.friction.empty();
     return is_obligation_id(id);
 }
 
@@ -441,7 +453,9 @@ void validate_claims(const Law& law) {
         if (!seen.insert(id).second)
             input_error(path, "obligation " + in_quotes(id) + " claimed twice");
         if (!law_applies(law, id))
-            input_error(path, in_quotes(id) + " is claimed but the law declares nothing for it");
+            input_error(path, in_quotes(id) + (id == "P3" ? " is claimed but does not apply to a law with friction"
+                                               : id == "coulomb" ? " is claimed but the law has no friction"
+                                                                 : " is claimed but the law declares nothing for it"));
     }
 }
 

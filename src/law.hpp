@@ -69,6 +69,7 @@ struct Law {
     std::vector<Rational> masses;          // n > 0 (diagonal M), or empty when M is given
     std::optional<Matrix> M;               // symmetric positive definite mass matrix (SPEC section 8)
     std::optional<Matrix> W;               // n x c; absent: "chain"
+    std::vector<FrictionDecl> friction;    // SPEC section 9: W gains tangent columns (system.hpp)
     std::vector<PieceDecl> pieces;
     std::vector<IdentityDecl> identities;
     std::vector<SingleImpactDecl> single_impacts;
@@ -88,6 +89,15 @@ inline constexpr std::array<const char*, 13> kObligationIds = {
     "fan",        "P1",         "P2",           "P3",
     "kinematic",  "kinetic",    "energetic",    "identities",
     "single-impacts", "nonexpansive", "nonexpansive-lemma", "outcomes", "symmetries"};
+
+// A law with friction (SPEC section 9) has one more obligation, `coulomb` (after `kinetic`), and
+// P3 does not apply to it; a frictionless law has exactly the thirteen above, so its verdicts
+// and certificates keep their shape.
+inline constexpr std::array<const char*, 14> kFrictionObligationIds = {
+    "fan",        "P1",         "P2",           "P3",
+    "kinematic",  "kinetic",    "coulomb",      "energetic",    "identities",
+    "single-impacts", "nonexpansive", "nonexpansive-lemma", "outcomes", "symmetries"};
+std::vector<const char*> obligation_ids(bool friction);
 
 bool is_obligation_id(const std::string& id);
 // Whether the law declares anything for obligation id (identities, single impacts, outcomes,
@@ -148,8 +158,12 @@ class Model {
 
     const Matrix& M() const { return M_; }
     const Matrix& M_inv() const { return M_inv_; }
-    System system() const { return System{law_.name, law_.masses, law_.M, law_.W}; }
-    const Matrix& W() const { return W_; }
+    System system() const { return System{law_.name, law_.masses, law_.M, law_.W, law_.friction}; }
+    const Matrix& W() const { return W_; } // [W_N W_T]
+    // Friction (SPEC section 9): gamma = (gamma_N, gamma_T), the normals first.
+    std::size_t normals() const { return normals_; }
+    const std::vector<Tangent>& tangents() const { return tangents_; } // tangent j is coordinate normals() + j
+    bool has_friction() const { return !tangents_.empty(); }
     const Matrix& G() const { return G_; }
     const Matrix& H() const { return H_; }
     const std::vector<Piece>& pieces() const { return pieces_; }
@@ -184,6 +198,8 @@ class Model {
   private:
     Law law_;
     Matrix M_, M_inv_, W_, G_, H_;
+    std::size_t normals_ = 0;
+    std::vector<Tangent> tangents_;
     std::vector<Piece> pieces_;
     std::vector<Vector> rays_;
     std::vector<Matrix> P_inv_;

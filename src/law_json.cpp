@@ -236,7 +236,8 @@ template <class F> void for_each_element(const ReadJson& j, const std::string& p
 }
 
 // The head shared by law and system files: "masses" or "M" (exactly one), "contacts".
-void read_head(const ReadJson& doc, std::vector<Rational>& masses, std::optional<Matrix>& M, std::optional<Matrix>& W) {
+void read_head(const ReadJson& doc, std::vector<Rational>& masses, std::optional<Matrix>& M, std::optional<Matrix>& W,
+               std::vector<FrictionDecl>& friction) {
     if (doc.contains("masses") == doc.contains("M"))
         input_error("$", "needs exactly one of \"masses\" (a diagonal mass matrix) and \"M\" (a full one)");
     if (doc.contains("masses"))
@@ -249,8 +250,25 @@ void read_head(const ReadJson& doc, std::vector<Rational>& masses, std::optional
             if (c.get<std::string>() != "chain")
                 input_error("$.contacts", "expected \"chain\" or {\"W\": [...]}, got " + c.dump());
         } else {
-            expect_object(c, "$.contacts", {"W"}, {"W"});
+            expect_object(c, "$.contacts", {"W", "friction"}, {"W"});
             W = get_matrix(c["W"], "$.contacts.W");
+            if (c.contains("friction"))
+                for_each_element(c["friction"], "$.contacts.friction", [&](const ReadJson& f, const std::string& path) {
+                    expect_object(f, path, {"contact", "mu", "tangents", "restitution_tangential"},
+                                  {"contact", "mu", "tangents"});
+                    FrictionDecl d;
+                    const int k = get_small_int(f["contact"], path + ".contact");
+                    if (k < 1)
+                        input_error(path + ".contact", "contacts are numbered from 1, got " + std::to_string(k));
+                    d.contact = static_cast<std::size_t>(k - 1);
+                    d.mu = get_rational(f["mu"], path + ".mu");
+                    for_each_element(f["tangents"], path + ".tangents", [&](const ReadJson& t, const std::string& tp) {
+                        d.tangents.push_back(get_vector(t, tp));
+                    });
+                    if (f.contains("restitution_tangential"))
+                        d.restitution_tangential = get_rational(f["restitution_tangential"], path + ".restitution_tangential");
+                    friction.push_back(std::move(d));
+                });
         }
     }
 }
@@ -269,7 +287,7 @@ Law parse_document(const ReadJson& doc) {
         law.description = doc["description"].get<std::string>();
     else if (doc.contains("note"))
         law.description = doc["note"].get<std::string>();
-    read_head(doc, law.masses, law.M, law.W);
+    read_head(doc, law.masses, law.M, law.W, law.friction);
 
     for_each_element(doc["pieces"], "$.pieces", [&](const ReadJson& p, const std::string& path) {
         expect_object(p, path, {"name", "Q", "rays"}, {"name", "Q"});
@@ -400,7 +418,7 @@ System parse_system_text(const std::string& text, const std::string& origin) {
             // A law file names a system: its head, by the law's own rules (the law is validated whole).
             const Law law = parse_document(doc);
             Model(law, Limits{}.max_pieces);
-            return System{law.name, law.masses, law.M, law.W};
+            return System{law.name, law.masses, law.M, law.W, law.friction};
         }
         if (format != kSystemFormat)
             input_error("$.format", "expected " + in_quotes(kSystemFormat) + " or " + in_quotes(kLawFormat) + ", got " +
@@ -410,7 +428,7 @@ System parse_system_text(const std::string& text, const std::string& origin) {
         s.name = get_string(doc["name"], "$.name");
         if (s.name.empty())
             input_error("$.name", "empty system name");
-        read_head(doc, s.masses, s.M, s.W);
+        read_head(doc, s.masses, s.M, s.W, s.friction);
         make_mechanics(s); // validated
         return s;
     } catch (const InputError& e) {
@@ -463,9 +481,22 @@ nlohmann::ordered_json law_to_json(const Law& law) {
         out["M"] = mat(*law.M);
     else
         out["masses"] = vec(law.masses);
-    if (law.W)
+    if (law.W) {
         out["contacts"] = OJson{{"W", mat(*law.W)}};
-    else
+        if (!law.friction.empty()) {
+            OJson fs = OJson::array();
+            for (const auto& f : law.friction) {
+                OJson tangents = OJson::array();
+                for (const auto& t : f.tangents)
+                    tangents.push_back(vec(t));
+                OJson entry{{"contact", f.contact + 1}, {"mu", to_string(f.mu)}, {"tangents", tangents}};
+                if (sign_of(f.restitution_tangential) != Sign::zero)
+                    entry["restitution_tangential"] = to_string(f.restitution_tangential);
+                fs.push_back(entry);
+            }
+            out["contacts"]["friction"] = fs;
+        }
+    } else
         out["contacts"] = "chain";
     OJson pieces = OJson::array();
     for (const auto& p : law.pieces) {

@@ -191,6 +191,8 @@ void Expansion::map_piece(u32 p, u32 g, u32* rays_out, u32* images_out) {
 
 Expansion::Expansion(const Law& law_, const Model& base_, const Limits& limits, const Progress& progress)
     : law(law_), base(base_), c(base_.contacts()), store(base_.contacts()), limits_(limits) {
+    if (base.has_friction())
+        input_error("$.contacts.friction", "verify --stream does not take laws with friction (verify without --stream does)");
     const auto& syms = law.symmetries;
     const auto& H = base.H();
     // As Model: a compact law's P and P' are H-isometries of finite order, checked before

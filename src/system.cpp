@@ -13,7 +13,7 @@ Matrix two_body_impact(const Matrix& G, std::size_t k, const Rational& e) {
 }
 
 Mechanics make_mechanics(const std::vector<Rational>& masses, const std::optional<Matrix>& M,
-                         const std::optional<Matrix>& W) {
+                         const std::optional<Matrix>& W, const std::vector<FrictionDecl>& friction) {
     Mechanics m;
     if (M && !masses.empty())
         input_error("$", "give either \"masses\" or \"M\", not both");
@@ -77,9 +77,46 @@ Mechanics make_mechanics(const std::vector<Rational>& masses, const std::optiona
             m.W(k + 1, k) = 1;
         }
     }
+    m.normals = m.W.cols();
+    if (!friction.empty()) {
+        const std::string fp = "$.contacts.friction";
+        std::vector<Vector> tangent_columns;
+        for (std::size_t i = 0; i < friction.size(); ++i) {
+            const FrictionDecl& f = friction[i];
+            const std::string at = idx(fp, i);
+            if (f.contact >= m.normals)
+                input_error(at + ".contact", "no contact " + std::to_string(f.contact + 1) + " (there are " +
+                                                 std::to_string(m.normals) + ")");
+            if (i > 0 && f.contact <= friction[i - 1].contact)
+                input_error(at + ".contact", "contacts must be listed once each, in increasing order");
+            if (sign_of(f.mu) == Sign::negative)
+                input_error(at + ".mu", "friction coefficient must be >= 0, got " + to_string(f.mu));
+            if (sign_of(f.restitution_tangential) == Sign::negative || f.restitution_tangential > Rational(1))
+                input_error(at + ".restitution_tangential",
+                            "must be in [0, 1], got " + to_string(f.restitution_tangential));
+            if (f.tangents.empty() || f.tangents.size() > 2)
+                input_error(at + ".tangents", "expected one tangent (planar) or two (spatial), got " +
+                                                  std::to_string(f.tangents.size()));
+            for (std::size_t t = 0; t < f.tangents.size(); ++t) {
+                if (f.tangents[t].size() != n)
+                    input_error(idx(at + ".tangents", t), "expected " + std::to_string(n) + " entries (one per velocity), got " +
+                                                              std::to_string(f.tangents[t].size()));
+                tangent_columns.push_back(f.tangents[t]);
+                m.tangents.push_back(Tangent{f.contact, f.mu, f.restitution_tangential});
+            }
+        }
+        Matrix full(n, m.normals + tangent_columns.size());
+        for (std::size_t i = 0; i < n; ++i) {
+            for (std::size_t k = 0; k < m.normals; ++k)
+                full(i, k) = m.W(i, k);
+            for (std::size_t t = 0; t < tangent_columns.size(); ++t)
+                full(i, m.normals + t) = tangent_columns[t][i];
+        }
+        m.W = std::move(full);
+    }
     const std::size_t c = m.W.cols();
     if (c > n)
-        input_error("$.contacts.W", std::to_string(c) + " contacts but only " + std::to_string(n) +
+        input_error(friction.empty() ? "$.contacts.W" : "$.contacts.friction", std::to_string(c) + " contacts but only " + std::to_string(n) +
                                         " velocities: the columns of W are linearly dependent");
     m.G = transpose(m.W) * m.M_inv * m.W;
     auto H = inverse(m.G);
@@ -88,7 +125,7 @@ Mechanics make_mechanics(const std::vector<Rational>& masses, const std::optiona
         for (std::size_t i = 0; i < n; ++i)
             rows.push_back(m.W.row(i));
         const std::size_t rank = c - null_space(rows, c).size();
-        input_error(W ? "$.contacts.W" : "$.contacts", "W has rank " + std::to_string(rank) + " < " + std::to_string(c) +
+        input_error(!friction.empty() ? "$.contacts.friction" : W ? "$.contacts.W" : "$.contacts", "W has rank " + std::to_string(rank) + " < " + std::to_string(c) +
                                                          " contacts: its columns are linearly dependent (G = W^T M^-1 W is singular)");
     }
     m.H = *H;
@@ -155,7 +192,9 @@ System chain_system(const std::vector<Rational>& masses, Walls walls) {
 std::string describe_system(const System& s) {
     const Mechanics m = make_mechanics(s);
     std::string what = s.W ? "explicit W" : "chain";
-    return std::to_string(m.balls()) + " velocities, " + std::to_string(m.contacts()) + " contacts (" + what +
+    if (m.has_friction())
+        what += ", " + std::to_string(m.tangents.size()) + " friction tangent" + (m.tangents.size() == 1 ? "" : "s");
+    return std::to_string(m.balls()) + " velocities, " + std::to_string(m.normals) + " contacts (" + what +
            (m.diagonal ? "" : ", full mass matrix") + ")";
 }
 

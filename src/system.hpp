@@ -24,26 +24,50 @@ namespace impactcert {
 
 inline constexpr const char* kSystemFormat = "impactcert-system/1";
 
+// Coulomb friction at one contact (SPEC section 9): its tangent columns (one in the plane, two
+// in space: each bounded separately by mu Lambda_N), mu >= 0 and the tangential restitution
+// e_T in [0, 1] of Coulomb's law at an impact (xi_T = gamma_T+ + e_T gamma_T-).
+struct FrictionDecl {
+    std::size_t contact = 0;      // 0-based: the column of the normals it belongs to
+    Rational mu;
+    std::vector<Vector> tangents; // each n entries: the columns of W it adds
+    Rational restitution_tangential; // e_T (0 unless given)
+};
+
 struct System {
     std::string name;
     std::vector<Rational> masses; // diagonal mass matrix, or empty when M is given
     std::optional<Matrix> M;      // symmetric positive definite, n x n
-    std::optional<Matrix> W;      // n x c; absent: "chain"
+    std::optional<Matrix> W;      // n x c; absent: "chain" (the normals)
+    std::vector<FrictionDecl> friction; // strictly increasing contacts; empty: frictionless
+};
+
+// One tangent column of W: the contact (normal column) it belongs to, mu and e_T.
+struct Tangent {
+    std::size_t contact = 0;
+    Rational mu, e_T;
 };
 
 struct Mechanics {
+    // W = [W_N W_T]: the normals (columns 0 .. normals-1), then the tangents in the order of the
+    // friction declarations; G and H are (normals + tangents) square.
     Matrix M, M_inv, W, G, H;
     bool diagonal = true; // M is diagonal
+    std::size_t normals = 0;
+    std::vector<Tangent> tangents; // tangent j is column normals + j
     std::size_t balls() const { return M.rows(); }
-    std::size_t contacts() const { return W.cols(); }
+    std::size_t contacts() const { return W.cols(); } // the dimension of gamma: normals + tangents
+    bool has_friction() const { return !tangents.empty(); }
     // |u|_M^2 = u^T M u (twice the kinetic energy).
     Rational energy2(const Vector& u) const { return bilinear(u, M, u); }
 };
 
 // Validates and derives; throws InputError naming $.masses, $.M or $.contacts.W.
+// Friction: every contact exists and appears once (ascending), mu >= 0, e_T in [0, 1], each
+// tangent has n entries; [W_N W_T] must have full column rank (InputError naming $.contacts.friction).
 Mechanics make_mechanics(const std::vector<Rational>& masses, const std::optional<Matrix>& M,
-                         const std::optional<Matrix>& W);
-inline Mechanics make_mechanics(const System& s) { return make_mechanics(s.masses, s.M, s.W); }
+                         const std::optional<Matrix>& W, const std::vector<FrictionDecl>& friction = {});
+inline Mechanics make_mechanics(const System& s) { return make_mechanics(s.masses, s.M, s.W, s.friction); }
 
 enum class Walls { none, left, right, both };
 Walls parse_walls(const std::string& text); // InputError naming --walls

@@ -34,8 +34,8 @@ int check(const Json& cert, const Limits& limits) {
     require(mat(field(system, "$.system", "H"), "$.system.H") == law.H, "$.system.H", "is not G^-1");
 
     const Json& obligations = field(cert, "$", "obligations");
-    if (!obligations.is_array() || obligations.size() != kIds.size())
-        malformed("$.obligations", "expected the " + std::to_string(kIds.size()) + " obligations");
+    if (!obligations.is_array() || obligations.size() != ids_of(law).size())
+        malformed("$.obligations", "expected the " + std::to_string(ids_of(law).size()) + " obligations");
     Checker checker(law, obligations, limits);
     bool any_claimed_refuted = false, any_claimed_undecided = false;
     // Progress on a terminal for long checks: the obligation being checked, rewritten in place.
@@ -49,9 +49,9 @@ int check(const Json& cert, const Limits& limits) {
         }
     } line;
     bool& shown = line.shown;
-    for (std::size_t k = 0; k < kIds.size(); ++k) {
+    for (std::size_t k = 0; k < ids_of(law).size(); ++k) {
         if (terminal && std::chrono::steady_clock::now() - start > std::chrono::seconds(1)) {
-            std::fprintf(stderr, "\r\033[Kimpactcert-check: %s (%zu/%zu)", kIds[k].c_str(), k + 1, kIds.size());
+            std::fprintf(stderr, "\r\033[Kimpactcert-check: %s (%zu/%zu)", ids_of(law)[k].c_str(), k + 1, ids_of(law).size());
             std::fflush(stderr);
             shown = true;
         }
@@ -59,12 +59,12 @@ int check(const Json& cert, const Limits& limits) {
         const Json& o = obligations[k];
         expect_keys(o, path, {"id", "statement", "method", "claimed", "verdict", "checks", "data"},
                     {"counterexample", "limit"});
-        require(str(field(o, path, "id"), at(path, "id")) == kIds[k], at(path, "id"), "expected \"" + kIds[k] + "\"");
+        require(str(field(o, path, "id"), at(path, "id")) == ids_of(law)[k], at(path, "id"), "expected \"" + ids_of(law)[k] + "\"");
         str(field(o, path, "statement"), at(path, "statement")); // informational, but text
         str(field(o, path, "method"), at(path, "method"));
         natural(field(o, path, "checks"), at(path, "checks"));
-        const bool applies = detail::applies(law_json, kIds[k]);
-        const bool claimed = law.claims_given ? law.claimed_ids.count(kIds[k]) > 0 : applies;
+        const bool applies = detail::applies(law_json, ids_of(law)[k]);
+        const bool claimed = law.claims_given ? law.claimed_ids.count(ids_of(law)[k]) > 0 : applies;
         const Json& claimed_json = field(o, path, "claimed");
         if (!claimed_json.is_boolean())
             malformed(at(path, "claimed"), "expected true or false");

@@ -42,7 +42,16 @@ bool integral_characteristic_polynomial(const Mat& P) {
 
 } // namespace
 
+bool has_friction(const Json& law) {
+    const Json& c = law.at("contacts");
+    return c.is_object() && c.contains("friction") && !c.at("friction").empty();
+}
+
 bool applies(const Json& law, const std::string& id) {
+    if (id == "coulomb")
+        return has_friction(law);
+    if (id == "P3")
+        return !has_friction(law);
     if (id == "identities")
         return declares(law, "identities");
     if (id == "single-impacts")
@@ -123,10 +132,46 @@ Law read_law(const Json& j, const std::string& path, std::size_t max_pieces, std
             law.W[k + 1][k] = 1;
         }
     } else {
-        expect_keys(contacts, at(path, "contacts"), {"W"});
+        expect_keys(contacts, at(path, "contacts"), {"W"}, {"friction"});
         law.W = mat(field(contacts, at(path, "contacts"), "W"), at(at(path, "contacts"), "W"));
         require(law.W.size() == law.n, at(at(path, "contacts"), "W"), "needs one row per ball");
+        law.normals = law.W[0].size();
+        if (contacts.contains("friction")) {
+            // SPEC section 9: each entry adds its tangents as columns of W after the normals.
+            const std::string fp = at(at(path, "contacts"), "friction");
+            const Json& fr = field(contacts, at(path, "contacts"), "friction");
+            if (!fr.is_array())
+                malformed(fp, "expected an array");
+            for (std::size_t i = 0; i < fr.size(); ++i) {
+                const std::string ep = at(fp, i);
+                expect_keys(fr[i], ep, {"contact", "mu", "tangents"}, {"restitution_tangential"});
+                const std::size_t k = natural(field(fr[i], ep, "contact"), at(ep, "contact"));
+                require(k >= 1 && k <= law.normals, at(ep, "contact"), "no such contact");
+                require(law.tangents.empty() || law.tangents.back().contact < k - 1, at(ep, "contact"),
+                        "contacts must be listed once each, in increasing order");
+                const Q mu = rat(field(fr[i], ep, "mu"), at(ep, "mu"));
+                require(sgn(mu) >= 0, at(ep, "mu"), "negative friction coefficient");
+                Q e_T = 0;
+                if (fr[i].contains("restitution_tangential")) {
+                    e_T = rat(field(fr[i], ep, "restitution_tangential"), at(ep, "restitution_tangential"));
+                    require(sgn(e_T) >= 0 && e_T <= 1, at(ep, "restitution_tangential"), "not in [0, 1]");
+                }
+                const Json& ts = field(fr[i], ep, "tangents");
+                if (!ts.is_array())
+                    malformed(at(ep, "tangents"), "expected an array");
+                require(ts.size() == 1 || ts.size() == 2, at(ep, "tangents"), "needs one or two tangents");
+                for (std::size_t t = 0; t < ts.size(); ++t) {
+                    const Vec column = vec(ts[t], at(at(ep, "tangents"), t));
+                    require(column.size() == law.n, at(at(ep, "tangents"), t), "needs one entry per ball");
+                    for (std::size_t r = 0; r < law.n; ++r)
+                        law.W[r].push_back(column[r]);
+                    law.tangents.push_back(Tangent{k - 1, mu, e_T});
+                }
+            }
+        }
     }
+    if (law.normals == 0)
+        law.normals = law.W[0].size();
     law.c = law.W[0].size();
     require(invert(M, law.M_inv), at(path, "M"), "M is singular");
     law.G = mul(mul(tr(law.W), law.M_inv), law.W);
@@ -330,7 +375,7 @@ Law read_law(const Json& j, const std::string& path, std::size_t max_pieces, std
         require(!claims.empty(), at(path, "claims"), "no obligation claimed");
         for (std::size_t i = 0; i < claims.size(); ++i) {
             const std::string id = str(claims[i], at(at(path, "claims"), i));
-            require(std::find(kIds.begin(), kIds.end(), id) != kIds.end(), at(at(path, "claims"), i), "unknown obligation");
+            require(std::find(kFrictionIds.begin(), kFrictionIds.end(), id) != kFrictionIds.end(), at(at(path, "claims"), i), "unknown obligation");
             require(law.claimed_ids.insert(id).second, at(at(path, "claims"), i), "claimed twice");
             require(applies(j, id), at(at(path, "claims"), i), "claimed but the law declares nothing for it");
         }

@@ -46,11 +46,19 @@ struct Symmetry {
     Mat P, P_prime, P_inv;
 };
 
+// One tangent column of W (SPEC section 9): its contact (a normal column), mu and e_T.
+struct Tangent {
+    std::size_t contact = 0;
+    Q mu, e_T;
+};
+
 struct Law {
     Json json;
     Vec masses;
-    Mat W, M_inv, G, H;
-    std::size_t n = 0, c = 0;
+    Mat W, M_inv, G, H; // W = [W_N W_T]: the normals, then the tangents in declaration order
+    std::size_t n = 0, c = 0; // c: the dimension of gamma (normals + tangents)
+    std::size_t normals = 0;
+    std::vector<Tangent> tangents; // tangent j is coordinate normals + j
     std::vector<Piece> pieces;
     std::map<std::string, std::size_t> piece_index;
     std::vector<Vec> distinct_rays;     // in order of first appearance
@@ -84,6 +92,27 @@ struct Law {
         return std::find(pieces[p].rays.begin(), pieces[p].rays.end(), pv) != pieces[p].rays.end();
     }
     Q energy(const Vec& g) const { return form(H, g); }
+    // kinematic's statement on an image: every normal >= 0 (all of gamma+ without friction).
+    bool normals_nonneg(const Vec& img) const {
+        for (std::size_t k = 0; k < normals; ++k)
+            if (sgn(img[k]) < 0)
+                return false;
+        return true;
+    }
+    // kinetic's statement on an impulse: Lambda >= 0, or with friction Lambda_N >= 0 and
+    // |Lambda_Tj| <= mu Lambda_N of its contact.
+    bool impulse_admissible(const Vec& l) const {
+        if (tangents.empty())
+            return nonneg(l);
+        if (!normals_nonneg(l))
+            return false;
+        for (std::size_t j = 0; j < tangents.size(); ++j) {
+            const Q bound = tangents[j].mu * l[tangents[j].contact];
+            if (sgn(bound - l[normals + j]) < 0 || sgn(bound + l[normals + j]) < 0)
+                return false;
+        }
+        return true;
+    }
     Mat impact(std::size_t k, const Q& e) const {
         Mat q = eye(c);
         for (std::size_t i = 0; i < c; ++i)
@@ -104,6 +133,14 @@ struct Law {
 inline const std::vector<std::string> kIds = {"fan", "P1", "P2", "P3", "kinematic", "kinetic", "energetic",
                                        "identities", "single-impacts", "nonexpansive", "nonexpansive-lemma",
                                        "outcomes", "symmetries"};
+
+// With friction, `coulomb` after `kinetic` (a frictionless law: exactly kIds).
+inline const std::vector<std::string> kFrictionIds = {"fan", "P1", "P2", "P3", "kinematic", "kinetic", "coulomb",
+                                       "energetic", "identities", "single-impacts", "nonexpansive",
+                                       "nonexpansive-lemma", "outcomes", "symmetries"};
+inline const std::vector<std::string>& ids_of(const Law& law) { return law.tangents.empty() ? kIds : kFrictionIds; }
+// Whether the law's contacts carry friction (its JSON, as read_law has validated it).
+bool has_friction(const Json& law);
 
 // Whether obligation `id` applies to the law (identities, single-impacts and outcomes need a
 // non-empty declaration); read_law has checked that each declaration is an array when present.

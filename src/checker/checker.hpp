@@ -95,7 +95,7 @@ class Checker {
     mutable std::vector<std::optional<PairData>> pair_data_;
 
     Truth holds(const std::string& id) {
-        return holds(static_cast<std::size_t>(std::find(kIds.begin(), kIds.end(), id) - kIds.begin()));
+        return holds(static_cast<std::size_t>(std::find(ids_of(law_).begin(), ids_of(law_).end(), id) - ids_of(law_).begin()));
     }
     const Piece& pc(std::size_t p) const { return law_.pieces[p]; }
     const std::string& name(std::size_t p) const { return law_.pieces[p].name; }
@@ -185,6 +185,17 @@ class Checker {
 
     // ---- witnesses.cpp: counterexamples, re-validated from scratch
     void check_witness(const std::string& id, const Json& w, const std::string& wp, bool local);
+    // coulomb.cpp: the first failure of Coulomb's law in the prover's order (pieces in order;
+    // at each, the friction cone at the rays, then every tangent: the slip sign opposite to
+    // -mu, then to +mu), recomputed by Lemma F; and a refutation checked against it.
+    struct CoulombFailure {
+        std::size_t piece = 0, tangent = 0;
+        int kind = 0; // 0: impulse outside the friction cone at a ray; +1: xi_T > 0 with
+                      // Lambda_T != -mu Lambda_N; -1: xi_T < 0 with Lambda_T != +mu Lambda_N
+        Vec gamma;
+    };
+    std::optional<CoulombFailure> first_coulomb_failure() const;
+    void check_coulomb_witness(const Json& w, const std::string& wp);
 };
 
 // The whole document (check.cpp): 0, or throws Malformed, Rejected, Undecided or a JSON error.

@@ -16,7 +16,7 @@
 namespace impactcert_check::detail {
 
 Checker::Truth Checker::holds(std::size_t k) {
-    if (auto it = decided_.find(kIds[k]); it != decided_.end())
+    if (auto it = decided_.find(ids_of(law_)[k]); it != decided_.end())
         return it->second;
     // check() has validated the obligation's keys, and visits obligations in order: the
     // only ones reached from here out of order (fan, P1) come first.
@@ -31,20 +31,20 @@ Checker::Truth Checker::holds(std::size_t k) {
         // A limit was reached: nothing is claimed, so nothing is checked but the shape, and
         // that the prover could have stopped there.
         require(data.empty(), at(path, "data"), "an undecided obligation carries no evidence");
-        could_be_undecided(kIds[k], str(field(o, path, "limit"), at(path, "limit")), at(path, "limit"));
+        could_be_undecided(ids_of(law_)[k], str(field(o, path, "limit"), at(path, "limit")), at(path, "limit"));
         truth = Truth::undecided;
     } else {
         require(!o.contains("limit"), at(path, "limit"), "only an undecided obligation names a limit");
         // Every listed piece of evidence must be right, whatever the verdict.
-        const bool local = evidence(kIds[k], data, at(path, "data"));
+        const bool local = evidence(ids_of(law_)[k], data, at(path, "data"));
         if (verdict == "refuted") {
-            check_witness(kIds[k], field(o, path, "counterexample"), at(path, "counterexample"), local);
+            check_witness(ids_of(law_)[k], field(o, path, "counterexample"), at(path, "counterexample"), local);
             truth = Truth::refuted;
         } else if (verdict == "proved") {
             bool follows = local;
-            if (kIds[k] == "kinematic" || kIds[k] == "nonexpansive" || kIds[k] == "nonexpansive-lemma")
+            if (ids_of(law_)[k] == "kinematic" || ids_of(law_)[k] == "nonexpansive" || ids_of(law_)[k] == "nonexpansive-lemma")
                 follows = follows && s_is_a_function(path);
-            if (kIds[k] == "nonexpansive-lemma")
+            if (ids_of(law_)[k] == "nonexpansive-lemma")
                 follows = follows && holds("P1") == Truth::proved;
             require(follows, at(path, "verdict"), "\"proved\" does not follow from the evidence");
             truth = Truth::proved;
@@ -52,7 +52,7 @@ Checker::Truth Checker::holds(std::size_t k) {
             malformed(at(path, "verdict"), "unknown verdict");
         }
     }
-    decided_[kIds[k]] = truth;
+    decided_[ids_of(law_)[k]] = truth;
     return truth;
 }
 
@@ -93,7 +93,7 @@ void Checker::could_be_undecided(const std::string& id, const std::string& limit
     if (id == "kinematic")
         for (std::size_t p = 0; p < P(); ++p)
             for (const auto& r : pc(p).rays)
-                require(nonneg(mul(pc(p).Q_, r)), path,
+                require(law_.normals_nonneg(mul(pc(p).Q_, r)), path,
                         "a ray's image is negative: the prover refutes kinematic before it needs the fan");
     if (id == "P1") {
         require(!face_to_face(), path, "the cones meet face to face: P1 is decided on shared rays, without a limit");
@@ -213,7 +213,7 @@ bool Checker::evidence(const std::string& id, const Json& data, const std::strin
         // kinetic: every piece; P3 and kinematic: one per orbit when the symmetries allow it.
         std::vector<std::size_t> ps(P());
         std::iota(ps.begin(), ps.end(), std::size_t{0});
-        if (id != "kinetic")
+        if (id != "kinetic" && law_.tangents.empty()) // with friction the prover reduces nothing
             ps = orthant_firsts();
         require(l.size() <= ps.size() * c, at(dp, key), "too many entries");
         bool ok = true;
@@ -229,11 +229,11 @@ bool Checker::evidence(const std::string& id, const Json& data, const std::strin
             if (id == "kinetic") {
                 const Vec impulse = mul(law_.H, sub(img, r));
                 expect_vec(l[k], ep, "impulse", impulse, "H (Q - I) ray");
-                this_ok = nonneg(impulse);
+                this_ok = law_.impulse_admissible(impulse);
             } else {
                 expect_vec(l[k], ep, "image", img, "Q ray");
                 if (id == "kinematic") {
-                    this_ok = nonneg(img);
+                    this_ok = law_.normals_nonneg(img);
                 } else {
                     std::size_t nz = 0, axis = 0;
                     for (std::size_t i = 0; i < c; ++i)
@@ -252,6 +252,10 @@ bool Checker::evidence(const std::string& id, const Json& data, const std::strin
         }
         complete_unless_failed(!ok, l.size(), ps.size() * c, at(dp, key));
         return ok;
+    }
+    if (id == "coulomb") {
+        require(data.empty(), dp, "coulomb is decided by the checker itself: no evidence is listed");
+        return !first_coulomb_failure();
     }
     if (id == "energetic") {
         expect_keys(data, dp, {"pieces"});
@@ -499,7 +503,7 @@ bool Checker::check_outcome_pieces(const Json& l, const std::string& lp, const V
 
 // The last entry of another obligation's evidence list (evidence() has checked its keys).
 const Json& Checker::last_entry(const std::string& id, const char* key) const {
-    const std::size_t k = static_cast<std::size_t>(std::find(kIds.begin(), kIds.end(), id) - kIds.begin());
+    const std::size_t k = static_cast<std::size_t>(std::find(ids_of(law_).begin(), ids_of(law_).end(), id) - ids_of(law_).begin());
     const std::string dp = at(at("$.obligations", k), "data");
     const Json& data = field(obl_[k], at("$.obligations", k), "data");
     if (!data.is_object() || !data.contains(key) || !data.at(key).is_array() || data.at(key).empty())

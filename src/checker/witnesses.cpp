@@ -52,6 +52,10 @@ void Checker::check_witness(const std::string& id, const Json& w, const std::str
         check_symmetries_witness(w, wp);
         return;
     }
+    if (id == "coulomb") {
+        check_coulomb_witness(w, wp);
+        return;
+    }
     if (id == "fan") {
         expect_keys(w, wp, {"gamma", "interior_of", "reason"});
         str(field(w, wp, "reason"), at(wp, "reason"));
@@ -260,12 +264,13 @@ void Checker::check_witness(const std::string& id, const Json& w, const std::str
         if (id == "kinetic") {
             const Vec impulse = mul(law_.H, sub(img, r));
             expect_vec(w, wp, "impulse", impulse, "H (Q - I) ray");
-            require(!nonneg(impulse), at(wp, "ray"), "impulse is non-negative");
+            require(!law_.impulse_admissible(impulse), at(wp, "ray"),
+                    law_.tangents.empty() ? "impulse is non-negative" : "impulse is in the friction cone");
             return;
         }
         expect_vec(w, wp, "image", img, "Q ray");
         if (id == "kinematic") {
-            require(!nonneg(img), at(wp, "ray"), "image is non-negative");
+            require(!law_.normals_nonneg(img), at(wp, "ray"), "image is non-negative");
         } else {
             std::size_t nz = 0;
             for (const auto& x : img)

@@ -51,6 +51,8 @@ int run_derive_sequential(const DeriveArgs& a) {
     DeriveOptions o;
     static_cast<System&>(o) = system_from(a.system);
     const Mechanics mech = make_mechanics(o);
+    if (mech.has_friction())
+        throw InputError("--system: derive sequential does not take friction yet (derive newton does)");
     o.restitution = restitution_list(a.restitution, mech.contacts());
     const bool any_order = a.rule == "any";
     o.rule = any_order ? ImpactRule::most_negative : parse_rule(a.rule);
@@ -129,17 +131,78 @@ int run_derive_sequential(const DeriveArgs& a) {
     return kExitProved;
 }
 
+namespace {
+
+// derive newton on a system with friction (SPEC section 9): the law, or exit 1 with the exact
+// gamma- where it has two solutions (or none).
+int run_derive_friction(const DeriveArgs& a, FrictionOptions o, const Mechanics& mech) {
+    TerminalProgress terminal; // on a terminal only, after a second
+    if (const Progress show = terminal.callback())
+        o.progress = [show](const char* phase, std::size_t done, std::size_t total) {
+            show(std::string("derive ") + phase, std::to_string(done) + (total ? "/" + std::to_string(total) : ""));
+        };
+    const FrictionResult r = derive_newton_friction(o);
+    if (r.not_a_function) {
+        const NotAFunction& w = *r.not_a_function;
+        if (w.none)
+            std::cerr << "impactcert: derive: the Newton law with friction is not a function: gamma- = "
+                      << short_text(w.gamma_minus) << " has no solution\n";
+        else
+            std::cerr << "impactcert: derive: the Newton law with friction is not a function: gamma- = "
+                      << short_text(w.gamma_minus) << " has two solutions, gamma+ = " << short_text(w.gamma_a)
+                      << " (mode " << w.mode_a << ") and " << short_text(w.gamma_b) << " (mode " << w.mode_b << ")"
+                      << (a.json ? "" : "; the exact impulses with --json") << "\n";
+        if (a.json) {
+            Json j;
+            j["format"] = "impactcert-derive/1";
+            j["verdict"] = w.none ? "no-solution" : "two-solutions";
+            j["gamma_minus"] = to_json(w.gamma_minus);
+            if (!w.none) {
+                j["modes"] = Json::array({w.mode_a, w.mode_b});
+                j["impulses"] = Json::array({to_json(w.lambda_a), to_json(w.lambda_b)});
+                j["gamma_plus"] = Json::array({to_json(w.gamma_a), to_json(w.gamma_b)});
+            }
+            write_stdout(j.dump(2) + "\n");
+        }
+        return kExitRefuted;
+    }
+    (void)mech;
+    emit(a.out, law_text(*r.law),
+         std::to_string(r.law->pieces.size()) + " pieces, " + std::to_string(r.regions) + " mode regions, " +
+             std::to_string(r.modes) + " modes, " + std::to_string(r.pairs) + " mode pairs without a second solution");
+    return kExitProved;
+}
+
+} // namespace
+
 int run_derive_classical(const DeriveArgs& a, bool poisson) {
     ClassicalOptions o;
     static_cast<System&>(o) = system_from(a.system);
+    if (!a.restitution_tangential.empty()) {
+        if (o.friction.empty())
+            throw InputError("--restitution-tangential: the system has no friction");
+        const auto e_t = parse_rational(a.restitution_tangential);
+        if (!e_t || sign_of(*e_t) == Sign::negative || *e_t > Rational(1))
+            throw InputError("--restitution-tangential: expected a rational in [0, 1], got \"" + a.restitution_tangential + "\"");
+        for (auto& f : o.friction)
+            f.restitution_tangential = *e_t;
+    }
     const Mechanics mech = make_mechanics(o);
-    o.restitution = restitution_list(a.restitution, mech.contacts());
+    if (mech.has_friction() && poisson)
+        throw InputError("derive poisson: the Poisson-type law with friction is not offered (proofs/README.md, "
+                         "\"Friction\": Glocker's Part II law needs the tangential state at the end of compression)");
+    o.restitution = restitution_list(a.restitution, mech.normals);
     o.on = parse_restitution_on(a.restitution_on);
     o.max_bits = a.max_bits;
     if (poisson && o.on != RestitutionOn::all)
         throw InputError("--restitution-on: the Poisson-type law has no such choice (its expansion phase acts only "
                          "where compression did)");
     o.outcomes_override = outcomes_from(a.outcomes_from, mech.balls());
+    if (mech.has_friction()) {
+        FrictionOptions fo;
+        static_cast<ClassicalOptions&>(fo) = o;
+        return run_derive_friction(a, fo, mech);
+    }
     const Law law = poisson ? derive_poisson(o) : derive_newton(o);
     emit(a.out, law_text(law), std::to_string(law.pieces.size()) + " pieces");
     return kExitProved;

@@ -49,6 +49,8 @@ VerifyReport slice_only(VerifyReport report, const Shard& shard) {
 
 int run_verify_shard(const std::string& law_path, const Shard& shard, bool json, Limits limits) {
     const Model model = load_model(law_path, limits.max_pieces, limits.max_memory_mb);
+    if (model.has_friction())
+        throw InputError("--shard: laws with friction are not sharded yet (verify and certify them whole)");
     limits.evidence = false;
     const VerifyReport report = slice_only(decide_slice(model, shard, limits), shard);
     const std::string label = "shard " + std::to_string(shard.index + 1) + "/" + std::to_string(shard.count);
@@ -64,6 +66,8 @@ int run_verify_shard(const std::string& law_path, const Shard& shard, bool json,
 
 int run_certify_shard(const std::string& law_path, const Shard& shard, const std::string& out_path, Limits limits) {
     const Model model = load_model(law_path, limits.max_pieces, limits.max_memory_mb);
+    if (model.has_friction())
+        throw InputError("--shard: laws with friction are not sharded yet (verify and certify them whole)");
     VerifyReport report = decide_slice(model, shard, limits);
     const Json part = make_certificate_part(model, std::move(report), shard);
     write_file(out_path, certificate_text(part));

@@ -40,6 +40,7 @@ struct DeriveArgs {
     SystemArgs system;
     std::string restitution = "1", rule = "most-negative", out, outcomes_from;
     std::string restitution_on = "all";
+    std::string restitution_tangential; // friction: e_T of every tangent (empty: the system's, else 0)
     std::size_t max_impacts = 100, max_bits = kDefaultMaxBits, max_words = kDefaultMaxWords;
     bool json = false;
 };

@@ -3,6 +3,9 @@
 // gamma-) by the impact equations, SPEC section 1).
 // Check: H (Q_i - I) r >= 0 for every ray r of every cone; Lemma R with L = H (Q_i - I). A ray
 // with a negative impulse is the witness.
+// With friction (SPEC section 9): Lambda in the friction cone, Lambda_N >= 0 and
+// mu_k Lambda_Nk -+ Lambda_Tj >= 0 for every tangent j of contact k: linear inequalities in
+// Lambda, so again the rays suffice (Lemma R); the witness is a ray outside the cone.
 #include "int_kernel.hpp"
 #include "prover.hpp"
 
@@ -34,13 +37,30 @@ bool impulses_nonnegative_int(const intk::IntMatrix& H, const Piece& piece, std:
 
 } // namespace
 
+bool Prover::in_friction_cone(const Vector& impulse) const {
+    for (std::size_t k = 0; k < m_.normals(); ++k)
+        if (sign_of(impulse[k]) == Sign::negative)
+            return false;
+    for (std::size_t j = 0; j < m_.tangents().size(); ++j) {
+        const Tangent& t = m_.tangents()[j];
+        const Rational bound = t.mu * impulse[t.contact];
+        const Rational& lt = impulse[m_.normals() + j];
+        if (sign_of(bound - lt) == Sign::negative || sign_of(bound + lt) == Sign::negative)
+            return false;
+    }
+    return true;
+}
+
 Outcome Prover::kinetic() {
     Outcome o;
     o.method = "impulses at rays";
     const Matrix I = Matrix::identity(c_);
     // Without evidence, the signs first in int64 (int_kernel.hpp): Hn (Qn r - dQ r) has the
     // signs of H (Q - I) r; any piece that is not all non-negative, or does not fit, over GMP.
-    const auto H_int = limits_.evidence || !limits_.integer_kernels ? std::nullopt : intk::to_int(m_.H());
+    const bool friction = m_.has_friction();
+    if (friction)
+        o.method = "impulses at rays in the friction cone";
+    const auto H_int = limits_.evidence || !limits_.integer_kernels || friction ? std::nullopt : intk::to_int(m_.H());
     std::vector<intk::i64> t(c_), impulse_int(c_);
     for (std::size_t p = 0; p < pieces_.size(); ++p) {
         if (H_int && impulses_nonnegative_int(*H_int, pieces_[p], t, impulse_int)) {
@@ -54,7 +74,7 @@ Outcome Prover::kinetic() {
             ++o.checks;
             if (limits_.evidence)
                 o.data["impulses"].push_back(Json{{"piece", name(p)}, {"ray", to_json(r)}, {"impulse", to_json(impulse)}});
-            if (!nonnegative(impulse))
+            if (friction ? !in_friction_cone(impulse) : !nonnegative(impulse))
                 return refute(o, Json{{"piece", name(p)}, {"ray", to_json(r)},
                                       {"impulse", to_json(impulse)}});
         }

@@ -110,7 +110,9 @@ class Prover {
     Outcome p2();             // p2.cpp
     Outcome p3();             // p3.cpp
     Outcome kinematic();      // kinematic.cpp
-    Outcome kinetic();        // kinetic.cpp
+    Outcome kinetic();        // kinetic.cpp (with friction: the friction cone)
+    Outcome coulomb();        // coulomb.cpp (laws with friction)
+    bool in_friction_cone(const Vector& impulse) const; // kinetic.cpp
     Outcome energetic();      // energetic.cpp
     Outcome identities();     // identities.cpp
     Outcome single_impacts(); // single_impacts.cpp

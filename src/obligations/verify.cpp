@@ -107,7 +107,7 @@ Json certificate_json(const CopositivityResult& r) {
 VerifyReport Prover::run() {
     VerifyReport report;
     report.law = m_.law().name;
-    for (const char* id : kObligationIds) {
+    for (const char* id : obligation_ids(m_.has_friction())) {
         const auto start = std::chrono::steady_clock::now();
         ObligationResult r;
         r.id = id;
@@ -117,7 +117,7 @@ VerifyReport Prover::run() {
             r.method = "not requested";
         } else if (!m_.applies(id)) {
             r.verdict = Verdict::skipped;
-            r.method = "nothing declared";
+            r.method = r.id == "P3" ? "not applicable with friction" : "nothing declared";
         } else {
             try {
                 Outcome o = dispatch(r.id);
@@ -151,6 +151,7 @@ Outcome Prover::dispatch(const std::string& id) {
     if (id == "P3") return p3();
     if (id == "kinematic") return kinematic();
     if (id == "kinetic") return kinetic();
+    if (id == "coulomb") return coulomb();
     if (id == "energetic") return energetic();
     if (id == "identities") return identities();
     if (id == "single-impacts") return single_impacts();

@@ -1,0 +1,135 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""An independent oracle for the Newton-type impact law with Coulomb friction (SPEC section 9).
+
+Written separately from src/derive_friction.cpp, in body velocities and Python fractions: for a
+system (M, W_N, tangents with mu and e_T) and u-, every contact mode (open; closed with stick or
+slip either way per tangent) is a square linear system in (u+, Lambda),
+    M (u+ - u-) = W Lambda,  and per contact the mode's equalities,
+solved by Gaussian elimination over the rationals, then the mode's inequalities are checked. The
+distinct u+ found are the solutions. G = W^T M^-1 W is never formed.
+"""
+from fractions import Fraction as F
+import itertools
+
+
+def solve(A, b):
+    """A x = b over the rationals; None when A is singular."""
+    n = len(A)
+    m = [list(A[i]) + [b[i]] for i in range(n)]
+    for col in range(n):
+        piv = next((r for r in range(col, n) if m[r][col] != 0), None)
+        if piv is None:
+            return None
+        m[col], m[piv] = m[piv], m[col]
+        p = m[col][col]
+        for r in range(n):
+            if r != col and m[r][col] != 0:
+                f = m[r][col] / p
+                row_c = m[col]
+                row_r = m[r]
+                for k in range(col, n + 1):
+                    row_r[k] -= f * row_c[k]
+    return [m[i][n] / m[i][i] for i in range(n)]
+
+
+class System:
+    def __init__(self, M, WN, friction):
+        """M: n x n; WN: list of normal columns (each n entries); friction: list of
+        (contact index, mu, e_T, [tangent columns])."""
+        self.M = [[F(x) for x in row] for row in M]
+        self.n = len(M)
+        self.normals = [[F(x) for x in col] for col in WN]
+        self.tangents = []  # (contact, mu, e_T, column)
+        for (k, mu, eT, cols) in friction:
+            for col in cols:
+                self.tangents.append((k, F(mu), F(eT), [F(x) for x in col]))
+        self.columns = self.normals + [t[3] for t in self.tangents]
+        self.d = len(self.columns)
+
+    def velocities(self, u):
+        return [sum(c[i] * u[i] for i in range(self.n)) for c in self.columns]
+
+    def energy2(self, u):
+        return sum(u[i] * self.M[i][j] * u[j] for i in range(self.n) for j in range(self.n))
+
+    def solutions(self, u_minus, e, approaching=False):
+        """Every distinct u+ of the Newton law with friction at u-; e: one value per normal."""
+        n, d, N = self.n, self.d, len(self.normals)
+        u_minus = [F(x) for x in u_minus]
+        gm = self.velocities(u_minus)
+        Dn = []
+        for k in range(N):
+            applies = (not approaching) or gm[k] < 0
+            Dn.append(1 + F(e[k]) if applies else F(1))
+        Dt = [1 + t[2] for t in self.tangents]
+        tang_of = [[j for j, t in enumerate(self.tangents) if t[0] == k] for k in range(N)]
+        states = []
+        for k in range(N):
+            s = ["open"]
+            if not tang_of[k]:
+                s.append("closed")
+            else:
+                s += ["".join(w) for w in itertools.product("sfb", repeat=len(tang_of[k]))]
+            states.append(s)
+        Mu = [sum(self.M[i][j] * u_minus[j] for j in range(n)) for i in range(n)]
+        found = []
+        for choice in itertools.product(*states):
+            # Unknowns x = (u+ [n], Lambda [d]).
+            A, b = [], []
+            for i in range(n):
+                A.append([self.M[i][j] for j in range(n)] + [-self.columns[c][i] for c in range(d)])
+                b.append(Mu[i])
+            ineq = []  # functions of (gp, lam) that must be >= 0
+
+            def xi(q, gp, D=None):
+                return gp[q] + (D - 1) * gm[q]
+
+            def row_xi(q, D):  # xi_q = col_q . u+ + (D - 1) gm_q = 0
+                A.append([self.columns[q][i] for i in range(n)] + [F(0)] * d)
+                b.append(-(D - 1) * gm[q])
+
+            def row_lam(coef):
+                A.append([F(0)] * n + coef)
+                b.append(F(0))
+
+            def unit(q, s=1):
+                v = [F(0)] * d
+                v[q] = F(s)
+                return v
+
+            for k, st in enumerate(choice):
+                if st == "open":
+                    row_lam(unit(k))
+                    ineq.append(lambda gp, lam, k=k: xi(k, gp, Dn[k]))
+                    for j in tang_of[k]:
+                        row_lam(unit(N + j))
+                    continue
+                row_xi(k, Dn[k])
+                ineq.append(lambda gp, lam, k=k: lam[k])
+                if st == "closed":
+                    continue
+                for t, j in enumerate(tang_of[k]):
+                    T = N + j
+                    mu = self.tangents[j][1]
+                    if st[t] == "s":
+                        row_xi(T, Dt[j])
+                        ineq.append(lambda gp, lam, k=k, T=T, mu=mu: mu * lam[k] - lam[T])
+                        ineq.append(lambda gp, lam, k=k, T=T, mu=mu: mu * lam[k] + lam[T])
+                    elif st[t] == "f":
+                        c = unit(T)
+                        c[k] += mu
+                        row_lam(c)
+                        ineq.append(lambda gp, lam, T=T, j=j: xi(T, gp, Dt[j]))
+                    else:
+                        c = unit(T)
+                        c[k] -= mu
+                        row_lam(c)
+                        ineq.append(lambda gp, lam, T=T, j=j: -xi(T, gp, Dt[j]))
+            x = solve(A, b)
+            if x is None:
+                continue
+            up, lam = x[:n], x[n:]
+            gp = self.velocities(up)
+            if all(f(gp, lam) >= 0 for f in ineq) and up not in found:
+                found.append(up)
+        return found
