@@ -11,7 +11,13 @@
 
 namespace impactcert {
 
-const char* statement_of(const std::string& id) {
+const char* statement_of(const std::string& id, bool friction) {
+    if (friction && id == "kinematic") return "gamma_N+ >= 0 for every gamma- (the normals; tangential velocities have no sign)";
+    if (friction && id == "kinetic")
+        return "Lambda = H (Q_i - I) gamma in the friction cone on C_i: Lambda_N >= 0, |Lambda_T| <= mu Lambda_N";
+    if (id == "coulomb")
+        return "on C_i, Lambda in the friction cone and friction opposes the slip: xi_T = gamma_T+ + e_T gamma_T- > 0 "
+               "implies Lambda_T = -mu Lambda_N, xi_T < 0 implies Lambda_T = +mu Lambda_N";
     if (id == "fan") return "the cones cover R^c and overlap only on shared faces";
     if (id == "P1") return "Q_i v = Q_j v on every ray v shared by C_i and C_j";
     if (id == "P2") return "|Q_i x|_H = |x|_H for all x and every piece";
@@ -65,7 +71,7 @@ Json certificate_head(const Model& model, const std::string& verdict) {
 Json obligation_item(const ObligationResult& o, Json data) {
     Json item;
     item["id"] = o.id;
-    item["statement"] = statement_of(o.id);
+    item["statement"] = statement_of(o.id, o.friction);
     item["method"] = o.method;
     item["claimed"] = o.claimed;
     item["verdict"] = to_string(o.verdict);

@@ -42,6 +42,6 @@ class CertificateWriter {
     bool first_ = true;
 };
 std::string sha256_hex(const std::string& bytes);
-const char* statement_of(const std::string& obligation_id);
+const char* statement_of(const std::string& obligation_id, bool friction = false);
 
 } // namespace impactcert

@@ -439,9 +439,17 @@ FrictionResult derive_newton_friction(const FrictionOptions& o) {
                       "(xi_T > 0, Lambda_T = -mu Lambda_N), b slip backward; /e lists the closed contacts "
                       "where restitution applies when not all of them; parts of a triangulated region by .1, .2, ...";
     add_region_pieces(regions, d, law, o.progress);
-    declare_outcomes(law, o.outcomes_override, [&](const Vector& u) -> std::optional<Vector> {
-        return simulate_newton_friction(mech, o.restitution, o.on, u);
-    });
+    // Outcomes: the unit velocities +-e_i of the coordinates, each simulated in body velocities
+    // (not through the law); `outcomes` then checks the law against them.
+    std::vector<OutcomeDecl> experiments = o.outcomes_override;
+    if (experiments.empty())
+        for (std::size_t i = 0; i < mech.balls(); ++i)
+            for (const int s : {-1, 1}) {
+                const Vector u = Rational(s) * unit_vector(mech.balls(), i);
+                if (const auto up = simulate_newton_friction(mech, o.restitution, o.on, u))
+                    experiments.push_back(OutcomeDecl{std::string("u") + std::to_string(i + 1) + (s < 0 ? " = -1" : " = +1"), u, *up});
+            }
+    law.outcomes = experiments;
     // Every gamma- has a solution exactly when the regions cover R^d: the fan of the law.
     const Model model(law);
     const std::vector<std::string> only{"fan"};

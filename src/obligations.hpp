@@ -35,6 +35,7 @@ struct ObligationResult {
     std::string limit;                    // undecided: the limit reached and the option raising it
     Json data;                            // what was checked: the certificate's evidence
     std::chrono::nanoseconds elapsed{0};  // wall time of this obligation
+    bool friction = false;                // the law has friction (the statements of section 9)
 };
 
 struct VerifyReport {

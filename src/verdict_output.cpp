@@ -79,7 +79,17 @@ std::string xml_escape(const std::string& s) {
 }
 
 std::string verdict_table(const VerifyReport& report, const Model& model) {
-    return verdict_table(report, model.balls(), model.contacts(), model.pieces().size());
+    if (!model.has_friction())
+        return verdict_table(report, model.balls(), model.contacts(), model.pieces().size());
+    // With friction: velocities (not balls), the contacts and their tangents (gamma in R^d).
+    std::string table = verdict_table(report, model.balls(), model.contacts(), model.pieces().size());
+    const std::string old_head = table.substr(0, table.find('\n'));
+    const std::size_t t = model.tangents().size();
+    const std::string head = "impactcert verify: " + report.law + " (" + std::to_string(model.balls()) + " velocities, " +
+                             std::to_string(model.normals()) + (model.normals() == 1 ? " contact" : " contacts") +
+                             " with " + std::to_string(t) + (t == 1 ? " friction tangent, " : " friction tangents, ") +
+                             std::to_string(model.pieces().size()) + " pieces)";
+    return head + table.substr(old_head.size());
 }
 
 std::string verdict_table(const VerifyReport& report, std::size_t balls, std::size_t contacts, std::size_t pieces) {

@@ -98,6 +98,10 @@ class Checker {
         return holds(static_cast<std::size_t>(std::find(ids_of(law_).begin(), ids_of(law_).end(), id) - ids_of(law_).begin()));
     }
     const Piece& pc(std::size_t p) const { return law_.pieces[p]; }
+    std::size_t index_of(const std::string& id) const {
+        const auto& ids = ids_of(law_);
+        return static_cast<std::size_t>(std::find(ids.begin(), ids.end(), id) - ids.begin());
+    }
     const std::string& name(std::size_t p) const { return law_.pieces[p].name; }
     std::size_t P() const { return law_.pieces.size(); }
 

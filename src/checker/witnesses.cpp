@@ -192,7 +192,8 @@ void Checker::check_witness(const std::string& id, const Json& w, const std::str
             require(s_is_a_function(wp) && holds("P1") == Truth::proved, wp,
                     "S is not a continuous function: the canonical witness is borrowed");
             require(a == b, wp, "the lemma's witness lies in one cone");
-            const Json& data = field(obl_[10], "$.obligations[10]", "data");
+            const std::size_t lemma = index_of("nonexpansive-lemma");
+            const Json& data = field(obl_[lemma], at("$.obligations", lemma), "data");
             const std::size_t listed = data.is_object() && data.contains("pieces") ? data.at("pieces").size() : 0;
             const auto ps = firsts();
             require(listed < ps.size() && a == ps[listed], at(wp, "piece_a"), "is not the first piece that fails");

@@ -112,6 +112,7 @@ VerifyReport Prover::run() {
         ObligationResult r;
         r.id = id;
         r.claimed = m_.claimed(id);
+        r.friction = m_.has_friction();
         if (only_ && std::find(only_->begin(), only_->end(), r.id) == only_->end()) {
             r.verdict = Verdict::skipped;
             r.method = "not requested";
