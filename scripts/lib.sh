@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 # scripts/lib.sh -- shared by the set-up scripts (sourced, not run).
 # Installs the Debian packages impactcert needs (only the missing ones) and configures/builds.
 set -euo pipefail

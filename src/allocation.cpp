@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // allocation.cpp -- the global operator new and delete of the three programs, over malloc.
 //
 // The programs link mimalloc or jemalloc (CMakeLists.txt, IMPACTCERT_ALLOCATOR), which replace

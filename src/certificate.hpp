@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // certificate.hpp -- the `impactcert-certificate/1` document (SPEC section 4, schema in
 // proofs/README.md).
 //

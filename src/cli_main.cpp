@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // cli_main.cpp -- the `impactcert` command (SPEC section 6).
 //
 // Exit status: 0 success / every claim proved; 1 a claim refuted; 2 bad input or usage.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // consistency.hpp -- consistency of a black-box impact map (SPEC section 8): `fuzz` with a system
 // (--masses, --walls, --system) and no --law.
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // copositivity.hpp -- exact decisions on quadratic forms: PSD (by LDL^T) and copositivity.
 //
 // Contract (proofs/README.md, "Exact copositivity", argues each step):

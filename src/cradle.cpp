@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // cradle.cpp -- see cradle.hpp. Exact: small integer matrices built as Rationals.
 #include "cradle.hpp"
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // cradle.hpp -- the N-ball equal-mass elastic cradle law, S = sort (SPEC section 6,
 // `impactcert derive cradle`), with its symmetries declared (proofs/README.md, "Symmetries").
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // derive.hpp -- impact laws derived from the mechanics (SPEC section 7).
 //
 // Contract: derive_sequential(options) computes, exactly, the sequential impact law of a system

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The classical simultaneous impact laws, derived exactly (SPEC section 8; derive.hpp).
 //
 // Newton-type: gamma+ = gamma- + G Lambda, 0 <= Lambda _|_ gamma+ + E rho(gamma-) >= 0. With

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // derive_order.cpp -- does the sequential law depend on the order of the impacts? (derive.hpp)
 //
 // Every admissible word is a path in a tree of cells (not necessarily closed polyhedral cones,

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // derive_planar.hpp -- internal to derive.cpp: the sequential process of a system with two
 // contacts, by sectors of the plane (proofs/README.md, "Planar derivation").
 //

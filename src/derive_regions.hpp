@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // derive_regions.hpp -- internal to the derivations (derive.cpp, derive_classical.cpp): from
 // polyhedral regions with one linear map each to the pieces of a law file.
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // eft.hpp -- exact arithmetic on doubles by error-free transformations, for the fuzzer's
 // reference (a floating-point module on purpose: it is exact without GMP, and fast).
 //

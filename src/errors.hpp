@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // errors.hpp -- the one exception type for bad input.
 //
 // Contract: an InputError carries a one-line message that names the place of the defect

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // exact_conditions.cpp -- the continuity set of a two-contact sweep, exactly (exact_conditions.hpp).
 //
 // The only translation unit with CGAL's polynomials and algebraic kernel (slow headers).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // exact_conditions.hpp -- where continuity (P1) holds in the parameters of a sweep, exactly.
 //
 // Contract (proofs/README.md, "Where continuity holds"): for a sweep of a three-ball chain (two

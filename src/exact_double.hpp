@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // exact_double.hpp -- the one way from a double to the exact path.
 //
 // Contract: a finite double is a dyadic rational and converts exactly. A NaN or an infinity has

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #include "fan.hpp"
 
 #include "int_kernel.hpp"

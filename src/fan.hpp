@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // fan.hpp -- do the cones tile R^c, is S a function on R^c, and where do two cones meet?
 //
 // Contract (proofs/README.md, obligations `fan` and `P1`, argues each step):

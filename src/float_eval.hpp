@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // float_eval.hpp -- any law file evaluated in double, with a stated error bound.
 //
 // Contract: FloatLaw(model) converts every entry of R^-1 and Q to the nearest double (an entry

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // fuzz.hpp -- differential testing of floating-point implementations of any law against the
 // exact law.
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // fuzz_impl.hpp -- the implementations the fuzzer can test.
 //
 // Contract:

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // fuzz_reference.hpp -- the exact value of any law at double inputs, correctly rounded, fast.
 //
 // Contract:

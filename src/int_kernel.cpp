@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // int_kernel.cpp -- see int_kernel.hpp. GMP only to convert; int64 and __int128 with overflow
 // checks to compute.
 #include "int_kernel.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // int_kernel.hpp -- small exact integer linear algebra in int64, for the fast paths of the
 // exact core (proofs/README.md, "Integer kernels").
 //

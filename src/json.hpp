@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // json.hpp -- exact values as JSON: the Json type of verdicts and certificates.
 //
 // Contract: Json keeps keys in insertion order, so every document impactcert writes is

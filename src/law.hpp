@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // law.hpp -- a cone-wise linear impact law, as declared and as prepared for proof.
 //
 // Contract:

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // law_json.hpp -- the `impactcert-law/1` file format (SPEC section 4).
 //
 // Contract:

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // limits.hpp -- resource limits of the exact decisions.
 //
 // Contract: every exact decision whose cost can grow exponentially with the input (KKT

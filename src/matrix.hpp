@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // matrix.hpp -- small dense exact vectors and matrices.
 //
 // Contract: sizes are checked (std::logic_error on a mismatch: that is a bug, not bad input);

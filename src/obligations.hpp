@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // obligations.hpp -- every proof obligation of SPEC section 3, decided exactly.
 //
 // Contract: verify(model) evaluates all twelve obligations in kObligationIds order, claimed or

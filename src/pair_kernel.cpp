@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // pair_kernel.cpp -- see pair_kernel.hpp. No floating point: GMP to prepare, int64 and
 // __int128 with overflow checks to decide.
 #include "pair_kernel.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // pair_kernel.hpp -- the pair forms of `nonexpansive` in machine integers (proofs/README.md,
 // "Integer kernels").
 //

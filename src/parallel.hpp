@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // parallel.hpp -- starting threads without letting a failed start end the process.
 //
 // std::thread's constructor throws when the system cannot start one more thread (no memory for

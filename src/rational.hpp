@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // rational.hpp -- the exact number type of impactcert.
 //
 // Contract: every value on the exact path is a `Rational` (CGAL's GMP rational, CGAL::Gmpq).

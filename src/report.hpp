@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // report.hpp -- human-readable reports of a verification.
 //
 // Contract:

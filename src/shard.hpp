@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // shard.hpp -- work split over processes and machines the way SAT proofs are split and checked
 // (cube and conquer): `--shard K/N` makes a deterministic slice of a run, self-contained, and the
 // slices are merged and checked for coverage (proofs/README.md, "Shards").

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // smt.hpp -- SMT-LIB2 encodings of the universal claims, for an independent second decision.
 //
 // Contract: smt_problems(model) returns one self-contained SMT-LIB2 script per universal claim

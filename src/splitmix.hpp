@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // splitmix.hpp -- the samplers' generator: SplitMix64 (Steele, Lea and Flood), one 64-bit state,
 // so that a sample is a pure function of (seed, index). Shared by the law fuzzer and the
 // consistency fuzzer.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // stream.hpp -- `impactcert verify --stream`: the obligations of a compact law decided without
 // its matrices (proofs/README.md, "Streamed laws").
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // stream_decide.hpp -- internal to stream_verify.cpp and stream_fan.cpp: the decisions of
 // verify --stream over an Expansion (stream.hpp, stream_store.hpp; proofs/README.md, "Streamed
 // laws"). Streamed::run() decides every obligation, each pass in its own member: the fan and the

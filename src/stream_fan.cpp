@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // stream_fan.cpp -- verify --stream: the fan (Lemmas ST1 and ST2 of proofs/README.md, "Streamed
 // laws") and the pieces containing the outcomes' gamma-, in one membership pass over the pieces.
 #include "stream.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // stream_store.cpp -- the compact law as ids (stream_store.hpp), closed under its symmetries as
 // Model closes it (proofs/README.md, "Symmetries", "Compact laws"; "Streamed laws").
 #include "stream.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // stream_store.hpp -- internal to stream*.cpp: a compact law expanded into ids (stream.hpp).
 //
 // Contract: Expansion(law, base, limits) closes the listed pieces of `law` (validated as `base`,

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // stream_verify.cpp -- verify --stream (stream.hpp): every obligation of a compact law by passes
 // over the ids of its pieces. The lemmas are in proofs/README.md, "Streamed laws"; the symmetry
 // reductions in "Symmetries"; the fan criterion in "fan" (Check, any c).

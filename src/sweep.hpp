@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // sweep.hpp -- derive + verify over a grid of parameters (SPEC section 6, `impactcert sweep`).
 //
 // Contract: the masses and restitution lists may name parameters ("1,m,1", "e"); each named

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // sweep_grid.cpp -- the grid points of `sweep --vary` (sweep.hpp, grid_values).
 //
 // Not on the exact path (tests/no_floating_point.cmake): the points are exact rationals, and

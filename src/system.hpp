@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // system.hpp -- mechanical systems beyond chains (SPEC section 8).
 //
 // Contract:

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // verdict_output.hpp -- the three ways a VerifyReport leaves the program.
 //
 // Contract:

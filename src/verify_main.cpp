@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // verify_main.cpp -- the program impactcert-verify: `impactcert verify` alone, with the same
 // options, output and exit statuses (cli/options.hpp). It compiles the exact core and verify's
 // command line only: the first build of a fresh machine (scripts/verify) and a CI gate that

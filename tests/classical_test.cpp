@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // classical_test.cpp -- systems beyond chains (SPEC section 8), the classical Newton- and
 // Poisson-type laws derived exactly, and the sequential law on walls and planar disks, each
 // against a solution that shares nothing with the derivation: the LCPs solved in ball velocities

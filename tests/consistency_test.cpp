@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // consistency_test.cpp -- consistency fuzzing of black-box impact maps (SPEC section 8): the exact
 // checks and their tolerance on hand-made data, then whole runs against drivers that are
 // consistent (the exact sort law, impactcert's own float laws) and drivers that break one

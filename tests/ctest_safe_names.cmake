@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 # ctest_safe_names.cmake -- a test name with ';' is split by catch_discover_tests into a name that
 # matches no test case, and CTest then "passes" a test that never ran (eight did, one of them with
 # a stale expectation). Fails when any TEST_CASE name contains ';'.

@@ -1,4 +1,5 @@
 #!/bin/bash
+# SPDX-License-Identifier: GPL-3.0-or-later
 # Builds the Debian package with cpack, unpacks it into a scratch root (dpkg-deb -x, no root
 # needed), and runs the installed programs from there: the paper's law proved, a certificate
 # written and checked, the header and CMake package present, the package's dependencies declared.
@@ -20,6 +21,12 @@ for lib in $needed; do
 done
 test -x "$dir/root/usr/bin/impactcert" && test -x "$dir/root/usr/bin/impactcert-verify" && test -x "$dir/root/usr/bin/impactcert-check"
 test -f "$dir/root/usr/include/impactcert/float_law.hpp"
+# Licences: the copyright file names GPL-3.0-or-later for the programs and MIT for the header,
+# whose own SPDX line says MIT.
+grep -q "^License: GPL-3.0-or-later" "$dir/root/usr/share/doc/impactcert/copyright"
+grep -q "^License: MIT" "$dir/root/usr/share/doc/impactcert/copyright"
+test -f "$dir/root/usr/share/doc/impactcert/MIT.txt"
+head -1 "$dir/root/usr/include/impactcert/float_law.hpp" | grep -q "SPDX-License-Identifier: MIT"
 test -n "$(find "$dir/root/usr/lib" -name impactcertConfig.cmake -path '*cmake/impactcert*')"
 "$dir/root/usr/bin/impactcert" verify >/dev/null
 "$dir/root/usr/bin/impactcert-verify" >/dev/null

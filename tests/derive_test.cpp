@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // derive_test.cpp -- derived sequential impact laws (SPEC section 7) against the paper's law, the
 // sort law, and a direct simulation in ball velocities that shares nothing with the derivation.
 #include "certificate.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #include "float_eval.hpp"
 #include "fuzz.hpp"
 #include "law_json.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #include "derive.hpp"
 #include "eft.hpp"
 #include "float_eval.hpp"

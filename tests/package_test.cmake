@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 # Installs the build tree into a scratch prefix, then configures, builds and runs a downstream
 # project that uses find_package(impactcert) and impactcert::float_law.
 set(prefix "${BUILD_DIR}/package-test/prefix")

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // reliability_test.cpp -- issue 18: no signal, no runaway, no lost write, on the inputs impactcert
 // itself produces. Each case is a reproduction of a defect found by review, named after it.
 #include "certificate.hpp"

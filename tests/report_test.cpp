@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #include "law_json.hpp"
 #include "paper_law.hpp"
 #include "report.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // research_test.cpp -- order independence (`derive sequential --rule any`) and collision counts
 // against the literature: the braid relation for three elastic balls, ceil(pi / theta) for the
 // left-first and right-first rules, Galperin's pi billiard (31, 314, 3141 impacts).

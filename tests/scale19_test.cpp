@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // scale19_test.cpp -- issue 19: what matters first (a discontinuity refutes nonexpansive near
 // P1's ray, Lemma D), shared rays found through the ray index, the planar derivation by sectors,
 // and shards (a slice of the work each, merged and checked for coverage).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // scale_test.cpp -- issue 9: integer kernels (always the verdicts of GMP), declared symmetries
 // (verified, refuted with witnesses, used only when proved), compact laws, derive cradle, and
 // --jobs (the same output for any number of threads). Every certificate is re-checked.

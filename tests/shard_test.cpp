@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // shard_test.cpp -- issue 19: `--shard K/N` as separate processes, merged and checked: certify's
 // parts by impactcert-check PART..., the sweep's by `sweep --merge`. The merged result must be
 // the single run's (same verdicts, same certificate content), and a missing, duplicated, foreign

@@ -1,4 +1,5 @@
 #!/bin/bash
+# SPDX-License-Identifier: GPL-3.0-or-later
 # Runs examples/slurm/certify-array.sh as a Slurm job array of three tasks would (separate
 # processes, SLURM_ARRAY_TASK_ID / SLURM_ARRAY_TASK_COUNT set), then merges and checks the parts,
 # and requires the merged certificate to hold what a single run's does; a missing part must fail.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // soundness_test.cpp -- the adversarial suite of issue 7: laws at the edges (tilings that are not
 // face to face, overlaps, one cone in R^12), forged and mutated certificates (changed, added,
 // deleted keys, nesting, borrowed witnesses, cycles of "via"), each with the verdict it must get.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // verify --stream (src/stream.hpp; proofs/README.md, "Streamed laws"): the same verdicts as
 // verify() on every law both decide, witnesses re-validated on the expanded model, what the
 // stream cannot decide undecided (never proved), and the same input errors.

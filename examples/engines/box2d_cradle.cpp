@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // box2d_cradle.cpp -- a Newton's cradle in Box2D 2.4.1, as an `impactcert fuzz --impl-cmd` driver.
 //
 // What it computes: n balls (circles of radius 0.5, exactly touching at x = 0, 1, 2, ...) with

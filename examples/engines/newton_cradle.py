@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: GPL-3.0-or-later
 """newton_cradle.py -- the impact law of box2d_cradle.cpp without an engine, for
 `impactcert fuzz --velocities --impl-cmd 'python3 examples/engines/newton_cradle.py'`.
 

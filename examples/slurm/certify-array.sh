@@ -1,4 +1,5 @@
 #!/bin/bash
+# SPDX-License-Identifier: GPL-3.0-or-later
 # examples/slurm/certify-array.sh -- certify one law in N slices on a Slurm cluster, then merge and
 # check them. impactcert schedules nothing: Slurm runs the slices, impactcert-check verifies that
 # the parts cover every obligation and every pair block exactly once and checks the result.

@@ -1,4 +1,5 @@
 #!/bin/bash
+# SPDX-License-Identifier: GPL-3.0-or-later
 # examples/slurm/sweep-array.sh -- a sweep of thousands of laws in N slices (grid point k goes to
 # shard k mod N + 1), merged into the single run's sweep.csv, sweep.json and sweep.html.
 #

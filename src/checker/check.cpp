@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The whole certificate (proofs/README.md, "What the checker establishes", 0-4): its shape, the
 // law's hash, G and H, every obligation's claim and verdict through the Checker, the top
 // verdict; and check_text, which turns every outcome, error and exception into one line.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The law of a certificate, read and re-derived (checked_law.hpp).
 #include "checked_law.hpp"
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // checked_law.hpp -- the law inside a certificate, as the checker reads and re-derives it.
 //
 // Contract: read_law applies the prover's input rules (SPEC section 4: format, non-empty names,

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // checker.hpp -- internal to src/checker/: impactcert-check, the independent checker of
 // impactcert-certificate/1 documents.
 //

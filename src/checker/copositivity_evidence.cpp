@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Copositivity evidence: returns whether the evidence proves A copositive; rejects evidence
 // that is wrong. For the KKT method the checker re-enumerates every face itself.
 #include "copositivity_evidence.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // copositivity_evidence.hpp -- the copositivity certificates of a certificate (proofs/README.md,
 // "Exact copositivity"), re-checked: A >= 0 entrywise, an LDL^T factorisation (PSD), PSD plus a
 // non-negative N, or a KKT enumeration that the checker redoes face by face; and the canonical

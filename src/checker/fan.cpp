@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The Checker's fan (proofs/README.md, "fan", and "What the checker establishes", 5): the
 // evidence of each method re-decided independently (sectors for c = 2, the facet criterion, the
 // walls, the gap beside a facet with one cone, the canonical chamber points counted by a second

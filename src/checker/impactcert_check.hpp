@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // impactcert_check.hpp -- the independent checker as a function, for impactcert-check's main
 // and for the tamper tests (which run thousands of checks in one process).
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The checker's exact linear algebra (linalg.hpp): Gauss-Jordan elimination over the rationals.
 #include "linalg.hpp"
 

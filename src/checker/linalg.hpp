@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // linalg.hpp -- the checker's own exact linear algebra, over GMP rationals (gmpxx).
 //
 // Contract: Vec and Mat (row-major, rows of equal length) hold mpq_class; every operation is

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // impactcert-check's command line: the limits as options, one certificate file, one line out
 // (stdout when verified, stderr otherwise), the status of check_text as the exit status.
 #include "checker.hpp"

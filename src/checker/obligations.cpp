@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The Checker's verdicts (holds), the limits an obligation can stop at, and the evidence of
 // each obligation (proofs/README.md, "What the checker establishes", 2-4): every listed entry
 // recomputed from the law, lists canonical (in order, ending at the first failing entry).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The Checker's P1 (proofs/README.md, "P1 (continuity)"): the pairs to examine (across walls,
 // or every pair with different matrices, walked without listing them), the extreme rays of
 // their intersections, and the rays shared by two pieces, each in the prover's order.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The parts of a sharded certify run (impactcert-certificate-part/1; proofs/README.md, "Shards"):
 // assembled into the certificate a single run writes, with every coverage rule checked first
 // (parts of one run, every shard once, every obligation from its owner, every pair block of

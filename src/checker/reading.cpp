@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Reading a certificate's JSON strictly (reading.hpp).
 #include "reading.hpp"
 

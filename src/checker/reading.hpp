@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // reading.hpp -- strict reading of a certificate's JSON: paths, errors, rationals, schemas.
 //
 // Contract: every reader takes the JSON path of its value ("$.obligations[9].data") and throws

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // SHA-256 (FIPS 180-4). The round constants are computed, not typed: K[i] and the initial hash
 // are the first 32 fractional bits of the cube and square roots of the first primes, obtained
 // exactly with integer roots.

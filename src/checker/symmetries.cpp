@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The Checker's symmetries (proofs/README.md, "Symmetries"): each declared (P, P') re-decided
 // from the law (P^T H P = H, P'^T H P' = H, P C_i = C_sigma(i) by primitive rays,
 // Q_sigma(i) P r = P' Q_i r on the rays of C_i), the orbits of pieces under the group the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Chambers, walls and planar orientation (tiling.hpp).
 #include "tiling.hpp"
 

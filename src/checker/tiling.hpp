@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // tiling.hpp -- the checker's own decisions about sets of simplicial cones (proofs/README.md,
 // "fan"): the chambers of a central hyperplane arrangement (counted, and enumerated by the
 // prover's deletion-restriction rule), the walls recursion that decides a tiling, and the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The Checker's counterexamples (proofs/README.md, "Counterexample shapes" and the witness
 // rules): each re-validated from scratch as a point, and required to be the canonical one.
 #include "checker.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // cli/arguments.cpp -- the number and system arguments of derive, fuzz and eval (cli/tools.hpp).
 #include "cli/tools.hpp"
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // cli/common.hpp -- what every impactcert program shares: exit statuses, one-line messages,
 // loading a law, progress on a terminal and checked writes (cli/options.hpp wires the options,
 // cli/verify.cpp runs verify and certify; cli/tools.hpp declares the other commands).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // cli/consistency.cpp -- `impactcert fuzz --masses ... | --system F` with no --law: the consistency
 // of a black-box impact map (consistency.hpp), and `eval --float` replays of its findings.
 #include "cli/tools.hpp"

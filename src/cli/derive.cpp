@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // cli/derive.cpp -- `impactcert derive sequential | newton | poisson | cradle`.
 #include "cli/tools.hpp"
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // cli/fuzz.cpp -- `impactcert fuzz` and `impactcert eval` against a law (cli/consistency.cpp: the
 // consistency of a black-box map against a system alone).
 #include "cli/tools.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // cli/options.hpp -- the command line both programs share: the options of verify (and of the
 // commands that decide obligations: certify, report, sweep), and the exit-status contract of
 // every run (run_program). cli_main.cpp builds `impactcert` from them, verify_main.cpp the

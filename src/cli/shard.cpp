@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // cli/shard.cpp -- `verify --shard K/N` and `certify --shard K/N` (shard.hpp): one slice of a
 // verification, decided in this process; the parts of certify are merged and checked by
 // impactcert-check PART...

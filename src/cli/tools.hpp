@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // cli/tools.hpp -- the commands of the full `impactcert` program beyond verify and certify:
 // derive (cli/derive.cpp), fuzz and eval (cli/fuzz.cpp, cli/consistency.cpp), and the number
 // and system arguments they share (cli/arguments.cpp). impactcert-verify compiles none of them.

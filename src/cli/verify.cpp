@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // cli/verify.cpp -- verify (whole, streamed or one shard) and certify: the commands that
 // decide a law's obligations, shared by impactcert and impactcert-verify (cli/options.hpp).
 #include "cli/options.hpp"

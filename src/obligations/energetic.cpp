@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // energetic -- proofs/README.md, "energetic", with Lemma Q (quadratic statements on a cone are
 // copositivity) and "Exact copositivity".
 // Claim: |Q_i x|_H <= |x|_H for x in C_i.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // fan -- proofs/README.md, "fan": Lemma T (tiling = N ≡ 1 off the hyperplanes), "Check, c = 2",
 // "Check, any c", "Check, walls", "Check, complete", and "S as a function".
 // Claim: the cones tile R^c (union R^c, interiors pairwise disjoint); they need not meet face

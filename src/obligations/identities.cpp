@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // identities -- proofs/README.md, "identities".
 // Claim: the declared factorisations hold, e.g. Q_IIb = Q_IVa Q_IIa.
 // Check: exact matrix products, one per identity. A failure reports the unit vector e_j of the

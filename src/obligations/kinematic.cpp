@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // kinematic -- proofs/README.md, "kinematic", with Lemma R (rays suffice for linear
 // statements) and the fan.
 // Claim: gamma+ >= 0 for every gamma- in R^c; with friction (SPEC section 9) gamma_N+ >= 0 (the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // kinetic -- proofs/README.md, "kinetic", with Lemma R (rays suffice for linear statements).
 // Claim: the impulse Lambda = H (Q_i - I) gamma >= 0 for gamma in C_i (Lambda = H (gamma+ -
 // gamma-) by the impact equations, SPEC section 1).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // nonexpansive -- proofs/README.md, "nonexpansive (pairwise)", with "Exact copositivity",
 // "S as a function", "Integer kernels" and "Symmetries".
 // Claim: |S(a) - S(b)|_H <= |a - b|_H for all a, b in R^c.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // nonexpansive-lemma -- proofs/README.md, "nonexpansive-lemma", with Lemma P (PSD certificate).
 // Claim: the statement of nonexpansive, by a second, independent route.
 // Check: S a function (the fan's decision), P1, and H - Q_i^T H Q_i PSD for every piece by exact

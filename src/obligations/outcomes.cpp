@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // outcomes -- proofs/README.md, "outcomes".
 // Claim: each declared experiment u- maps to the declared u+.
 // Check, exactly in ball velocities: gamma- = W^T u-, and for every piece whose cone contains

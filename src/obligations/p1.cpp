@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // P1 -- proofs/README.md, "P1 (continuity)", with Lemma R (rays suffice for linear statements).
 // Claim: Q_i x = Q_j x for every x in C_i ∩ C_j (with S a function: S is continuous).
 // Check, face to face (the fan's fast path): Q_i v = Q_j v on every ray v shared by two pieces,

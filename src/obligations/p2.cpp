@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // P2 -- proofs/README.md, "P2 (energy conservation)".
 // Claim: |Q_i x|_H = |x|_H for all x and every piece.
 // Check: Q_i^T H Q_i = H exactly, one per piece: |Q x|_H^2 - |x|_H^2 = x^T D x with

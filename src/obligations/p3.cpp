@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // P3 -- proofs/README.md, "P3 (each cone onto the orthant)".
 // Claim: Q_i maps C_i onto the closed positive orthant.
 // Check: for every ray r of C_i, Q_i r = lambda e_k with lambda > 0, and the c rays of a cone

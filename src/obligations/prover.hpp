@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // prover.hpp -- internal to src/obligations/: the Prover behind verify() (obligations.hpp).
 //
 // Contract: one Prover decides the obligations of one Model, each in its own file

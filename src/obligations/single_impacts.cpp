@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // single-impacts -- proofs/README.md, "single-impacts".
 // Claim: a declared piece equals the two-ball impact at contact k with restitution e.
 // Derivation (from M and W only): only Lambda_k acts, gamma+ = gamma- + lambda G e_k, and

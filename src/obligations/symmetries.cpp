@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // symmetries -- proofs/README.md, "Symmetries".
 // Claim: for every declared symmetry (P, P'): |P x|_H = |x|_H and |P' x|_H = |x|_H for all x,
 // P maps every cone C_i onto a cone C_sigma(i), and Q_sigma(i) P = P' Q_i; hence

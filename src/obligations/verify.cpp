@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // verify() and the bookkeeping around the obligations: each obligation in kObligationIds order,
 // claimed or not, skipped when not requested or nothing is declared for it, undecided when its
 // decision would exceed a limit (LimitExceeded), and timed. The obligations themselves are in

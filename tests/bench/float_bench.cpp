@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // float_bench.cpp -- Google Benchmark figures for the float law and the fuzzer, each printed
 // with the baseline it is compared to, measured in the same run:
 //   1. float law throughput, batch (branch-free, vectorisable) vs a plain branchy scalar loop;

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // fuzz_bench.cpp -- fuzzing throughput against its honest naive baseline, measured in one run
 // (printed by scripts/bench):
 //   - for the paper's law and for proofs/newton4/law.json: samples per second per core of the

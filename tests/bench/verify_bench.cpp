@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // verify_bench.cpp -- wall time of `impactcert verify` as a process, with its baselines measured
 // in the same run: the cost of starting any process (/bin/true) and of starting impactcert
 // itself (--version). Also the in-process time of verify() alone.

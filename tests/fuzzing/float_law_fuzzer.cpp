@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // float_law_fuzzer.cpp -- libFuzzer target: float implementations against the exact law,
 // coverage-guided.
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // atan2_law.cpp -- a deliberately WRONG float implementation of the paper's law, for the fuzzer
 // to catch. It classifies gamma- by its angle atan2(g2, g1) against rounded multiples of pi/4
 // instead of by exact sign tests. Near the rays (-1, 1) and (1, -1) the rounded angle and the

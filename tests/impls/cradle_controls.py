@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Impact maps of a 3-ball cradle (equal masses, ball velocities) for the consistency fuzzer's tests.
 
 Protocol of `impactcert fuzz --impl-cmd`: one line of doubles in (hex or decimal), one line out.

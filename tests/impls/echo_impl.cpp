@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // echo_impl.cpp -- the cheapest possible --impl-cmd program: answers every line with itself
 // (the identity map, so it is wrong for any real law). scripts/bench measures the throughput
 // of the --impl-cmd protocol with it. It flushes its output whenever its input is drained,

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: GPL-3.0-or-later
 """misbehaving_impl.py MODE -- --impl-cmd programs that fail the protocol, for the tests:
 crash (exits on an input with a negative first component), hang (stops answering there),
 short (answers that input with too few numbers), extra (answers it twice), trickle (writes

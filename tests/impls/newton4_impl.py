@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: GPL-3.0-or-later
 """newton4_impl.py -- the 4-ball cradle law (proofs/newton4/law.json) in Python, for
 `impactcert fuzz --law proofs/newton4/law.json --impl-cmd 'python3 newton4_impl.py MODE'`.
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 /* newton4_impls.c -- float implementations of the 4-ball cradle law (proofs/newton4/law.json:
  * equal masses, e = 1, so u+ = sort(u-)) in contact velocities gamma = (u2-u1, u3-u2, u4-u3),
  * the way simulators write them. For `impactcert fuzz --law proofs/newton4/law.json --impl`.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Uses the installed header: one ball in, one ball out (gamma- = (-1, 0) -> gamma+ = (0, 1)).
 #include <impactcert/float_law.hpp>
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // impactcert/float_law.hpp -- Leine & Winandy's 3-ball Newton's cradle law in IEEE double.
 //
 // Header-only, no allocation, no exceptions. Install with the impactcert package and use as
