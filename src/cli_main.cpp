@@ -183,7 +183,7 @@ int main(int argc, char** argv) {
         cmd->add_option("--masses", args->system.masses, "a chain: ball masses M1,M2,... (rationals, > 0)");
         cmd->add_option("--walls", args->system.walls, "with --masses: fixed walls, none, left, right or both")->capture_default_str();
         cmd->add_option("--system", args->system.system_path, "a system file (impactcert-system/1, or a law file's head): M or masses, and W");
-        cmd->add_option("--restitution", args->restitution, "E for every contact, or one per contact, each in [0, 1]")->capture_default_str();
+        cmd->add_option("--restitution", args->restitution, "E for every contact, or one per contact, each in [0, 1] (default: a scene's, else 1)");
         cmd->add_option("--outcomes-from", args->outcomes_from, "declare the outcomes of this law file (e.g. the observed ones of proofs/newton3/law.json) instead of the simulated ones");
         cmd->add_option("-o,--output", args->out, "law file to write (default, or -: standard output)");
     }

@@ -24,6 +24,8 @@ const char* property_id(Property p) {
     switch (p) {
     case Property::kinematic: return "kinematic";
     case Property::kinetic: return "kinetic";
+    case Property::friction_cone: return "friction_cone";
+    case Property::coulomb: return "coulomb";
     case Property::momentum: return "momentum";
     case Property::energy: return "energy";
     case Property::nonexpansive: return "nonexpansive";
@@ -38,6 +40,8 @@ const char* property_title(Property p) {
     switch (p) {
     case Property::kinematic: return "negative contact velocity (kinematic)";
     case Property::kinetic: return "pulling impulse (kinetic)";
+    case Property::friction_cone: return "friction beyond mu Lambda_N (friction cone)";
+    case Property::coulomb: return "friction not opposing the slip (coulomb)";
     case Property::momentum: return "change outside the range of M^-1 W (momentum)";
     case Property::energy: return "energy gain";
     case Property::nonexpansive: return "expansion of a pair (nonexpansive)";
@@ -152,11 +156,12 @@ bool ConsistencyChecker::approaching(const double* x) const {
         v[i] = *r;
     }
     const Vector gamma = velocities_ ? transpose(m_.W) * v : v;
-    return std::any_of(gamma.begin(), gamma.end(), [](const Rational& g) { return sign_of(g) == Sign::negative; });
+    return std::any_of(gamma.begin(), gamma.begin() + static_cast<std::ptrdiff_t>(m_.normals),
+                       [](const Rational& g) { return sign_of(g) == Sign::negative; });
 }
 
 std::vector<Finding> ConsistencyChecker::check(const double* xd, const double* yd) const {
-    const std::size_t d = dim(), c = m_.contacts();
+    const std::size_t d = dim(), c = m_.normals;
     std::vector<Finding> out;
     auto finding = [&](Property p, double score, std::string detail) {
         Finding f;
@@ -219,6 +224,54 @@ std::vector<Finding> ConsistencyChecker::check(const double* xd, const double* y
             finding(Property::kinetic, std::sqrt(worst_score),
                     "Lambda_" + std::to_string(*worst + 1) + " = " + exact_text(lambda[*worst]) +
                         " < 0: the contact pulls (Lambda = H (gamma+ - gamma-))");
+    }
+    // Friction (SPEC section 9), per tangent j of contact k, with the tolerances of proofs/README.md
+    // ("Consistency with friction"): the friction cone, then Coulomb's law.
+    if (m_.has_friction()) {
+        const Rational s_up = sqrt_up(s2);
+        std::optional<std::size_t> worst_cone, worst_slip;
+        double cone_score = 0, slip_score = 0;
+        std::string cone_detail, slip_detail;
+        for (std::size_t j = 0; j < m_.tangents.size(); ++j) {
+            const Tangent& t = m_.tangents[j];
+            const std::size_t T = m_.normals + j, N = t.contact;
+            const Rational lt = lambda[T], ln = lambda[N];
+            const Rational tau_h = R * s_up * (sqrt_up(m_.H(T, T)) + t.mu * sqrt_up(m_.H(N, N)));
+            const Rational abs_lt = sign_of(lt) == Sign::negative ? -lt : lt;
+            const Rational over = abs_lt - t.mu * ln;
+            if (over > tau_h) {
+                const double score = ratio(over * over, m_.H(T, T) * s2);
+                if (!worst_cone || score > cone_score) {
+                    worst_cone = j;
+                    cone_score = score;
+                    cone_detail = "|Lambda_T" + std::to_string(j + 1) + "| = " + exact_text(abs_lt) + " > mu Lambda_N" +
+                                  std::to_string(N + 1) + " = " + exact_text(t.mu * ln) + " (contact " +
+                                  std::to_string(N + 1) + ", mu = " + to_string(t.mu) + ")";
+                }
+            }
+            const Rational xi = gp[T] + t.e_T * gm[T];
+            const Rational tau_x = R * s_up * sqrt_up(m_.G(T, T));
+            for (const int dir : {1, -1}) {
+                // dir +1: slip forward (xi_T > 0) needs Lambda_T = -mu Lambda_N; -1 the other way.
+                const Rational slip = dir > 0 ? xi : -xi;
+                const Rational off = (dir > 0 ? lt : -lt) + t.mu * ln; // 0 at the opposing bound
+                if (slip > tau_x && off > tau_h) {
+                    const double score = ratio(off * off, m_.H(T, T) * s2);
+                    if (!worst_slip || score > slip_score) {
+                        worst_slip = j;
+                        slip_score = score;
+                        slip_detail = "xi_T" + std::to_string(j + 1) + " = " + exact_text(xi) + (dir > 0 ? " > 0" : " < 0") +
+                                      " (the contact slips) but Lambda_T" + std::to_string(j + 1) + " = " + exact_text(lt) +
+                                      (dir > 0 ? " != -mu Lambda_N = " : " != +mu Lambda_N = ") +
+                                      exact_text(Rational(-dir) * t.mu * ln) + " (contact " + std::to_string(N + 1) + ")";
+                    }
+                }
+            }
+        }
+        if (worst_cone)
+            finding(Property::friction_cone, std::sqrt(cone_score), cone_detail);
+        if (worst_slip)
+            finding(Property::coulomb, std::sqrt(slip_score), slip_detail);
     }
     // momentum: the part of the velocity change outside the range of M^-1 W
     if (velocities_) {

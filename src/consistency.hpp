@@ -11,8 +11,11 @@
 //     is a dyadic rational; a non-finite output is its own violation), beyond the relative
 //     tolerance R of proofs/README.md ("Consistency of black-box impact maps"): with |.| the
 //     metric of the input space (M for ball velocities, H for contact velocities) and s = |x-|,
-//       kinematic   gamma+_k < 0 and (gamma+_k)^2 > R^2 G_kk s^2
-//       kinetic     Lambda_k < 0 and Lambda_k^2 > R^2 H_kk s^2, Lambda = H (gamma+ - gamma-)
+//       kinematic   gamma+_k < 0 and (gamma+_k)^2 > R^2 G_kk s^2 (normals k)
+//       kinetic     Lambda_k < 0 and Lambda_k^2 > R^2 H_kk s^2, Lambda = H (gamma+ - gamma-) (normals)
+//       friction_cone  |Lambda_T| - mu Lambda_N > R s (sqrt H_TT + mu sqrt H_NN)
+//       coulomb     xi_T = gamma_T+ + e_T gamma_T- beyond R s sqrt G_TT on one side, and the friction
+//                   beyond R s (sqrt H_TT + mu sqrt H_NN) from the bound that opposes that slip
 //       momentum    (velocities) r = du - M^-1 W Lambda, |r|_M^2 > R^2 s^2: a velocity change
 //                   outside the range of M^-1 W (lost or created momentum of a free chain)
 //       energy      |x+|^2 > (1 + R)^2 s^2
@@ -37,7 +40,10 @@
 
 namespace impactcert::fuzz {
 
-enum class Property : std::size_t { kinematic, kinetic, momentum, energy, nonexpansive, continuity, non_finite, count };
+// friction_cone and coulomb: systems with friction only (SPEC section 9).
+enum class Property : std::size_t {
+    kinematic, kinetic, friction_cone, coulomb, momentum, energy, nonexpansive, continuity, non_finite, count
+};
 inline constexpr std::size_t kProperties = static_cast<std::size_t>(Property::count);
 const char* property_id(Property p);    // "kinematic", "kinetic", "momentum", "energy", ...
 const char* property_title(Property p); // "negative contact velocity", "energy gain", ...

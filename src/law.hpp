@@ -159,7 +159,7 @@ class Model {
 
     const Matrix& M() const { return M_; }
     const Matrix& M_inv() const { return M_inv_; }
-    System system() const { return System{law_.name, law_.masses, law_.M, law_.W, law_.friction}; }
+    System system() const { return System{law_.name, law_.masses, law_.M, law_.W, law_.friction, {}, {}}; }
     const Matrix& W() const { return W_; } // [W_N W_T]
     // Friction (SPEC section 9): gamma = (gamma_N, gamma_T), the normals first.
     std::size_t normals() const { return normals_; }

@@ -1,6 +1,9 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "law_json.hpp"
 
+#include "json_read.hpp"
+#include "scene.hpp"
+
 #include <cerrno>
 #include <cstdint>
 #include <cstring>
@@ -367,6 +370,18 @@ Law parse_document(const ReadJson& doc) {
 
 } // namespace
 
+namespace json_read {
+ReadJson parse_syntax(const std::string& text) { return impactcert::parse_syntax(text); }
+void expect_object(const ReadJson& j, const std::string& path, std::initializer_list<const char*> allowed,
+                   std::initializer_list<const char*> required) {
+    impactcert::expect_object(j, path, allowed, required);
+}
+const ReadJson& expect_array(const ReadJson& j, const std::string& path) { return impactcert::expect_array(j, path); }
+std::string get_string(const ReadJson& j, const std::string& path) { return impactcert::get_string(j, path); }
+Rational get_rational(const ReadJson& j, const std::string& path) { return impactcert::get_rational(j, path); }
+Vector get_vector(const ReadJson& j, const std::string& path) { return impactcert::get_vector(j, path); }
+} // namespace json_read
+
 Law parse_law_text(const std::string& text, const std::string& origin, std::size_t max_pieces, std::size_t max_memory_mb) {
     try {
         Law law = parse_document(parse_syntax(text));
@@ -419,11 +434,13 @@ System parse_system_text(const std::string& text, const std::string& origin) {
             // A law file names a system: its head, by the law's own rules (the law is validated whole).
             const Law law = parse_document(doc);
             Model(law, Limits{}.max_pieces);
-            return System{law.name, law.masses, law.M, law.W, law.friction};
+            return System{law.name, law.masses, law.M, law.W, law.friction, {}, {}};
         }
+        if (format == kSceneFormat)
+            return parse_scene(doc);
         if (format != kSystemFormat)
-            input_error("$.format", "expected " + in_quotes(kSystemFormat) + " or " + in_quotes(kLawFormat) + ", got " +
-                                        in_quotes(format));
+            input_error("$.format", "expected " + in_quotes(kSystemFormat) + ", " + in_quotes(kSceneFormat) + " or " +
+                                        in_quotes(kLawFormat) + ", got " + in_quotes(format));
         expect_object(doc, "$", {"format", "name", "masses", "M", "contacts"}, {"format", "name"});
         System s;
         s.name = get_string(doc["name"], "$.name");

@@ -195,7 +195,7 @@ std::string describe_system(const System& s) {
     std::string what = s.W ? "explicit W" : "chain";
     if (m.has_friction())
         what += ", " + std::to_string(m.tangents.size()) + " friction tangent" + (m.tangents.size() == 1 ? "" : "s");
-    return std::to_string(m.balls()) + " velocities, " + std::to_string(m.normals) + " contacts (" + what +
+    return std::to_string(m.balls()) + " velocities, " + std::to_string(m.normals) + (m.normals == 1 ? " contact (" : " contacts (") + what +
            (m.diagonal ? "" : ", full mass matrix") + ")";
 }
 

@@ -41,8 +41,6 @@ std::string shortest(double x) {
 Setup setup(const FuzzArgs& a) {
     Setup s{system_from(a.system), {}, nullptr, nullptr, 1e-9};
     s.mech = make_mechanics(s.system);
-    if (s.mech.has_friction())
-        throw InputError("--system: consistency fuzzing does not check friction yet (verify and derive newton do)");
     if (a.max_ulps)
         throw InputError("--max-ulps: consistency fuzzing has no exact law to count ulps against; give --max-rel-error");
     if (a.max_rel_error) {
@@ -155,9 +153,11 @@ int run_consistency_fuzz(const FuzzArgs& a) {
             o.nonexpansive = true;
         else if (item == "continuity")
             o.continuity = true;
-        else if (item != "kinematic" && item != "kinetic" && item != "momentum" && item != "energy")
+        else if (item != "kinematic" && item != "kinetic" && item != "momentum" && item != "energy" &&
+                 item != "friction_cone" && item != "coulomb")
             throw InputError("--require: unknown property \"" + item +
-                             "\" (nonexpansive, continuity; kinematic, kinetic, momentum and energy are always checked)");
+                             "\" (nonexpansive, continuity; kinematic, kinetic, momentum and energy are always checked, "
+                             "friction_cone and coulomb with friction)");
     }
     if (!a.range.empty())
         std::tie(o.range_lo, o.range_hi) = fuzz::parse_range(a.range);
@@ -193,6 +193,8 @@ int run_consistency_fuzz(const FuzzArgs& a) {
     for (auto p : {fuzz::Property::kinematic, fuzz::Property::kinetic, fuzz::Property::energy, fuzz::Property::non_finite})
         checked[static_cast<std::size_t>(p)] = true;
     checked[static_cast<std::size_t>(fuzz::Property::momentum)] = a.velocities;
+    checked[static_cast<std::size_t>(fuzz::Property::friction_cone)] = s.mech.has_friction();
+    checked[static_cast<std::size_t>(fuzz::Property::coulomb)] = s.mech.has_friction();
     checked[static_cast<std::size_t>(fuzz::Property::nonexpansive)] = o.nonexpansive;
     checked[static_cast<std::size_t>(fuzz::Property::continuity)] = o.continuity;
     const std::string target = s.impl->describe();

@@ -54,7 +54,9 @@ int run_derive_sequential(const DeriveArgs& a) {
     const Mechanics mech = make_mechanics(o);
     if (mech.has_friction())
         throw InputError("--system: derive sequential does not take friction yet (derive newton does)");
-    o.restitution = restitution_list(a.restitution, mech.contacts());
+    o.restitution = a.restitution.empty() && !o.System::restitution.empty()
+                        ? o.System::restitution
+                        : restitution_list(a.restitution.empty() ? "1" : a.restitution, mech.contacts());
     const bool any_order = a.rule == "any";
     o.rule = any_order ? ImpactRule::most_negative : parse_rule(a.rule);
     o.max_impacts = a.max_impacts;
@@ -192,7 +194,9 @@ int run_derive_classical(const DeriveArgs& a, bool poisson) {
     if (mech.has_friction() && poisson)
         throw InputError("derive poisson: the Poisson-type law with friction is not offered (proofs/README.md, "
                          "\"Friction\": Glocker's Part II law needs the tangential state at the end of compression)");
-    o.restitution = restitution_list(a.restitution, mech.normals);
+    o.restitution = a.restitution.empty() && !o.System::restitution.empty()
+                        ? o.System::restitution
+                        : restitution_list(a.restitution.empty() ? "1" : a.restitution, mech.normals);
     o.on = parse_restitution_on(a.restitution_on);
     o.max_bits = a.max_bits;
     if (poisson && o.on != RestitutionOn::all)

@@ -370,8 +370,6 @@ int run_eval(const std::string& law_path, bool velocities, const std::vector<std
             if (!law_path.empty())
                 throw InputError("--law and --masses/--system: give one");
             const Mechanics m = make_mechanics(system_from(float_args.system));
-            if (m.has_friction())
-                throw InputError("--system: fuzzing does not take friction yet");
             dim = velocities ? m.balls() : m.contacts();
         } else {
             const Model dims = load_model(law_path);

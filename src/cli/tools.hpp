@@ -39,7 +39,7 @@ std::vector<Rational> restitution_list(const std::string& text, std::size_t cont
 // ---- derive (cli/derive.cpp)
 struct DeriveArgs {
     SystemArgs system;
-    std::string restitution = "1", rule = "most-negative", out, outcomes_from;
+    std::string restitution, rule = "most-negative", out, outcomes_from; // restitution "": the scene's, else 1
     std::string restitution_on = "all";
     std::string restitution_tangential; // friction: e_T of every tangent (empty: the system's, else 0)
     std::size_t max_impacts = 100, max_bits = kDefaultMaxBits, max_words = kDefaultMaxWords;

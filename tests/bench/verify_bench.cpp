@@ -18,6 +18,7 @@
 #include <sys/resource.h>
 #include <sys/wait.h>
 #include <thread>
+#include <tuple>
 #include <unistd.h>
 #include <vector>
 
@@ -151,6 +152,47 @@ int main(int argc, char** argv) {
                     st.median_ms < chain.target_ms ? "met" : "MISSED");
     }
     std::remove(out.c_str());
+
+    // Friction (SPEC section 9): derive newton + verify of a two-contact frictional law (a wall and
+    // two spinning disks, both contacts rough), against the same system without friction (the
+    // baseline: the same command on the normals alone), both in this run.
+    std::printf("\nderive newton with friction + verify (two processes per run; a wall and two disks, 2 rough contacts)\n");
+    {
+        const std::string head = R"({"format": "impactcert-system/1", "name": "wall-disks", )"
+                                 R"("M": [["1","0","0","0","0","0"],["0","1","0","0","0","0"],["0","0","1/2","0","0","0"],)"
+                                 R"(["0","0","0","1","0","0"],["0","0","0","0","1","0"],["0","0","0","0","0","1/2"]], )"
+                                 R"("contacts": {"W": [["1","-1"],["0","0"],["0","0"],["0","1"],["0","0"],["0","0"]])";
+        const std::string rough = head + R"(, "friction": [{"contact": 1, "mu": "1/2", "tangents": [["0","1","-1","0","0","0"]]},)"
+                                         R"( {"contact": 2, "mu": "1/4", "tangents": [["0","-1","-1","0","1","-1"]]}]}})";
+        const std::string smooth = head + "}}";
+        const std::string rough_file = "/tmp/impactcert-bench-rough.json", smooth_file = "/tmp/impactcert-bench-smooth.json";
+        std::FILE* f = std::fopen(rough_file.c_str(), "w");
+        const bool ok_rough = f && std::fputs(rough.c_str(), f) >= 0 && std::fclose(f) == 0;
+        f = std::fopen(smooth_file.c_str(), "w");
+        const bool ok_smooth = f && std::fputs(smooth.c_str(), f) >= 0 && std::fclose(f) == 0;
+        if (!ok_rough || !ok_smooth) {
+            std::printf("  cannot write the system files under /tmp\n");
+        } else {
+            for (const auto& [what, file, on] :
+                 {std::tuple{"baseline: the same system without friction, e = 1/2", smooth_file, "all"},
+                  std::tuple{"with friction, e = 1/2, restitution on all contacts", rough_file, "all"},
+                  std::tuple{"with friction, e = 1/2, on approaching contacts (64 modes)", rough_file, "approaching"}}) {
+                std::vector<double> ms;
+                for (int i = 0; i < 3; ++i) {
+                    const double d = run_once({cli, "derive", "newton", "--system", file, "--restitution", "1/2",
+                                               "--restitution-on", on, "-o", out});
+                    const double v = run_once({cli, "verify", "--law", out});
+                    ms.push_back(d + v);
+                }
+                const Stats st = stats_of(ms);
+                std::printf("  %-62s median %10.1f ms   target 10000 ms: %s\n", what, st.median_ms,
+                            st.median_ms < 10000.0 ? "met" : "MISSED");
+            }
+        }
+        std::remove(rough_file.c_str());
+        std::remove(smooth_file.c_str());
+        std::remove(out.c_str());
+    }
 
     // Scale (issue 9): the n-ball cradle, explicit and through its symmetries.
     const unsigned cores = std::max(1u, std::thread::hardware_concurrency());

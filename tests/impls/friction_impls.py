@@ -1,0 +1,75 @@
+#!/usr/bin/env python3
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""Impact maps with Coulomb friction for the consistency fuzzer's tests (ball/body velocities).
+
+Usage: friction_impls.py SYSTEM_OR_LAW.json MODE E
+Protocol of `impactcert fuzz --impl-cmd`: one line of doubles in (hex or decimal), one line out.
+The system (M, W, friction) is read from the file's head; the Newton law with friction
+(restitution E on every contact, e_T of the file) is solved exactly by the independent oracle
+(tests/oracles/friction_lcp.py) and rounded to doubles. Modes:
+  exact       that law (consistent up to rounding, unless the law itself gains energy)
+  reversed    the tangential impulses of the exact answer reversed (friction pushes the slip)
+  excess      the tangential impulses doubled (beyond mu Lambda_N where the contact slides)
+  frictionless the tangential impulses dropped (a sliding contact without friction)
+"""
+import json
+import os
+import sys
+from fractions import Fraction as F
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "oracles"))
+from friction_lcp import System, solve  # noqa: E402
+
+
+def parse(token):
+    return float.fromhex(token) if "0x" in token.lower() else float(token)
+
+
+def load(path):
+    doc = json.load(open(path))
+    M = [[F(x) for x in row] for row in doc["M"]] if "M" in doc else None
+    if M is None:
+        m = [F(x) for x in doc["masses"]]
+        M = [[m[i] if i == j else F(0) for j in range(len(m))] for i in range(len(m))]
+    W = doc["contacts"]["W"]
+    normals = [[F(W[i][k]) for i in range(len(W))] for k in range(len(W[0]))]
+    fr = [(f["contact"] - 1, F(f["mu"]), F(f.get("restitution_tangential", "0")), f["tangents"])
+          for f in doc["contacts"].get("friction", [])]
+    return System(M, normals, fr)
+
+
+def main():
+    S = load(sys.argv[1])
+    mode = sys.argv[2]
+    e = F(sys.argv[3])
+    N = len(S.normals)
+    for line in sys.stdin:
+        u = [F(parse(t)) for t in line.split()]
+        sols = S.solutions(u, [e] * N)
+        if len(sols) != 1:
+            sys.stdout.write("not a function here\n")
+            sys.stdout.flush()
+            continue
+        up = sols[0]
+        if mode != "exact":
+            # impulse in generalized coordinates: M (u+ - u-) = W Lambda; split off the tangents'.
+            du = [a - b for a, b in zip(up, u)]
+            Mdu = [sum(S.M[i][j] * du[j] for j in range(S.n)) for i in range(S.n)]
+            # Lambda from W Lambda = M du (least squares is exact here: W has full column rank)
+            cols = S.columns
+            G = [[sum(cols[a][i] * cols[b][i] for i in range(S.n)) for b in range(S.d)] for a in range(S.d)]
+            rhs = [sum(cols[a][i] * Mdu[i] for i in range(S.n)) for a in range(S.d)]
+            lam = solve(G, rhs)
+            factor = {"reversed": F(-1), "excess": F(2), "frictionless": F(0)}[mode]
+            dl = [F(0)] * S.d
+            for j in range(N, S.d):
+                dl[j] = (factor - 1) * lam[j]
+            # u+ += M^-1 W dl
+            Wdl = [sum(cols[k][i] * dl[k] for k in range(S.d)) for i in range(S.n)]
+            x = solve(S.M, Wdl)
+            up = [a + b for a, b in zip(up, x)]
+        sys.stdout.write(" ".join(float(x).hex() for x in up) + "\n")
+        sys.stdout.flush()
+
+
+main()
