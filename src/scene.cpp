@@ -389,20 +389,29 @@ System parse_scene(const ReadJson& doc) {
             W(r, k) = col[r];
         const auto pair = pairs.find({std::min(ct.i, ct.j), std::max(ct.i, ct.j)});
         std::optional<Rational> mu = ct.mu, e = ct.e;
-        if (!mu && pair != pairs.end())
+        // where each value was given, for the message
+        std::string mu_at = ct.path + ".mu", e_at = ct.path + ".restitution";
+        if (!mu && pair != pairs.end() && pair->second.first) {
             mu = pair->second.first;
-        if (!e && pair != pairs.end())
+            mu_at = "$.pairs (" + ct.name + ")";
+        }
+        if (!e && pair != pairs.end() && pair->second.second) {
             e = pair->second.second;
-        if (!mu)
+            e_at = "$.pairs (" + ct.name + ")";
+        }
+        if (!mu && mu0) {
             mu = mu0;
-        if (!e)
+            mu_at = "$.friction";
+        }
+        if (!e && e0) {
             e = e0;
-        const std::string where = ct.path;
+            e_at = "$.restitution";
+        }
         if (mu && sign_of(*mu) == Sign::negative)
-            input_error(where, "friction coefficient must be >= 0, got " + to_string(*mu));
+            input_error(mu_at, "friction coefficient must be >= 0, got " + to_string(*mu));
         if (e) {
             if (sign_of(*e) == Sign::negative || *e > Rational(1))
-                input_error(where, "restitution must be in [0, 1], got " + to_string(*e));
+                input_error(e_at, "restitution must be in [0, 1], got " + to_string(*e));
             any_e = true;
             restitution[k] = *e;
         }

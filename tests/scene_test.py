@@ -1,0 +1,176 @@
+#!/usr/bin/env python3
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""Planar scenes (impactcert-scene/1, SPEC section 9): contacts found exactly, columns from lever
+arms, and bad scenes refused in one line naming the place.
+
+Each scene's W (normals, then the friction tangents) as `derive newton` writes it must equal the
+columns computed here by hand from the geometry: for a contact at p with unit normal n from body i
+to body j, the column holds (n_x, n_y, (p - c_j) x n) at j and minus that at i; the tangent
+t = (n_y, -n_x) the same way.
+Usage: scene_test.py IMPACTCERT
+"""
+import json
+import os
+import subprocess
+import sys
+import tempfile
+from fractions import Fraction as F
+
+CLI = sys.argv[1]
+failures = []
+tmp = tempfile.mkdtemp(prefix="impactcert-scene-")
+
+
+def fail(msg):
+    failures.append(msg)
+    print("FAIL:", msg)
+
+
+def column(nbodies, contact, direction):
+    col = [F(0)] * (3 * nbodies)
+    (i, ci), (j, cj), p = contact["i"], contact["j"], contact["p"]
+    for b, c, s in ((i, ci, -1), (j, cj, 1)):
+        if b is None:
+            continue
+        r = (p[0] - c[0], p[1] - c[1])
+        col[3 * b] += s * direction[0]
+        col[3 * b + 1] += s * direction[1]
+        col[3 * b + 2] += s * (r[0] * direction[1] - r[1] * direction[0])
+    return col
+
+
+def law_of(scene, args=()):
+    path = os.path.join(tmp, "scene.json")
+    json.dump(scene, open(path, "w"))
+    out = os.path.join(tmp, "law.json")
+    p = subprocess.run([CLI, "derive", "newton", "--system", path, "-o", out] + list(args), capture_output=True, text=True)
+    return p, (json.load(open(out)) if p.returncode == 0 else None)
+
+
+def body(name, m, J, c, shapes):
+    return {"name": name, "mass": str(m), "inertia": str(J), "position": [str(c[0]), str(c[1])], "shapes": shapes}
+
+
+GROUND = [{"name": "ground", "point": ["0", "0"], "normal": ["0", "1"]}]
+c1, c2 = (F(0), F(2)), (F(3), F(6))
+CASES = [
+    # name, scene, expected contacts [(i, centre_i), (j, centre_j), point, normal, mu]
+    ("disk on rough ground",
+     {"format": "impactcert-scene/1", "name": "disk", "bodies": [body("disk", 1, F(1, 2), (0, 1), [{"disk": "1"}])],
+      "boundaries": GROUND, "friction": "1/2"},
+     1, [dict(i=(None, None), j=(0, (0, 1)), p=(0, 0), n=(0, 1), mu=F(1, 2))]),
+    ("two disks at a 3-4-5 angle on the ground, smooth between them",
+     {"format": "impactcert-scene/1", "name": "pair",
+      "bodies": [body("a", 2, 4, c1, [{"disk": "2"}]), body("b", 3, 27, c2, [{"disk": "3"}])],
+      "boundaries": GROUND, "friction": "1/3", "pairs": [{"bodies": ["a", "b"], "mu": "0"}]},
+     2, [dict(i=(None, None), j=(0, c1), p=(0, 0), n=(0, 1), mu=F(1, 3)),
+         dict(i=(0, c1), j=(1, c2), p=(F(6, 5), F(2) + F(8, 5)), n=(F(3, 5), F(4, 5)), mu=F(0))]),
+    ("a rod's end on the ground",
+     {"format": "impactcert-scene/1", "name": "rod",
+      "bodies": [body("rod", 1, F(1, 3), (F(3, 5), F(4, 5)), [{"segment": [["-3/5", "-4/5"], ["3/5", "4/5"]]}])],
+      "boundaries": GROUND, "friction": "1/2"},
+     1, [dict(i=(None, None), j=(0, (F(3, 5), F(4, 5))), p=(0, 0), n=(0, 1), mu=F(1, 2))]),
+    ("a disk on a plank (a segment of another body), off its centre",
+     {"format": "impactcert-scene/1", "name": "plank",
+      "bodies": [body("plank", 4, 3, (0, 0), [{"segment": [["-3", "0"], ["3", "0"]]}]),
+                 body("disk", 1, F(1, 2), (2, 1), [{"disk": "1"}])], "friction": "1/4"},
+     2, [dict(i=(0, (0, 0)), j=(1, (2, 1)), p=(2, 0), n=(0, 1), mu=F(1, 4))]),
+    ("a stick's end on a tilted board (3-4-5 length, rational normal)",
+     {"format": "impactcert-scene/1", "name": "board",
+      "bodies": [body("board", 5, 10, (0, 0), [{"segment": [["-4", "-3"], ["4", "3"]]}]),
+                 body("stick", 1, 1, (F(-11, 5), F(-2, 5)), [{"segment": [["3/5", "-4/5"], ["-3/5", "4/5"]]}])]},
+     2, None),
+    ("a listed contact",
+     {"format": "impactcert-scene/1", "name": "listed", "bodies": [body("disk", 1, F(1, 2), (0, 1), [{"disk": "1"}])],
+      "boundaries": GROUND,
+      "contacts": [{"bodies": ["ground", "disk"], "point": ["0", "0"], "normal": ["0", "1"], "mu": "1/5", "restitution": "1/2"}]},
+     1, [dict(i=(None, None), j=(0, (0, 1)), p=(0, 0), n=(0, 1), mu=F(1, 5))]),
+]
+try:
+    for name, scene, nbodies, expected, in CASES:
+        p, law = law_of(scene)
+        if law is None:
+            fail(f"{name}: exit {p.returncode}: {p.stderr.strip()}")
+            continue
+        W = [[F(x) for x in row] for row in law["contacts"]["W"]]
+        got_normals = [[W[r][k] for r in range(len(W))] for k in range(len(W[0]))]
+        got_tangents = {f["contact"] - 1: ([F(x) for x in f["tangents"][0]], F(f["mu"]))
+                        for f in law["contacts"].get("friction", [])}
+        if expected is None:
+            # the stick's lower end e = (-8/5, -6/5) lies on the board (y = 3/4 x); the normal is the
+            # board's unit normal towards the stick, (-3/5, 4/5)
+            if len(got_normals) != 1:
+                fail(f"{name}: {len(got_normals)} contacts")
+            else:
+                n = (F(-3, 5), F(4, 5))
+                cj, e = (F(-11, 5), F(-2, 5)), (F(-8, 5), F(-6, 5))
+                want = column(nbodies, dict(i=(0, (0, 0)), j=(1, cj), p=e), n)
+                if got_normals[0] != want:
+                    fail(f"{name}: normal column {got_normals[0]}, expected {want}")
+            continue
+        if len(got_normals) != len(expected):
+            fail(f"{name}: {len(got_normals)} contacts, expected {len(expected)}")
+            continue
+        for k, ct in enumerate(expected):
+            c = dict(i=ct["i"], j=ct["j"], p=tuple(F(x) for x in ct["p"]))
+            c["i"] = (c["i"][0], tuple(F(x) for x in c["i"][1]) if c["i"][1] is not None else None)
+            c["j"] = (c["j"][0], tuple(F(x) for x in c["j"][1]))
+            n = tuple(F(x) for x in ct["n"])
+            want = column(nbodies, c, n)
+            if got_normals[k] != want:
+                fail(f"{name}: contact {k + 1}: normal column {got_normals[k]}, expected {want}")
+            if ct["mu"]:
+                t = (n[1], -n[0])
+                want_t = column(nbodies, c, t)
+                if k not in got_tangents or got_tangents[k] != (want_t, ct["mu"]):
+                    fail(f"{name}: contact {k + 1}: tangent {got_tangents.get(k)}, expected {(want_t, ct['mu'])}")
+            elif k in got_tangents:
+                fail(f"{name}: contact {k + 1}: mu = 0 has a tangent")
+        print(f"{name}: {len(expected)} contact(s), columns as computed by hand")
+
+    # Bad scenes: exit 2, one line, the place named.
+    disk = body("disk", 1, F(1, 2), (0, 1), [{"disk": "1"}])
+    BAD = [
+        ("a listed point 0.005 inside the disk (an engine's skin)",
+         {"format": "impactcert-scene/1", "name": "x", "bodies": [disk], "boundaries": GROUND,
+          "contacts": [{"bodies": ["ground", "disk"], "point": ["0", "0.005"], "normal": ["0", "1"]}]},
+         "$.contacts[0].point"),
+        ("a normal that is not a unit vector", {"format": "impactcert-scene/1", "name": "x", "bodies": [disk],
+                                                "boundaries": [{"name": "g", "point": ["0", "0"], "normal": ["1", "1"]}]},
+         "$.boundaries[0].normal"),
+        ("an edge of irrational length",
+         {"format": "impactcert-scene/1", "name": "x",
+          "bodies": [body("a", 1, 1, (0, 0), [{"segment": [["-1", "-1"], ["1", "1"]]}]),
+                     body("b", 1, 1, (-1, 2), [{"segment": [["0", "0"], ["1", "-2"]]}])]},
+         "$.bodies[0].shapes[0]"),
+        ("a negative friction coefficient", {"format": "impactcert-scene/1", "name": "x", "bodies": [disk],
+                                             "boundaries": GROUND, "friction": "-1/2"}, "$.friction"),
+        ("two rough contacts on one disk (4 columns, 3 velocities)",
+         {"format": "impactcert-scene/1", "name": "x", "bodies": [disk], "friction": "1/2",
+          "boundaries": GROUND + [{"name": "wall", "point": ["-1", "0"], "normal": ["1", "0"]}]}, "$.contacts.friction"),
+        ("no contact", {"format": "impactcert-scene/1", "name": "x", "bodies": [body("d", 1, 1, (0, 5), [{"disk": "1"}])],
+                        "boundaries": GROUND}, "$.contacts"),
+        ("a restitution for one contact only",
+         {"format": "impactcert-scene/1", "name": "x",
+          "bodies": [body("a", 1, 1, (0, 1), [{"disk": "1"}]), body("b", 1, 1, (2, 1), [{"disk": "1"}])],
+          "boundaries": GROUND, "pairs": [{"bodies": ["a", "b"], "restitution": "1/2"}]}, "contact 1 (ground/a) has no restitution"),
+        ("an unknown key", {"format": "impactcert-scene/1", "name": "x", "bodies": [disk], "boundaries": GROUND,
+                            "gravity": "9.81"}, "$.gravity"),
+        ("a zero mass", {"format": "impactcert-scene/1", "name": "x", "bodies": [body("d", 0, 1, (0, 1), [{"disk": "1"}])],
+                         "boundaries": GROUND}, "$.bodies[0].mass"),
+    ]
+    for name, scene, place in BAD:
+        p, law = law_of(scene)
+        lines = p.stderr.strip().splitlines()
+        if p.returncode != 2 or len(lines) != 1 or place not in lines[0]:
+            fail(f"{name}: exit {p.returncode}, stderr {p.stderr.strip()!r} (expected exit 2 naming {place})")
+        else:
+            print(f"refused: {name}: {lines[0]}")
+finally:
+    for f in os.listdir(tmp):
+        os.unlink(os.path.join(tmp, f))
+    os.rmdir(tmp)
+if failures:
+    print(f"{len(failures)} failure(s)")
+    sys.exit(1)
+print("ok")
