@@ -1,0 +1,147 @@
+#!/usr/bin/env python3
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""Box2D with friction and rotation (examples/engines/box2d_friction.cpp), fuzzed for consistency
+on the scenes of examples/scenes/: a spinning disk on rough ground, and two disks (one resting on
+the other) on the ground.
+
+- Converged (200 iterations) and without Box2D's edge skin, the engine computes the Newton law
+  with friction (restitution on approaching contacts, e_T = 0): its answers agree with the
+  independent oracle to float accuracy, and the fuzzer reports no violation of any kind.
+- At Box2D's default 8 iterations the two-disk scene is not converged: kinematic, friction-cone
+  and Coulomb violations are reported; with the default skin (the contact point 0.005 m off the
+  scene's) momentum and Coulomb violations. Each worst case is replayed (`eval --float`: exit 1,
+  the property named) and recomputed here in fractions from M and W (Lambda = H (gamma+ - gamma-)).
+Usage: box2d_friction_test.py BUILD_DIR SOURCE_DIR DRIVER
+"""
+import json
+import os
+import random
+import shlex
+import subprocess
+import sys
+from fractions import Fraction as F
+
+BUILD, SRC, DRIVER = sys.argv[1], sys.argv[2], sys.argv[3]
+sys.path.insert(0, os.path.join(SRC, "tests", "oracles"))
+from friction_lcp import System, solve  # noqa: E402
+
+CLI = os.path.join(BUILD, "impactcert")
+SCENES = os.path.join(SRC, "examples", "scenes")
+failures = []
+
+
+def fail(msg):
+    failures.append(msg)
+    print("FAIL:", msg)
+
+
+def mechanics(scene_path):
+    """M, the columns (normals then tangents), mu per tangent's contact, from the law impactcert derives."""
+    law = "/tmp/impactcert-box2d-test-%d.json" % os.getpid()
+    subprocess.run([CLI, "derive", "newton", "--system", scene_path, "--restitution-on", "approaching", "-o", law],
+                   check=True, capture_output=True)
+    head = json.load(open(law))
+    os.unlink(law)
+    m = [F(x) for x in head["masses"]]
+    n = len(m)
+    M = [[m[i] if i == j else F(0) for j in range(n)] for i in range(n)]
+    W = head["contacts"]["W"]
+    normals = [[F(W[i][k]) for i in range(n)] for k in range(len(W[0]))]
+    fr = [(f["contact"] - 1, F(f["mu"]), F(0), f["tangents"]) for f in head["contacts"]["friction"]]
+    return System(M, normals, fr), [F(x) for x in head["masses"]]
+
+
+def box2d(scene_path, args, inputs):
+    p = subprocess.run([DRIVER, "--scene", scene_path] + args, input="".join(" ".join(repr(x) for x in u) + "\n" for u in inputs),
+                       capture_output=True, text=True, check=True)
+    return [[float(t) for t in line.split()] for line in p.stdout.splitlines()]
+
+
+def fuzz(scene_path, args, samples=2000):
+    impl = shlex.join([DRIVER, "--scene", scene_path] + args)
+    p = subprocess.run([CLI, "fuzz", "--system", scene_path, "--velocities", "--impl-cmd", impl, "--range", "0.01..10",
+                        "--max-rel-error", "1e-5", "--samples", str(samples), "--json"], capture_output=True, text=True)
+    return p.returncode, json.loads(p.stdout)
+
+
+def recompute(S, w, prop):
+    """The worst case of `prop`, recomputed in contact space from M and W."""
+    u = [F(float.fromhex(t)) for t in w["input"]]
+    up = [F(float.fromhex(t)) for t in w["output"]]
+    gm, gp = S.velocities(u), S.velocities(up)
+    # G = W^T M^-1 W, Lambda = G^-1 (gamma+ - gamma-)
+    Minv_cols = [solve(S.M, c) for c in S.columns]
+    G = [[sum(a[i] * mc[i] for i in range(S.n)) for mc in Minv_cols] for a in S.columns]
+    lam = solve(G, [a - b for a, b in zip(gp, gm)])
+    N = len(S.normals)
+    scale = sum(abs(x) for x in gm) + 1
+    eps = F(1, 10**4) * scale  # far above --max-rel-error 1e-5 times the sample's scale
+    if prop == "kinematic":
+        return any(gp[k] < -eps * F(1, 100) for k in range(N))
+    for j, (k, mu, _, _) in enumerate(S.tangents):
+        T = N + j
+        if prop == "friction_cone" and abs(lam[T]) - mu * lam[k] > eps * F(1, 100):
+            return True
+        if prop == "coulomb":
+            xi = gp[T]
+            if (xi > 0 and lam[T] + mu * lam[k] > 0) or (xi < 0 and mu * lam[k] - lam[T] > 0):
+                return True
+    if prop == "momentum":
+        # du - M^-1 W Lambda != 0
+        du = [a - b for a, b in zip(up, u)]
+        r = [du[i] - sum(Minv_cols[c][i] * lam[c] for c in range(S.d)) for i in range(S.n)]
+        return any(x != 0 for x in r)
+    return False
+
+
+TITLES = {"kinematic": "(kinematic)", "friction_cone": "(friction cone)", "coulomb": "(coulomb)", "momentum": "(momentum)"}
+rng = random.Random(7)
+for scene in ("spinning-disk", "two-disks"):
+    path = os.path.join(SCENES, scene + ".json")
+    S, _ = mechanics(path)
+    # Converged and without the skin: the engine's answers are the law's (the oracle's), to float accuracy.
+    inputs = [[round(rng.uniform(-5, 5), 3) for _ in range(S.n)] for _ in range(40)]
+    inputs = [u for u in inputs if any(g < 0 for g in S.velocities([F(x) for x in u])[:len(S.normals)])]
+    outs = box2d(path, ["--iterations", "200", "--edge-radius", "0"], inputs)
+    worst = 0.0
+    for u, v in zip(inputs, outs):
+        sols = S.solutions([F(x) for x in u], [F(1, 2)] * len(S.normals), approaching=True)
+        if len(sols) != 1:
+            fail(f"{scene}: the oracle finds {len(sols)} solutions at {u}")
+            continue
+        exact = [float(x) for x in sols[0]]
+        err = max(abs(a - b) for a, b in zip(exact, v)) / max(1.0, max(abs(x) for x in u))
+        worst = max(worst, err)
+    if worst > 1e-5:
+        fail(f"{scene}: Box2D (200 iterations, no skin) differs from the Newton law with friction by {worst:.3g}")
+    status, j = fuzz(path, ["--iterations", "200", "--edge-radius", "0"])
+    bad = {k: v for k, v in j["violations"].items() if v}
+    if status != 0 or bad:
+        fail(f"{scene}: converged Box2D without skin: exit {status}, {bad}")
+    else:
+        print(f"{scene}: converged, no skin: {j['samples']} samples, no violation; "
+              f"largest deviation from the exact law {worst:.2g}")
+
+    for args, expected in ((["--iterations", "8", "--edge-radius", "0"], {"two-disks": ["kinematic", "friction_cone", "coulomb"]}),
+                           (["--iterations", "200"], {"spinning-disk": ["momentum", "coulomb"]})):
+        status, j = fuzz(path, args)
+        v = j["violations"]
+        for prop in expected.get(scene, []):
+            if not v[prop]:
+                fail(f"{scene} {args}: no {prop} violation reported ({v})")
+                continue
+            w = j["worst"][prop]
+            if not recompute(S, w, prop):
+                fail(f"{scene} {args}: the worst {prop} case does not recompute as a violation: {w}")
+            replay = shlex.split(w["replay"])
+            replay[0] = CLI
+            r = subprocess.run(replay, capture_output=True, text=True)
+            if r.returncode != 1 or TITLES[prop] not in r.stdout:
+                fail(f"{scene} {args}: replay of {prop}: exit {r.returncode}: {r.stdout[-300:]}")
+        if expected.get(scene):
+            print(f"{scene} {' '.join(args)}: " + ", ".join(f"{k} {v[k]}" for k in expected[scene]) +
+                  ": worst cases replayed and recomputed")
+if failures:
+    print(f"{len(failures)} failure(s)")
+    sys.exit(1)
+print("ok")
