@@ -102,6 +102,8 @@ int run_sweep_command(const SweepArgs& a, const Limits& limits) {
 
 int run_smt(const std::string& law_path, const std::string& dir) {
     const Model model = load_model(law_path);
+    if (model.has_friction())
+        throw InputError("--law: smt does not take laws with friction yet (verify and impactcert-check decide them)");
     std::error_code ec;
     std::filesystem::create_directories(dir, ec);
     if (ec)
@@ -194,6 +196,7 @@ int main(int argc, char** argv) {
     sequential_cmd->add_option("--max-words", derive_args.max_words, "with --rule any: limit on the admissible words (cells) examined; undecided (exit 3) beyond it")->check(natural_text)->capture_default_str();
     sequential_cmd->add_option("--max-impacts", derive_args.max_impacts, "longest impact sequence allowed")->check(natural_text)->capture_default_str();
     newton_cmd->add_option("--restitution-tangential", newton_args.restitution_tangential, "with friction: e_T of every tangent, in [0, 1] (default: the system's, else 0)");
+    newton_cmd->add_option("--max-modes", newton_args.max_modes, "with friction: limit on the contact modes enumerated (their pairs are compared); undecided (exit 3) beyond it")->check(natural_text)->capture_default_str();
     newton_cmd->add_flag("--json", newton_args.json, "with friction and exit 1 (not a function): the exact witness as JSON on standard output");
     newton_cmd->add_option("--restitution-on", newton_args.restitution_on, "all (the classical inequality law) or approaching (restitution only where gamma-_k < 0, as physics engines do)")->capture_default_str();
 

@@ -166,10 +166,12 @@ struct FrictionResult {
     std::optional<NotAFunction> not_a_function;
     std::size_t modes = 0, pairs = 0, regions = 0;
 };
-// Modes enumerated at most (pairs compared: about its square over two).
+// Modes enumerated at most by default (pairs compared: about its square over two); beyond
+// max_modes, DeriveLimit naming --max-modes (undecided).
 inline constexpr std::size_t kMaxFrictionModes = 400;
 struct FrictionOptions : ClassicalOptions {
     DeriveProgress progress;
+    std::size_t max_modes = kMaxFrictionModes;
 };
 FrictionResult derive_newton_friction(const FrictionOptions& options);
 // Every solution at gamma- (distinct gamma+), by the modes with an invertible system (the

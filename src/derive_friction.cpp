@@ -325,10 +325,10 @@ FrictionResult derive_newton_friction(const FrictionOptions& o) {
     const bool approaching = o.on == RestitutionOn::approaching;
     const Friction f(mech, o.restitution, approaching);
     const std::vector<Mode> modes = f.modes();
-    if (modes.size() > kMaxFrictionModes)
-        throw InputError("derive: the Newton law with friction of this system has " + std::to_string(modes.size()) +
-                         " contact modes, at most " + std::to_string(kMaxFrictionModes) +
-                         " are enumerated (their pairs are compared: " + std::to_string(kMaxFrictionModes) + "^2 / 2)");
+    if (modes.size() > o.max_modes)
+        throw DeriveLimit("the Newton law with friction of this system has " + std::to_string(modes.size()) +
+                          " contact modes, more than " + std::to_string(o.max_modes) +
+                          " (their pairs are compared, about modes^2 / 2 polyhedra; raise it with --max-modes)");
     const PplScope ppl;
     FrictionResult result;
     result.modes = modes.size();

@@ -658,14 +658,15 @@ struct Worker {
             bool negative = false;
             if (ref.velocities()) {
                 const Matrix& W = ref.model().W(); // gamma+ = W^T y, exactly
-                for (std::size_t c = 0; c < W.cols() && !negative; ++c) {
+                // with friction only the normals have a sign (SPEC section 9)
+                for (std::size_t c = 0; c < ref.model().normals() && !negative; ++c) {
                     Rational g = 0;
                     for (std::size_t i = 0; i < mo; ++i)
                         g += W(i, c) * exact_double(y[i], "fuzz");
                     negative = sign_of(g) == Sign::negative;
                 }
             } else {
-                for (std::size_t i = 0; i < mo; ++i)
+                for (std::size_t i = 0; i < mo && i < ref.model().normals(); ++i)
                     negative = negative || y[i] < 0;
             }
             if (negative) {

@@ -420,6 +420,14 @@ void validate_declarations(const Law& law, std::size_t n, std::size_t c,
         if (si.contact < 1 || static_cast<std::size_t>(si.contact) > c)
             input_error(path + ".contact", "contact must be in 1.." + std::to_string(c) + ", got " +
                                                std::to_string(si.contact));
+        // With friction the columns after the normals are tangents: a two-body impact is declared
+        // at a normal (frictional single impacts with their mode are not supported).
+        std::size_t tangents = 0;
+        for (const auto& f : law.friction)
+            tangents += f.tangents.size();
+        if (tangents > 0 && static_cast<std::size_t>(si.contact) > c - tangents)
+            input_error(path + ".contact", "contact " + std::to_string(si.contact) + " is a friction tangent: single impacts "
+                                           "are declared at the normals 1.." + std::to_string(c - tangents));
         if (sign_of(si.restitution) == Sign::negative || si.restitution > Rational(1))
             input_error(path + ".restitution",
                         "restitution must be in [0, 1], got " + to_string(si.restitution));

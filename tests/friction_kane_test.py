@@ -196,6 +196,33 @@ try:
     p = run([CLI, "derive", "newton", "--system", write("neg.json", neg)], 2, "negative mu")
     if "$.contacts.friction[0].mu" not in p.stderr or p.stderr.count("\n") != 1:
         fail("negative mu: " + p.stderr.strip())
+    # The review's findings, kept: law-mode fuzzing of a friction law checks the sign of the normals
+    # only (a tangential output off by 1% is an error, never a negative contact velocity); smt
+    # refuses friction; a single impact at a tangent column is refused by the prover and the
+    # checker; more modes than --max-modes is undecided (exit 3) naming the option.
+    law_path = os.path.join(KANE, "consistent", "law.json")
+    impl = os.path.join(SRC, "tests", "impls", "friction_impls.py")
+    p = run([CLI, "fuzz", "--law", law_path, "--impl-cmd", f"python3 {impl} {law_path} contact-tangent-off 1/2",
+             "--samples", "200", "--json"], 1, "law-mode fuzz of a friction law")
+    v = json.loads(p.stdout)["violations"]
+    if v["negative_output"] != 0 or v["outside_tolerance"] == 0:
+        fail(f"law-mode fuzz with friction: {v}")
+    p = run([CLI, "smt", "--law", law_path, "-o", scratch("smt")], 2, "smt with friction")
+    if "friction" not in p.stderr:
+        fail("smt with friction: " + p.stderr.strip())
+    si = load(law_path)
+    si["single_impacts"] = [{"piece": si["pieces"][0]["name"], "contact": 2, "restitution": "0"}]
+    p = run([CLI, "verify", "--law", write("si.json", si)], 2, "a single impact at a tangent")
+    if "$.single_impacts[0].contact" not in p.stderr:
+        fail("single impact at a tangent: " + p.stderr.strip())
+    forged = json.loads(json.dumps(good))
+    forged["law"]["single_impacts"] = [{"piece": forged["law"]["pieces"][0]["name"], "contact": 2, "restitution": "0"}]
+    forged["law_sha256"] = canonical_hash(forged["law"])
+    run([CHECK, write("forged6.json", forged)], 1, "a certificate with a single impact at a tangent")
+    p = run([CLI, "derive", "newton", "--system", os.path.join(KANE, "gains", "system.json"), "--max-modes", "3",
+             "-o", scratch("modes.json")], 3, "more modes than --max-modes")
+    if "--max-modes" not in p.stderr:
+        fail("--max-modes: " + p.stderr.strip())
 finally:
     for f in os.listdir(tmp):
         os.unlink(os.path.join(tmp, f))

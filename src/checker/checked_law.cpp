@@ -349,6 +349,7 @@ Law read_law(const Json& j, const std::string& path, std::size_t max_pieces, std
         d.contact = natural(field(impacts[i], ip, "contact"), at(ip, "contact"));
         if (d.contact < 1 || d.contact > law.c)
             malformed(at(ip, "contact"), "expected a contact number in 1..c");
+        require(d.contact <= law.normals, at(ip, "contact"), "a friction tangent: single impacts are declared at normals");
         d.restitution = rat(field(impacts[i], ip, "restitution"), at(ip, "restitution"));
         require(sgn(d.restitution) >= 0 && d.restitution <= 1, at(ip, "restitution"), "restitution outside [0, 1]");
         law.single_impacts.push_back(std::move(d));

@@ -184,7 +184,7 @@ int run_derive_classical(const DeriveArgs& a, bool poisson) {
     if (!a.restitution_tangential.empty()) {
         if (o.friction.empty())
             throw InputError("--restitution-tangential: the system has no friction");
-        const auto e_t = parse_rational(a.restitution_tangential);
+        const auto e_t = parse_cli_number(a.restitution_tangential);
         if (!e_t || sign_of(*e_t) == Sign::negative || *e_t > Rational(1))
             throw InputError("--restitution-tangential: expected a rational in [0, 1], got \"" + a.restitution_tangential + "\"");
         for (auto& f : o.friction)
@@ -206,6 +206,7 @@ int run_derive_classical(const DeriveArgs& a, bool poisson) {
     if (mech.has_friction()) {
         FrictionOptions fo;
         static_cast<ClassicalOptions&>(fo) = o;
+        fo.max_modes = a.max_modes;
         return run_derive_friction(a, fo, mech);
     }
     const Law law = poisson ? derive_poisson(o) : derive_newton(o);

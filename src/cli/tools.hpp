@@ -42,6 +42,7 @@ struct DeriveArgs {
     std::string restitution, rule = "most-negative", out, outcomes_from; // restitution "": the scene's, else 1
     std::string restitution_on = "all";
     std::string restitution_tangential; // friction: e_T of every tangent (empty: the system's, else 0)
+    std::size_t max_modes = kMaxFrictionModes; // friction: contact modes enumerated at most
     std::size_t max_impacts = 100, max_bits = kDefaultMaxBits, max_words = kDefaultMaxWords;
     bool json = false;
 };

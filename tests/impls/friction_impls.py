@@ -11,6 +11,8 @@ The system (M, W, friction) is read from the file's head; the Newton law with fr
   reversed    the tangential impulses of the exact answer reversed (friction pushes the slip)
   excess      the tangential impulses doubled (beyond mu Lambda_N where the contact slides)
   frictionless the tangential impulses dropped (a sliding contact without friction)
+  contact-tangent-off  in contact velocities (square W: u- = W^-T gamma-): the exact gamma+ with
+               its tangential components 1% too large (the normals exact), for law-mode fuzzing
 """
 import json
 import os
@@ -45,6 +47,18 @@ def main():
     N = len(S.normals)
     for line in sys.stdin:
         u = [F(parse(t)) for t in line.split()]
+        if mode == "contact-tangent-off":
+            gm = u
+            u = solve([list(c) for c in S.columns], gm)  # rows W^T: W^T u = gamma
+            sols = S.solutions(u, [e] * N)
+            gp = S.velocities(sols[0]) if len(sols) == 1 else None
+            if gp is None:
+                sys.stdout.write("not a function here\n")
+            else:
+                out = [float(x) if k < N else float(x) * 1.01 for k, x in enumerate(gp)]
+                sys.stdout.write(" ".join(x.hex() for x in out) + "\n")
+            sys.stdout.flush()
+            continue
         sols = S.solutions(u, [e] * N)
         if len(sols) != 1:
             sys.stdout.write("not a function here\n")
