@@ -1,7 +1,7 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 # Fails when a source file of the exact core mentions a floating-point type or conversion.
 # Display-only timing lives in verdict_output.cpp and uses integer microseconds.
-set(exact_sources rational matrix law json law_json paper_law copositivity pair_kernel int_kernel cradle fan obligations verdict_output certificate smt derive derive_classical derive_regions derive_planar derive_order exact_conditions system sweep limits)
+set(exact_sources rational matrix law json law_json paper_law copositivity pair_kernel int_kernel cradle fan obligations verdict_output certificate smt derive derive_classical derive_regions derive_planar derive_order derive_friction exact_conditions system scene json_read sweep limits)
 set(files "")
 foreach(name IN LISTS exact_sources)
   foreach(ext hpp cpp)

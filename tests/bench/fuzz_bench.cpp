@@ -121,5 +121,28 @@ int main(int argc, char** argv) {
                 "consistency --impl-cmd echo", static_cast<double>(csum.samples) / ct / 1e6, cores,
                 static_cast<unsigned long long>(csum.samples), ct,
                 static_cast<unsigned long long>(csum.properties[static_cast<std::size_t>(fuzz::Property::kinematic)].count));
+    // With friction (SPEC section 9): a spinning disk on rough ground (x, y, theta; one rough
+    // contact), the same echo program, against the same disk without friction (baseline, this run).
+    auto disk = [](bool rough) {
+        System s;
+        s.name = rough ? "rough-disk" : "smooth-disk";
+        s.masses = {Rational(1), Rational(1), Rational(1, 2)};
+        Matrix W(3, 1);
+        W(1, 0) = 1;
+        s.W = W;
+        if (rough)
+            s.friction.push_back(FrictionDecl{0, Rational(1, 2), {Vector{Rational(1), Rational(0), Rational(1)}}, Rational(0)});
+        return make_mechanics(s);
+    };
+    for (const bool rough : {false, true}) {
+        const Mechanics m = disk(rough);
+        const auto start = std::chrono::steady_clock::now();
+        const auto dsum = fuzz::run_consistency(m, c, *echo, nullptr);
+        const double dt = seconds_since(start);
+        std::printf("%-28s %8.3f M samples/s with %u jobs (%llu samples in %.2f s)%s\n",
+                    rough ? "consistency, rough disk" : "consistency, smooth disk", static_cast<double>(dsum.samples) / dt / 1e6,
+                    cores, static_cast<unsigned long long>(dsum.samples), dt,
+                    rough ? "; baseline: the smooth disk above (friction cone and Coulomb's law added)" : "");
+    }
     return 0;
 }
