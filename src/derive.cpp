@@ -376,6 +376,10 @@ DeriveResult derive_planar(const DeriveOptions& options, const Mechanics& mech, 
 
 DeriveResult derive_sequential(const DeriveOptions& options) {
     const Mechanics mech = make_mechanics(options);
+    if (mech.has_friction()) {
+        validate(options, mech.normals);
+        return derive_sequential_friction(options, mech);
+    }
     const std::size_t n = mech.balls(), c = mech.contacts();
     validate(options, c);
     const PplScope ppl;

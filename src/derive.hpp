@@ -61,9 +61,21 @@ struct DeriveResult {
     std::string word;                  // the first max_impacts + 1 impacts at not_finite
     std::size_t regions = 0;           // word regions found
     std::size_t max_word = 0;          // longest word
+    // With friction: a gamma- where the written regions do not tile (a gap or an overlap of two
+    // different maps: the fan's witness), and the fan's reason.
+    std::optional<Vector> not_a_function;
+    std::string not_a_function_reason;
 };
 
+// With friction (SPEC section 9) each impact is the one-contact Newton law with friction of the
+// picked contact (derive_sequential_friction.cpp); the rules compare the normals only.
 DeriveResult derive_sequential(const DeriveOptions& options);
+DeriveResult derive_sequential_friction(const DeriveOptions& options, const Mechanics& mech);
+// The same process in body velocities, without G: each step the one-contact law solved by its
+// modes (simulate_newton_friction on the contact's columns). Nothing beyond `limit` impacts or
+// where a step has no single answer.
+std::optional<Vector> simulate_sequential_friction(const Mechanics& m, const std::vector<Rational>& restitution,
+                                                   ImpactRule rule, Vector u, std::size_t limit);
 
 // The contacts the sequential process applies at gamma- (exact simulation on contact velocities
 // with G), at most `limit` of them; the second value is true when it stopped (gamma >= 0).

@@ -52,11 +52,11 @@ int run_derive_sequential(const DeriveArgs& a) {
     DeriveOptions o;
     static_cast<System&>(o) = system_from(a.system);
     const Mechanics mech = make_mechanics(o);
-    if (mech.has_friction())
-        throw InputError("--system: derive sequential does not take friction yet (derive newton does)");
+    if (mech.has_friction() && a.rule == "any")
+        throw InputError("--rule any: not with friction (give most-negative, left-first or right-first)");
     o.restitution = a.restitution.empty() && !o.System::restitution.empty()
                         ? o.System::restitution
-                        : restitution_list(a.restitution.empty() ? "1" : a.restitution, mech.contacts());
+                        : restitution_list(a.restitution.empty() ? "1" : a.restitution, mech.normals);
     const bool any_order = a.rule == "any";
     o.rule = any_order ? ImpactRule::most_negative : parse_rule(a.rule);
     o.max_impacts = a.max_impacts;
@@ -111,6 +111,19 @@ int run_derive_sequential(const DeriveArgs& a) {
     DeriveResult r = derive_sequential(o);
     if (r.law && any_order)
         r.law->description += order_note;
+    if (r.not_a_function) {
+        std::cerr << "impactcert: derive: the sequential law with friction is not a function: at gamma- = "
+                  << short_text(*r.not_a_function) << " " << r.not_a_function_reason << "\n";
+        if (a.json) {
+            Json j;
+            j["format"] = "impactcert-derive/1";
+            j["verdict"] = "not-a-function";
+            j["gamma_minus"] = to_json(*r.not_a_function);
+            j["reason"] = r.not_a_function_reason;
+            write_stdout(j.dump(2) + "\n");
+        }
+        return kExitRefuted;
+    }
     if (r.not_finite) {
         // One line, shortened; the exact witness in full with --json.
         std::string word = r.word.size() > 60 ? r.word.substr(0, 60) : r.word;
