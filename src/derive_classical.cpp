@@ -235,6 +235,9 @@ Law derive_poisson(const ClassicalOptions& o) {
             regions.push_back({cell, exp.w, key, name});
         }
     }
+    // Restitution 0 makes the expansion LCP degenerate (q_J = 0 where compression ended): several
+    // expansion sets give one cell and one map. Overlaps are removed before the pieces are written.
+    remove_overlaps(regions, c);
     Law law = head(o, "poisson");
     law.description = "Poisson-type simultaneous impact law (compression, then expansion with Lambda_e >= E Lambda_c) of " +
                       system_text(o) + ", restitution " + list_text(o.restitution) +

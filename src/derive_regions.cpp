@@ -175,6 +175,55 @@ Vector interior_point(const PPL::C_Polyhedron& p, std::size_t c) {
     return x;
 }
 
+void remove_overlaps(std::vector<Region>& regions, std::size_t c) {
+    sort_by_key(regions);
+    std::vector<Region> out;
+    for (auto& region : regions) {
+        std::vector<Region> parts{std::move(region)};
+        for (const Region& a : out) {
+            if (!(a.M == parts.front().M))
+                continue;
+            std::vector<Region> next;
+            for (auto& part : parts) {
+                PPL::C_Polyhedron meet = part.cone;
+                meet.intersection_assign(a.cone);
+                if (!full_dimensional(meet, c)) {
+                    next.push_back(std::move(part));
+                    continue;
+                }
+                if (a.cone.contains(part.cone))
+                    continue; // inside a: dropped
+                // part \ a, piece by piece over a's facets
+                std::vector<Vector> facets;
+                for (const auto& k : a.cone.minimized_constraints())
+                    if (const auto v = constraint_vector(k, c)) {
+                        if (k.is_equality())
+                            throw std::logic_error("remove_overlaps: a full-dimensional region with an equality");
+                        facets.push_back(*v);
+                    }
+                PPL::C_Polyhedron rest = part.cone;
+                for (const auto& f : facets) {
+                    PPL::C_Polyhedron piece = rest;
+                    piece.add_constraint(nonneg(Rational(-1) * f)); // f <= 0
+                    if (full_dimensional(piece, c))
+                        next.push_back(Region{piece, part.M, part.key, part.name});
+                    rest.add_constraint(nonneg(f));
+                }
+            }
+            parts = std::move(next);
+            if (parts.empty())
+                break;
+        }
+        // parts of one region keep its key; several get distinct names (NAME~1, NAME~2, ...)
+        for (std::size_t i = 0; i < parts.size(); ++i) {
+            if (parts.size() > 1)
+                parts[i].name += "~" + std::to_string(i + 1);
+            out.push_back(std::move(parts[i]));
+        }
+    }
+    regions = std::move(out);
+}
+
 std::vector<WrittenPiece> add_region_pieces(std::vector<Region>& regions, std::size_t c, Law& law,
                                            const DeriveProgress& progress) {
     sort_by_key(regions);

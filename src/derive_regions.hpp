@@ -64,6 +64,13 @@ struct WrittenPiece {
     std::size_t region; // index into the merged regions
 };
 
+// Regions with one matrix whose interiors overlap (a degenerate LCP: restitution 0 makes several
+// active sets give the same cell and map) become disjoint: in key order, a region inside an
+// earlier one of the same matrix is dropped, and one that overlaps it partly is replaced by the
+// full-dimensional parts of its difference, R \ A = union_i (R ∩ {a_i <= 0} ∩ {a_j >= 0, j < i})
+// over A's facet constraints a_i >= 0. The union and the map on it are unchanged.
+void remove_overlaps(std::vector<Region>& regions, std::size_t c);
+
 // Sorts by key, merges, triangulates; appends pieces to law.pieces. `regions` is replaced by
 // the merged list (indices of WrittenPiece::region refer to it).
 std::vector<WrittenPiece> add_region_pieces(std::vector<Region>& regions, std::size_t c, Law& law,

@@ -19,6 +19,7 @@
 #include <filesystem>
 #include <fstream>
 #include <random>
+#include <set>
 
 using namespace impactcert;
 using impactcert::test::q;
@@ -260,4 +261,50 @@ TEST_CASE("systems: files, full mass matrices, and bad systems (exit 2, one line
     REQUIRE(run.err.find("at most 5 contacts for the Poisson law") != std::string::npos);
     run = run_cli("derive newton --masses 1,1,1 --system " + full);
     REQUIRE(run.status == 2);
+}
+
+// Reliability round four, 1: restitution 0 made the expansion LCP degenerate, and derive poisson
+// wrote the same cone with the same matrix more than once (verify refuted `fan`). Now: fan proved,
+// no two pieces alike, and the law still agrees with the LCP solved in ball velocities.
+TEST_CASE("derive poisson with restitution 0 (and mixed lists): fan proved, every piece distinct", "[classical][reliability]") {
+    struct Case {
+        const char* what;
+        System system;
+        std::vector<Rational> e;
+    };
+    const std::vector<Case> cases = {
+        {"3 equal balls, e = 0", chain_system({q("1"), q("1"), q("1")}, Walls::none), {q("0"), q("0")}},
+        {"3 balls, e = 0, 1", chain_system({q("1"), q("2"), q("3")}, Walls::none), {q("0"), q("1")}},
+        {"4 balls, e = 1, 0, 1", chain_system({q("1"), q("1"), q("1"), q("1")}, Walls::none), {q("1"), q("0"), q("1")}},
+        {"2 balls and a left wall, e = 0", chain_system({q("1"), q("3")}, Walls::left), {q("0"), q("0")}},
+        {"3 balls and a right wall, e = 0, 1/2, 0", chain_system({q("2"), q("1"), q("2")}, Walls::right), {q("0"), q("1/2"), q("0")}},
+        {"planar disks, e = 0, 1", planar_disks(), {q("0"), q("1")}},
+    };
+    std::mt19937_64 rng(20261126);
+    for (const auto& c : cases) {
+        INFO(c.what);
+        ClassicalOptions o;
+        static_cast<System&>(o) = c.system;
+        o.restitution = c.e;
+        const Law law = derive_poisson(o);
+        std::set<std::string> names;
+        std::set<std::pair<std::vector<Vector>, std::string>> shapes;
+        for (const auto& p : law.pieces) {
+            REQUIRE(names.insert(p.name).second);
+            std::vector<Vector> rays = *p.rays;
+            std::sort(rays.begin(), rays.end());
+            std::string qtext;
+            for (std::size_t i = 0; i < p.Q.rows(); ++i)
+                qtext += to_string(p.Q.row(i)) + ";";
+            REQUIRE(shapes.emplace(rays, qtext).second); // no cone with its matrix twice
+        }
+        const Model m(law);
+        const std::vector<std::string> only{"fan"};
+        REQUIRE(verify(m, Limits{}, {}, &only).at("fan").verdict == Verdict::proved);
+        const Mechanics mech = make_mechanics(c.system);
+        for (int k = 0; k < 500; ++k) {
+            const Vector u = random_u(rng, mech.balls());
+            require_law_gives(m, u, simulate_poisson(mech, c.e, u));
+        }
+    }
 }
