@@ -143,7 +143,19 @@ std::string percent(double f) {
 } // namespace
 
 ConsistencyChecker::ConsistencyChecker(const Mechanics& m, bool velocities, double max_rel_error)
-    : m_(m), velocities_(velocities), R_(max_rel_error) {}
+    : m_(m), velocities_(velocities), R_(max_rel_error) {
+    // The allowance for underflow (proofs/README.md, "Consistency ... near underflow"): an output
+    // component may be off by one subnormal ulp, 2^-1074, whatever its scale; in the metric X of
+    // the input space that is at most sqrt(d trace X) 2^-1074 (|v|_X^2 <= lambda_max |v|^2).
+    const Matrix& X = velocities ? m.M : m.H;
+    Rational trace;
+    for (std::size_t i = 0; i < X.rows(); ++i)
+        trace += X(i, i);
+    Rational ulp(1);
+    for (int i = 0; i < 1074; ++i)
+        ulp /= Rational(2);
+    A_ = sqrt_up(Rational(static_cast<long>(X.rows())) * trace) * ulp;
+}
 
 std::size_t ConsistencyChecker::dim() const { return velocities_ ? m_.balls() : m_.contacts(); }
 
@@ -185,7 +197,9 @@ std::vector<Finding> ConsistencyChecker::check(const double* xd, const double* y
     const Matrix& X = velocities_ ? m_.M : m_.H;
     const Rational R = *exact_of(R_);
     const Rational s2 = bilinear(x, X, x);
-    const Rational tol2 = R * R * s2;
+    // (R s + A)^2 <= R^2 s^2 + A (2 R s_up + A): the tolerance with the underflow allowance A.
+    const Rational s_up = sqrt_up(s2);
+    const Rational tol2 = R * R * s2 + A_ * (Rational(2) * R * s_up + A_);
     const Vector gm = velocities_ ? transpose(m_.W) * x : x;
     const Vector gp = velocities_ ? transpose(m_.W) * y : y;
     const Vector lambda = m_.H * (gp - gm);
@@ -228,7 +242,7 @@ std::vector<Finding> ConsistencyChecker::check(const double* xd, const double* y
     // Friction (SPEC section 9), per tangent j of contact k, with the tolerances of proofs/README.md
     // ("Consistency with friction"): the friction cone, then Coulomb's law.
     if (m_.has_friction()) {
-        const Rational s_up = sqrt_up(s2);
+        const Rational tol = R * s_up + A_;
         std::optional<std::size_t> worst_cone, worst_slip;
         double cone_score = 0, slip_score = 0;
         std::string cone_detail, slip_detail;
@@ -236,7 +250,7 @@ std::vector<Finding> ConsistencyChecker::check(const double* xd, const double* y
             const Tangent& t = m_.tangents[j];
             const std::size_t T = m_.normals + j, N = t.contact;
             const Rational lt = lambda[T], ln = lambda[N];
-            const Rational tau_h = R * s_up * (sqrt_up(m_.H(T, T)) + t.mu * sqrt_up(m_.H(N, N)));
+            const Rational tau_h = tol * (sqrt_up(m_.H(T, T)) + t.mu * sqrt_up(m_.H(N, N)));
             const Rational abs_lt = sign_of(lt) == Sign::negative ? -lt : lt;
             const Rational over = abs_lt - t.mu * ln;
             if (over > tau_h) {
@@ -250,7 +264,7 @@ std::vector<Finding> ConsistencyChecker::check(const double* xd, const double* y
                 }
             }
             const Rational xi = gp[T] + t.e_T * gm[T];
-            const Rational tau_x = R * s_up * sqrt_up(m_.G(T, T));
+            const Rational tau_x = tol * sqrt_up(m_.G(T, T));
             for (const int dir : {1, -1}) {
                 // dir +1: slip forward (xi_T > 0) needs Lambda_T = -mu Lambda_N; -1 the other way.
                 const Rational slip = dir > 0 ? xi : -xi;
@@ -295,7 +309,8 @@ std::vector<Finding> ConsistencyChecker::check(const double* xd, const double* y
     {
         const Rational t2 = bilinear(y, X, y);
         const Rational one_r = Rational(1) + R;
-        if (t2 > one_r * one_r * s2) {
+        // |y| > (1 + R) s + A, squared with s_up >= s on the cross term
+        if (t2 > one_r * one_r * s2 + A_ * (Rational(2) * one_r * s_up + A_)) {
             const Rational half(1, 2);
             const std::string what = velocities_ ? "T" : "T (contact part)";
             finding(Property::energy, ratio(t2 - s2, s2),
@@ -326,7 +341,7 @@ std::vector<Finding> ConsistencyChecker::check_pair(const double* ad, const doub
     const Rational A = bilinear(dy, X, dy), B = bilinear(dx, X, dx);
     // T >= R (|a| + |b|), rational; then |dy| > L |dx| + T  <=>  A - L^2 B - T^2 > 0 and
     // (A - L^2 B - T^2)^2 > 4 T^2 L^2 B (both sides of the root comparison are non-negative).
-    const Rational T = R * (sqrt_up(bilinear(a, X, a)) + sqrt_up(bilinear(b, X, b)));
+    const Rational T = R * (sqrt_up(bilinear(a, X, a)) + sqrt_up(bilinear(b, X, b))) + Rational(2) * A_;
     auto exceeds = [&](const Rational& L) {
         const Rational lb = L * L * B;
         const Rational gap = A - lb - T * T;
@@ -524,6 +539,12 @@ ConsistencySummary run_consistency(const Mechanics& m, const ConsistencyOptions&
                 if (!has_pair[s] || failed(pb_i))
                     continue;
                 ++part.sum.pairs;
+                // The second point's answer is checked like the first's (a NaN there, an energy gain).
+                for (auto& f : checker.check(&in[pb_i * d], &out[pb_i * d])) {
+                    f.index = indices[s];
+                    f.replay = replay_text(o.replay_prefix, f);
+                    record(part, std::move(f), o.keep);
+                }
                 for (auto& f : checker.check_pair(&in[pa_i * d], &out[pa_i * d], &in[pb_i * d], &out[pb_i * d],
                                                   o.nonexpansive, o.continuity)) {
                     f.index = indices[s];

@@ -21,7 +21,9 @@
 //       energy      |x+|^2 > (1 + R)^2 s^2
 //       nonexpansive (pairs, on request) |y_a - y_b| > |a - b| + R (|a| + |b|)
 //       continuity   (close pairs, on request) |y_a - y_b| > 1024 |a - b| + R (|a| + |b|)
-//     An output within R s of a consistent one never violates any of them (the README's lemma),
+//     Every R s above is R s + A, A = sqrt(d trace X) 2^-1074, the allowance for underflow (an
+//     output component may be one subnormal ulp off whatever its scale: proofs/README.md).
+//     An output within R s + A of a consistent one never violates any of them (the README's lemma),
 //     so every violation reported is one of the map itself, reproduced exactly by its replay.
 //   - The summary has, per property, the count and the worst case (largest violation relative to
 //     the sample's scale) with exact figures and a replay command.
@@ -101,6 +103,7 @@ class ConsistencyChecker {
     const Mechanics& m_;
     bool velocities_;
     double R_;
+    Rational A_; // the underflow allowance, sqrt(d trace X) 2^-1074
 };
 
 ConsistencySummary run_consistency(const Mechanics& m, const ConsistencyOptions& options, const Implementation& impl,

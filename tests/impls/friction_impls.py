@@ -2,7 +2,7 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """Impact maps with Coulomb friction for the consistency fuzzer's tests (ball/body velocities).
 
-Usage: friction_impls.py SYSTEM_OR_LAW.json MODE E
+Usage: friction_impls.py SYSTEM_OR_LAW.json MODE E [approaching]
 Protocol of `impactcert fuzz --impl-cmd`: one line of doubles in (hex or decimal), one line out.
 The system (M, W, friction) is read from the file's head; the Newton law with friction
 (restitution E on every contact, e_T of the file) is solved exactly by the independent oracle
@@ -44,13 +44,14 @@ def main():
     S = load(sys.argv[1])
     mode = sys.argv[2]
     e = F(sys.argv[3])
+    approaching = len(sys.argv) > 4 and sys.argv[4] == "approaching"
     N = len(S.normals)
     for line in sys.stdin:
         u = [F(parse(t)) for t in line.split()]
         if mode == "contact-tangent-off":
             gm = u
             u = solve([list(c) for c in S.columns], gm)  # rows W^T: W^T u = gamma
-            sols = S.solutions(u, [e] * N)
+            sols = S.solutions(u, [e] * N, approaching=approaching)
             gp = S.velocities(sols[0]) if len(sols) == 1 else None
             if gp is None:
                 sys.stdout.write("not a function here\n")
@@ -59,7 +60,7 @@ def main():
                 sys.stdout.write(" ".join(x.hex() for x in out) + "\n")
             sys.stdout.flush()
             continue
-        sols = S.solutions(u, [e] * N)
+        sols = S.solutions(u, [e] * N, approaching=approaching)
         if len(sols) != 1:
             sys.stdout.write("not a function here\n")
             sys.stdout.flush()

@@ -1,0 +1,72 @@
+#!/usr/bin/env python3
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""Consistency fuzzing at the edges (reliability round four, items 2 and 3).
+
+2. A correctly rounded consistent answer is never reported, on the whole accepted --range, the
+   subnormals included: the exact plastic law (Newton, e = 0) and the Newton law with
+   restitution on approaching contacts (e = 1/2) of masses 1, 2, 3, rounded to doubles by the
+   independent oracle, fuzzed with pairs over ranges from 1e-320 to 1e150: no violation. A
+   negative control: the same law at e = 1/2 on every contact (the classical law, not kinematic)
+   is reported at every range.
+3. A NaN answered for the second point of a pair is reported: every NaN the implementation
+   answers (it logs them) is a non-finite finding.
+Usage: consistency_edges_test.py IMPACTCERT SOURCE_DIR
+"""
+import json
+import os
+import subprocess
+import sys
+import tempfile
+
+CLI, SRC = sys.argv[1], sys.argv[2]
+IMPLS = os.path.join(SRC, "tests", "impls")
+failures = []
+tmp = tempfile.mkdtemp(prefix="impactcert-edges-")
+
+
+def fail(msg):
+    failures.append(msg)
+    print("FAIL:", msg)
+
+
+system = os.path.join(tmp, "chain.json")
+json.dump({"format": "impactcert-system/1", "name": "chain-1-2-3", "masses": ["1", "2", "3"],
+           "contacts": {"W": [["-1", "0"], ["1", "-1"], ["0", "1"]]}}, open(system, "w"))
+oracle_impl = os.path.join(IMPLS, "friction_impls.py")
+try:
+    for rng in ("1e-320..1e-316", "1e-320..1e-300", "1e-300..1e-250", "1e-3..1e3", "1e100..1e150"):
+        for e, on, expect_clean in (("0", "all", True), ("1/2", "approaching", True), ("1/2", "all", False)):
+            impl = f"python3 {oracle_impl} {system} exact {e}" + (" approaching" if on == "approaching" else "")
+            p = subprocess.run([CLI, "fuzz", "--system", system, "--velocities", "--impl-cmd", impl, "--range", rng,
+                                "--samples", "300", "--require", "nonexpansive,continuity", "--json"],
+                               capture_output=True, text=True)
+            try:
+                j = json.loads(p.stdout)
+            except json.JSONDecodeError:
+                fail(f"{rng} e={e} {on}: no JSON (exit {p.returncode}): {p.stderr[:200]}")
+                continue
+            found = {k: v for k, v in j["violations"].items() if v}
+            if expect_clean and (p.returncode != 0 or found):
+                fail(f"{rng}, e = {e} on {on}: a correctly rounded consistent law reported: {found}")
+            if not expect_clean and not found.get("kinematic"):
+                fail(f"{rng}, e = {e} on {on}: the classical law's negative contact velocities not reported ({found})")
+        print(f"--range {rng}: the exact laws rounded to doubles raise no alarm; the classical law is reported")
+
+    log = os.path.join(tmp, "nans.log")
+    p = subprocess.run([CLI, "fuzz", "--masses", "1,1,1", "--velocities", "--impl-cmd",
+                        f"python3 {os.path.join(IMPLS, 'nan_second.py')} {log}", "--samples", "400",
+                        "--require", "nonexpansive", "--json"], capture_output=True, text=True)
+    j = json.loads(p.stdout)
+    nans = sum(1 for _ in open(log)) if os.path.exists(log) else 0
+    if nans == 0 or j["violations"]["non_finite"] != nans or p.returncode != 1:
+        fail(f"{nans} NaN answers, {j['violations']['non_finite']} reported (exit {p.returncode})")
+    else:
+        print(f"{nans} NaN answers (first and second points of pairs), all {nans} reported")
+finally:
+    for f in os.listdir(tmp):
+        os.unlink(os.path.join(tmp, f))
+    os.rmdir(tmp)
+if failures:
+    print(f"{len(failures)} failure(s)")
+    sys.exit(1)
+print("ok")
