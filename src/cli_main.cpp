@@ -148,7 +148,7 @@ int main(int argc, char** argv) {
     certify_cmd->add_option("--law", law_path, "law file (impactcert-law/1); default: the paper's 3-ball law");
     certify_cmd->add_option("-o,--output", out_path, "certificate file to write")->required();
     std::string shard_text;
-    certify_cmd->add_option("--shard", shard_text, "K/N: write the part of slice K of N (impactcert-certificate-part/1); impactcert-check PART... merges and checks the parts");
+    certify_cmd->add_option("--shard", shard_text, "K/N: write the part of slice K of N (impactcert-certificate-part/1); impactcert-check PART... merges and checks the parts")->check(cli::shard_text);
     add_shard_block_option(certify_cmd, proof);
 
     auto* report_cmd = app.add_subcommand("report", "write report.md (CI job summary) and a self-contained report.html with a picture of the cones");
@@ -214,7 +214,7 @@ int main(int argc, char** argv) {
     sweep_cmd->add_option("--max-impacts", sweep_args.max_impacts, "longest impact sequence allowed")->check(natural_text)->capture_default_str();
     sweep_cmd->add_option("--max-words", sweep_args.max_words, "the order-independent column: cells walked per point (and 100 pairs per cell); undecided beyond")->check(natural_text)->capture_default_str();
     sweep_cmd->add_option("--vary", sweep_args.vary, "NAME=LO..HI:COUNT[:log], once or twice");
-    sweep_cmd->add_option("--shard", sweep_args.shard, "K/N: only the grid points k with k mod N = K-1, written to DIR/sweep.part-K-of-N.json (merge with --merge)");
+    sweep_cmd->add_option("--shard", sweep_args.shard, "K/N: only the grid points k with k mod N = K-1, written to DIR/sweep.part-K-of-N.json (merge with --merge)")->check(cli::shard_text);
     sweep_cmd->add_option("--merge", sweep_args.merge, "PART...: merge the part files of one sharded run (each shard once, every point covered) into DIR");
     sweep_cmd->add_option("--max-points", sweep_args.max_points, "limit: grid points in all (undecided, exit 3, beyond it)")->check(natural_text)->capture_default_str();
     sweep_cmd->add_option("--jobs", sweep_args.jobs, "worker processes (default: all cores)")->check(natural_text)->check(CLI::Range(1u, 256u));

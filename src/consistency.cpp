@@ -467,7 +467,8 @@ ConsistencySummary run_consistency(const Mechanics& m, const ConsistencyOptions&
     const ConsistencyChecker checker(m, o.velocities, o.max_rel_error);
     const unsigned jobs = std::max(1u, o.jobs);
     const std::size_t block = std::max<std::size_t>(1, impl.batch_samples());
-    const std::uint64_t blocks = (o.samples + block - 1) / block;
+    // (samples + block - 1) / block would wrap for samples near 2^64 (reliability round four, 5)
+    const std::uint64_t blocks = o.samples / block + (o.samples % block != 0 ? 1 : 0);
     std::atomic<std::uint64_t> next{0}, done{0};
     std::atomic<bool> stop{false};
     std::vector<Partial> partials(jobs);

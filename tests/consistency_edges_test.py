@@ -62,6 +62,21 @@ try:
         fail(f"{nans} NaN answers, {j['violations']['non_finite']} reported (exit {p.returncode})")
     else:
         print(f"{nans} NaN answers (first and second points of pairs), all {nans} reported")
+    # 5. --samples 2^64 - 1: the block count must not wrap (it gave exit 3 at once, 0 samples,
+    # blaming --seconds): the run goes on until --seconds stops it, with samples checked.
+    sort_impl = f"python3 {os.path.join(IMPLS, 'cradle_controls.py')} sort"
+    p = subprocess.run([CLI, "fuzz", "--masses", "1,1,1", "--velocities", "--impl-cmd", sort_impl,
+                        "--samples", "18446744073709551615", "--seconds", "1", "--json"], capture_output=True, text=True)
+    j = json.loads(p.stdout) if p.stdout.strip().startswith("{") else {}
+    if p.returncode != 0 or j.get("samples", 0) == 0:
+        fail(f"--samples 2^64 - 1: exit {p.returncode}, {j.get('samples')} samples: {p.stderr.strip()}")
+    else:
+        print(f"--samples 2^64 - 1 --seconds 1: {j['samples']} samples checked, exit 0")
+    # 7. --shard "" (an unset $SHARD): refused in one line, never the whole run.
+    for cmd in (["verify", "--shard", ""], ["certify", "--shard", "", "-o", os.path.join(tmp, "part.json")]):
+        p = subprocess.run([CLI] + cmd, capture_output=True, text=True)
+        if p.returncode != 2 or "--shard" not in p.stderr or len(p.stderr.strip().splitlines()) != 1:
+            fail(f"{cmd}: exit {p.returncode}: {p.stderr.strip()!r}")
 finally:
     for f in os.listdir(tmp):
         os.unlink(os.path.join(tmp, f))

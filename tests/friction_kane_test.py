@@ -147,6 +147,41 @@ try:
         run([CLI, "derive", "newton", "--system", write("kane-f.json", doc), "--restitution", "1/2", "-o",
              scratch("kane-f-law.json")], expect, f"derive at mu = {mu} (function threshold)")
 
+    # The exact set of mu (proofs/README.md, "Kane's example"): G from M and W in fractions, the
+    # slip polynomials F_f, F_b and the stick quadratic D(t), recomputed and checked.
+    Mk = [[F(x) for x in r] for r in sysdoc["M"]]
+    Wk = [[F(sysdoc["contacts"]["W"][i][0]), F(sysdoc["contacts"]["friction"][0]["tangents"][0][i])] for i in range(2)]
+    Mi = [solve(Mk, [F(1), F(0)]), solve(Mk, [F(0), F(1)])]  # columns of M^-1
+    Minv = [[Mi[c][r] for c in range(2)] for r in range(2)]
+    G = [[sum(Wk[i][a] * Minv[i][j] * Wk[j][b] for i in range(2) for j in range(2)) for b in range(2)] for a in range(2)]
+    e = F(1, 2)
+    if not (G[0][1] > 0 and G[0][0] / G[0][1] == F(18433, 39777)):
+        fail(f"Kane: G = {G}: G_NN / G_NT is not 18433/39777")
+
+    def F_f(mu):
+        return G[0][0] * (e - 1) / (1 + e) + 2 * mu * G[0][1] / (1 + e) - mu * mu * G[1][1]
+
+    def F_b(mu):
+        return G[0][0] * (e - 1) / (1 + e) - 2 * mu * G[0][1] / (1 + e) - mu * mu * G[1][1]
+
+    detG = G[0][0] * G[1][1] - G[0][1] ** 2
+    H = [[G[1][1] / detG, -G[0][1] / detG], [-G[0][1] / detG, G[0][0] / detG]]
+
+    def D(t):
+        g = [-(G[0][0] + G[0][1] * t) / (1 + e), -(G[1][0] + G[1][1] * t)]
+        return e * e * H[0][0] * g[0] ** 2 - sum(g[i] * H[i][j] * g[j] for i in range(2) for j in range(2))
+
+    for mu in (F(0), F(1, 10), lo, hi, F(3, 10), F(18432, 39777)):
+        if 751039 * F_f(mu) != -8 * poly(mu):
+            fail(f"F_f({mu}) is not -8/751039 times the stick polynomial")
+        if not F_b(mu) < 0:
+            fail(f"F_b({mu}) = {F_b(mu)} is not negative")
+    if not (D(F(0)) < 0 and D(-lo) < 0 and D(-hi) > 0 and D(F(-4374, 10000)) > 0 and D(F(-4375, 10000)) < 0):
+        fail("the stick quadratic D(t) does not have the stated signs")
+    for t in (F(-1, 2), F(0), F(1, 2)):  # concave: the second difference is negative
+        if not D(t + 1) - 2 * D(t) + D(t - 1) < 0:
+            fail("D is not concave")
+
     # Negative controls on the prover and the checker.
     law = load(os.path.join(KANE, "consistent", "law.json"))
     law["contacts"]["friction"][0]["mu"] = "1/100"  # the pieces of mu = 1/8 under mu = 1/100

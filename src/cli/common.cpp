@@ -4,6 +4,7 @@
 #include "law_json.hpp"
 #include "paper_law.hpp"
 
+#include <fcntl.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -13,6 +14,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <random>
 
 namespace impactcert::cli {
 
@@ -98,10 +100,28 @@ OutputFile::OutputFile(std::string path) : path_(std::move(path)) {
     const bool ours = exists && S_ISREG(st.st_mode) && st.st_nlink == 1 && st.st_uid == ::geteuid() &&
                       ::access(path_.c_str(), W_OK) == 0;
     if (!exists || ours) {
-        temporary_ = path_ + ".partial-" + std::to_string(::getpid());
-        out_.open(temporary_, std::ios::binary | std::ios::trunc);
-        if (!out_ || (ours && ::chmod(temporary_.c_str(), st.st_mode & 07777) != 0)) {
-            // A directory we may not write in (or a name too long for the suffix): in place.
+        // The temporary file's name is unpredictable and the file is created here, new
+        // (O_EXCL, O_NOFOLLOW): a link planted at a name we might use is never followed. It is
+        // then opened through /proc/self/fd, the file just created and no other.
+        std::random_device random;
+        int fd = -1;
+        for (int attempt = 0; attempt < 64 && fd < 0; ++attempt) {
+            char suffix[32];
+            std::snprintf(suffix, sizeof suffix, ".partial-%08x%08x", random(), random());
+            temporary_ = path_ + suffix;
+            fd = ::open(temporary_.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0666);
+            if (fd < 0 && errno != EEXIST)
+                break;
+        }
+        if (fd >= 0) {
+            out_.open("/proc/self/fd/" + std::to_string(fd), std::ios::binary | std::ios::trunc);
+            ::close(fd);
+        }
+        if (fd < 0) {
+            // A directory we may not write in (or a name too long for the suffix): in place. The
+            // name tried is not ours: nothing is removed.
+            temporary_.clear();
+        } else if (!out_ || (ours && ::chmod(temporary_.c_str(), st.st_mode & 07777) != 0)) {
             out_.close();
             std::remove(temporary_.c_str());
             temporary_.clear();

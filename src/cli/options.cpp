@@ -20,6 +20,13 @@ std::string positive_text(const std::string& text) {
     return {};
 }
 
+// --shard K/N given as an empty text (an unset $SHARD in a job script) is an error, not "no shard".
+std::string shard_text(const std::string& text) {
+    if (text.empty())
+        return "expected K/N, got an empty text (an unset variable in a job script?)";
+    return {};
+}
+
 std::string natural_text(const std::string& text) {
     if (text.empty() || text.size() > 19 || text.find_first_not_of("0123456789") != std::string::npos)
         return "must be a non-negative integer below 10^19, got " + text;
@@ -59,7 +66,7 @@ void add_verify_options(CLI::App* cmd, VerifyArgs& args, ProofOptions& proof) {
     cmd->add_option("--junit", args.junit_path, "also write a JUnit XML report to this file");
     cmd->add_flag("--stream", args.stream, "keep only the ids of each piece's rays and images (a law given by orbit representatives, "
                                            "larger than memory as matrices); same verdicts, streamed checks (proofs/README.md, \"Streamed laws\")");
-    cmd->add_option("--shard", args.shard_text, "K/N: decide slice K of N only (obligation i when i mod N = K-1, and nonexpansive's pair blocks b mod N = K-1)");
+    cmd->add_option("--shard", args.shard_text, "K/N: decide slice K of N only (obligation i when i mod N = K-1, and nonexpansive's pair blocks b mod N = K-1)")->check(shard_text);
     add_shard_block_option(cmd, proof);
     add_limit_options(cmd, proof);
     add_jobs_option(cmd, proof);

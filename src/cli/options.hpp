@@ -21,6 +21,7 @@ namespace impactcert::cli {
 // refused as -1, not read as 2^64 - 1).
 std::string positive_text(const std::string& text);
 std::string natural_text(const std::string& text);
+std::string shard_text(const std::string& text); // --shard: not empty
 
 // The options of the commands that decide obligations (verify, certify, report, sweep): the
 // limits, the integer kernels, and (not sweep's) the threads.
