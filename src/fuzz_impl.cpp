@@ -342,7 +342,8 @@ class CommandImpl final : public Implementation {
         }
         while (*p == ' ' || *p == '\t' || *p == '\r')
             ++p;
-        return *p == 0;
+        // The end of the line, not a NUL inside it ("1 2 3\0 99 garbage" is not three numbers).
+        return p == line.c_str() + line.size();
     }
 
     // Sends `count` points and reads answers until all are in or the process fails; returns the
@@ -377,9 +378,14 @@ class CommandImpl final : public Implementation {
                     break;
                 }
                 if (answered == count) { // the repeated first input, then nothing more
-                    if (sentinel_read || !parse_line(rbuf_.data() + start, rbuf_.data() + nl, sentinel) ||
-                        (status[0] == ImplStatus::ok &&
-                         std::memcmp(sentinel, out, out_dim_ * sizeof(double)) != 0)) {
+                    // A malformed answer to the first input, repeated malformed for its repetition,
+                    // is that input's answer, not a shift of the others (one malformed answer must
+                    // not poison its batch).
+                    const bool parsed = parse_line(rbuf_.data() + start, rbuf_.data() + nl, sentinel);
+                    const bool same = status[0] == ImplStatus::ok
+                                          ? parsed && std::memcmp(sentinel, out, out_dim_ * sizeof(double)) == 0
+                                          : !parsed;
+                    if (sentinel_read || !same) {
                         failure_ = ImplStatus::malformed;
                         rbuf_.clear();
                         return answered;

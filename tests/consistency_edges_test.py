@@ -72,6 +72,20 @@ try:
         fail(f"--samples 2^64 - 1: exit {p.returncode}, {j.get('samples')} samples: {p.stderr.strip()}")
     else:
         print(f"--samples 2^64 - 1 --seconds 1: {j['samples']} samples checked, exit 0")
+    # 4. One malformed answer (one number too many, or a NUL inside the line) to the first input of
+    # a batch is that input's failure only: the other answers are checked, and a NUL-cut line is
+    # never read as numbers.
+    for mode in ("extra", "nul"):
+        p = subprocess.run([CLI, "fuzz", "--masses", "1,1,1", "--velocities", "--impl-cmd",
+                            f"python3 {os.path.join(IMPLS, 'one_bad_answer.py')} {mode}", "--samples", "1000",
+                            "--jobs", "2", "--json"], capture_output=True, text=True)
+        j = json.loads(p.stdout)
+        v = j["violations"]
+        others = {k: x for k, x in v.items() if x and k != "malformed"}
+        if not (1 <= v["malformed"] <= 2) or others or j["samples"] != 1000:
+            fail(f"one bad answer ({mode}): malformed {v['malformed']}, others {others}, samples {j['samples']}")
+        else:
+            print(f"one bad answer ({mode}): {v['malformed']} malformed (one per process), the rest checked")
     # 7. --shard "" (an unset $SHARD): refused in one line, never the whole run.
     for cmd in (["verify", "--shard", ""], ["certify", "--shard", "", "-o", os.path.join(tmp, "part.json")]):
         p = subprocess.run([CLI] + cmd, capture_output=True, text=True)
