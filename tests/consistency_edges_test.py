@@ -66,12 +66,12 @@ try:
     # blaming --seconds): the run goes on until --seconds stops it, with samples checked.
     sort_impl = f"python3 {os.path.join(IMPLS, 'cradle_controls.py')} sort"
     p = subprocess.run([CLI, "fuzz", "--masses", "1,1,1", "--velocities", "--impl-cmd", sort_impl,
-                        "--samples", "18446744073709551615", "--seconds", "1", "--json"], capture_output=True, text=True)
+                        "--samples", "18446744073709551615", "--seconds", "8", "--json"], capture_output=True, text=True)
     j = json.loads(p.stdout) if p.stdout.strip().startswith("{") else {}
     if p.returncode != 0 or j.get("samples", 0) == 0:
         fail(f"--samples 2^64 - 1: exit {p.returncode}, {j.get('samples')} samples: {p.stderr.strip()}")
     else:
-        print(f"--samples 2^64 - 1 --seconds 1: {j['samples']} samples checked, exit 0")
+        print(f"--samples 2^64 - 1 --seconds 8: {j['samples']} samples checked, exit 0")
     # 4. One malformed answer (one number too many, or a NUL inside the line) to the first input of
     # a batch is that input's failure only: the other answers are checked, and a NUL-cut line is
     # never read as numbers.
