@@ -30,6 +30,7 @@ const char* property_id(Property p) {
     case Property::energy: return "energy";
     case Property::nonexpansive: return "nonexpansive";
     case Property::continuity: return "continuity";
+    case Property::at_rest: return "at-rest";
     case Property::non_finite: return "non_finite";
     case Property::count: break;
     }
@@ -46,6 +47,7 @@ const char* property_title(Property p) {
     case Property::energy: return "energy gain";
     case Property::nonexpansive: return "expansion of a pair (nonexpansive)";
     case Property::continuity: return "jump between close inputs (continuity)";
+    case Property::at_rest: return "motion from rest (at-rest)";
     case Property::non_finite: return "non-finite output";
     case Property::count: break;
     }
@@ -321,6 +323,32 @@ std::vector<Finding> ConsistencyChecker::check(const double* xd, const double* y
     return out;
 }
 
+std::optional<Finding> ConsistencyChecker::at_rest(const double* yd) const {
+    const std::size_t d = dim();
+    Finding f;
+    f.property = Property::at_rest;
+    f.input.assign(d, 0.0);
+    f.output.assign(yd, yd + d);
+    Vector y(d);
+    for (std::size_t i = 0; i < d; ++i) {
+        const auto r = exact_of(yd[i]);
+        if (!r) {
+            f.score = 1;
+            f.detail = "the input at rest is answered with a non-finite component " + std::to_string(i + 1);
+            return f;
+        }
+        y[i] = *r;
+    }
+    const Matrix& X = velocities_ ? m_.M : m_.H;
+    const Rational e2 = bilinear(y, X, y);
+    if (!(e2 > A_ * A_))
+        return std::nullopt;
+    f.score = ratio(e2, Rational(1));
+    f.detail = std::string("the input at rest is answered with motion: ") + (velocities_ ? "T+" : "T+ (contact part)") +
+               " = " + exact_text(Rational(1, 2) * e2) + " from T- = 0 (energy from nothing)";
+    return f;
+}
+
 std::vector<Finding> ConsistencyChecker::check_pair(const double* ad, const double* yad, const double* bd,
                                                     const double* ybd, bool nonexpansive, bool continuity) const {
     const std::size_t d = dim();
@@ -476,6 +504,26 @@ ConsistencySummary run_consistency(const Mechanics& m, const ConsistencyOptions&
     for (unsigned j = 0; j < jobs; ++j) {
         impls.push_back(impl.clone());
         impls.back()->set_stop_flag(&stop);
+    }
+    // The probe: the input at rest, once, before the samples (its answer must be at rest).
+    {
+        std::vector<double> zero(d, 0.0), y(d, 0.0);
+        ImplStatus st = ImplStatus::ok;
+        impls[0]->eval(zero.data(), y.data(), nullptr, 1, &st);
+        Partial& part = partials[0];
+        switch (st) {
+        case ImplStatus::ok:
+            if (auto f = checker.at_rest(y.data())) {
+                f->replay = replay_text(o.replay_prefix, *f);
+                record(part, std::move(*f), o.keep);
+            }
+            break;
+        case ImplStatus::crashed: ++part.sum.crashed; break;
+        case ImplStatus::hung: ++part.sum.hung; break;
+        case ImplStatus::malformed: ++part.sum.malformed; break;
+        case ImplStatus::refused: ++part.sum.refused; break;
+        case ImplStatus::skipped: break;
+        }
     }
     const auto start = std::chrono::steady_clock::now();
     auto worker = [&](unsigned j) {

@@ -25,6 +25,8 @@
 //     output component may be one subnormal ulp off whatever its scale: proofs/README.md).
 //     An output within R s + A of a consistent one never violates any of them (the README's lemma),
 //     so every violation reported is one of the map itself, reproduced exactly by its replay.
+//   - The probe: the input at rest is evaluated once before the samples; an answer that moves
+//     (beyond the underflow allowance) is the finding `at-rest` (energy from nothing).
 //   - The summary has, per property, the count and the worst case (largest violation relative to
 //     the sample's scale) with exact figures and a replay command.
 #pragma once
@@ -44,7 +46,7 @@ namespace impactcert::fuzz {
 
 // friction_cone and coulomb: systems with friction only (SPEC section 9).
 enum class Property : std::size_t {
-    kinematic, kinetic, friction_cone, coulomb, momentum, energy, nonexpansive, continuity, non_finite, count
+    kinematic, kinetic, friction_cone, coulomb, momentum, energy, nonexpansive, continuity, at_rest, non_finite, count
 };
 inline constexpr std::size_t kProperties = static_cast<std::size_t>(Property::count);
 const char* property_id(Property p);    // "kinematic", "kinetic", "momentum", "energy", ...
@@ -98,6 +100,9 @@ class ConsistencyChecker {
                                     bool nonexpansive, bool continuity) const;
     // True when some contact approaches at x (exact).
     bool approaching(const double* x) const;
+    // The probe (SPEC section 8, "Diagnosis", at-rest): the answer y to the input at rest must be
+    // at rest, |y| <= A (the underflow allowance); a finding otherwise (a non-finite y too).
+    std::optional<Finding> at_rest(const double* y) const;
 
   private:
     const Mechanics& m_;

@@ -86,6 +86,23 @@ try:
             fail(f"one bad answer ({mode}): malformed {v['malformed']}, others {others}, samples {j['samples']}")
         else:
             print(f"one bad answer ({mode}): {v['malformed']} malformed (one per process), the rest checked")
+    # Issue 31, 4: the probe's answer is checked. A map that moves balls at rest is reported as
+    # at-rest (its replay names it); the exact sort raises nothing there.
+    for mode, expect in (("restless", 1), ("sort", 0)):
+        p = subprocess.run([CLI, "fuzz", "--masses", "1,1,1", "--velocities", "--impl-cmd",
+                            f"python3 {os.path.join(IMPLS, 'cradle_controls.py')} {mode}", "--samples", "200", "--json"],
+                           capture_output=True, text=True)
+        j = json.loads(p.stdout)
+        if j["violations"]["at-rest"] != expect or p.returncode != expect:
+            fail(f"at-rest ({mode}): {j['violations']['at-rest']} findings, exit {p.returncode}")
+        elif expect:
+            replay = j["worst"]["at-rest"]["replay"].split()
+            replay[0] = CLI
+            r = subprocess.run(" ".join(replay), shell=True, capture_output=True, text=True)
+            if r.returncode != 1 or "(at-rest)" not in r.stdout:
+                fail(f"at-rest replay: exit {r.returncode}: {r.stdout[-200:]}")
+            else:
+                print("at-rest: a map that moves balls at rest is reported, and its replay says so")
     # 7. --shard "" (an unset $SHARD): refused in one line, never the whole run.
     for cmd in (["verify", "--shard", ""], ["certify", "--shard", "", "-o", os.path.join(tmp, "part.json")]):
         p = subprocess.run([CLI] + cmd, capture_output=True, text=True)

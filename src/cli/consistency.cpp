@@ -154,7 +154,7 @@ int run_consistency_fuzz(const FuzzArgs& a) {
         else if (item == "continuity")
             o.continuity = true;
         else if (item != "kinematic" && item != "kinetic" && item != "momentum" && item != "energy" &&
-                 item != "friction_cone" && item != "coulomb")
+                 item != "friction_cone" && item != "coulomb" && item != "at-rest")
             throw InputError("--require: unknown property \"" + item +
                              "\" (nonexpansive, continuity; kinematic, kinetic, momentum and energy are always checked, "
                              "friction_cone and coulomb with friction)");
@@ -190,7 +190,8 @@ int run_consistency_fuzz(const FuzzArgs& a) {
     // Nothing checked is not a pass: a gate must not go green on an empty run.
     const bool nothing = sum.samples == 0;
     bool checked[fuzz::kProperties] = {};
-    for (auto p : {fuzz::Property::kinematic, fuzz::Property::kinetic, fuzz::Property::energy, fuzz::Property::non_finite})
+    for (auto p : {fuzz::Property::kinematic, fuzz::Property::kinetic, fuzz::Property::energy, fuzz::Property::at_rest,
+                   fuzz::Property::non_finite})
         checked[static_cast<std::size_t>(p)] = true;
     checked[static_cast<std::size_t>(fuzz::Property::momentum)] = a.velocities;
     checked[static_cast<std::size_t>(fuzz::Property::friction_cone)] = s.mech.has_friction();
@@ -326,7 +327,13 @@ int run_consistency_eval(const FuzzArgs& a, const std::vector<std::vector<std::s
                                                          out.begin() + static_cast<std::ptrdiff_t>((i + 1) * d))) + "\n";
         if (!checker.approaching(&in[i * d]))
             text += "  (no contact approaches at this input)\n";
-        const auto findings = checker.check(&in[i * d], &out[i * d]);
+        auto findings = checker.check(&in[i * d], &out[i * d]);
+        bool at_rest = true;
+        for (std::size_t k = 0; k < d; ++k)
+            at_rest = at_rest && in[i * d + k] == 0;
+        if (at_rest)
+            if (auto f = checker.at_rest(&out[i * d])) // the probe's own finding, by its name
+                findings.insert(findings.begin(), std::move(*f));
         for (const auto& f : findings)
             text += "  " + std::string(fuzz::property_title(f.property)) + ": " + f.detail + "\n";
         if (findings.empty())

@@ -8,6 +8,7 @@ Modes:
   damped  u+ = 0.9 sorted(u-): momentum is lost (a change outside the range of M^-1 W)
   stuck   u+ = u-: approaching balls pass through each other (negative contact velocity)
   pull    u+ = 2 u- - sorted(u-): the impulses reversed (contacts pull)
+  restless  sort, but balls at rest are answered with the first one moving (energy from nothing)
 """
 import sys
 
@@ -27,6 +28,8 @@ def main():
             out = [0.9 * x for x in s]
         elif mode == "stuck":
             out = u
+        elif mode == "restless":
+            out = s if any(x != 0 for x in u) else [1.0 / 1024] + [0.0] * (len(u) - 1)
         elif mode == "pull":
             out = [2 * a - b for a, b in zip(u, s)]
         else:
