@@ -338,6 +338,8 @@ FrictionResult derive_newton_friction(const FrictionOptions& o) {
         rows.push_back(f.rows(md));
         PPL::C_Polyhedron p(static_cast<PPL::dimension_type>(3 * d), PPL::UNIVERSE);
         add_rows(p, rows.back(), mech.G, 0);
+        for (std::size_t k = 0; k < d; ++k) // the second impulse unused: held at 0
+            p.add_constraint(PPL::Variable(static_cast<PPL::dimension_type>(2 * d + k)) == 0);
         feasible.push_back(!generators(p, 3 * d).empty()); // empty exactly when the cone is {0}
     }
     // Lemma U: every pair of modes, a mode with itself included.
@@ -456,26 +458,14 @@ FrictionResult derive_newton_friction(const FrictionOptions& o) {
     add_region_pieces(regions, d, law, o.progress);
     // Outcomes: the unit velocities +-e_i of the coordinates, each simulated in body velocities
     // (not through the law); `outcomes` then checks the law against them.
-    std::vector<OutcomeDecl> experiments = o.outcomes_override;
-    if (experiments.empty())
-        for (std::size_t i = 0; i < mech.balls(); ++i)
-            for (const int s : {-1, 1}) {
-                const Vector u = Rational(s) * unit_vector(mech.balls(), i);
-                if (const auto up = simulate_newton_friction(mech, o.restitution, o.on, u))
-                    experiments.push_back(OutcomeDecl{std::string("u") + std::to_string(i + 1) + (s < 0 ? " = -1" : " = +1"), u, *up});
-            }
-    law.outcomes = experiments;
+    law.outcomes = !o.outcomes_override.empty()
+                       ? o.outcomes_override
+                       : unit_velocity_outcomes(mech.balls(), [&](const Vector& u) {
+                             return simulate_newton_friction(mech, o.restitution, o.on, u);
+                         });
     // Every gamma- has a solution exactly when the regions cover R^d: the fan of the law.
-    const Model model(law);
-    const std::vector<std::string> only{"fan"};
-    const VerifyReport report = verify(model, Limits{}, {}, &only);
-    const ObligationResult& fan = report.at("fan");
-    if (fan.verdict == Verdict::undecided)
-        throw DeriveLimit("the fan of the derived law is undecided: " + fan.limit);
-    if (fan.verdict == Verdict::refuted) {
-        Vector g;
-        for (const auto& x : fan.counterexample.at("gamma"))
-            g.push_back(*parse_rational(x.get<std::string>()));
+    if (const auto defect = tiling_defect(law)) {
+        const Vector& g = defect->gamma;
         for (std::size_t a = 0; a < modes.size(); ++a)
             if (feasible_at(rows[a], mech.G, g))
                 throw std::logic_error("derive newton: the fan of the derived law is refuted at a point where mode " +

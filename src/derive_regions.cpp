@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "derive_regions.hpp"
 
+#include "obligations.hpp"
+
 #include <gmpxx.h>
 
 #include <algorithm>
@@ -173,6 +175,34 @@ Vector interior_point(const PPL::C_Polyhedron& p, std::size_t c) {
     for (const auto& r : d.rays)
         x = x + r;
     return x;
+}
+
+std::optional<TilingDefect> tiling_defect(const Law& law) {
+    const Model model(law);
+    const std::vector<std::string> only{"fan"};
+    const VerifyReport report = verify(model, Limits{}, {}, &only);
+    const ObligationResult& fan = report.at("fan");
+    if (fan.verdict == Verdict::undecided)
+        throw DeriveLimit("the fan of the derived law is undecided: " + fan.limit);
+    if (fan.verdict != Verdict::refuted)
+        return std::nullopt;
+    TilingDefect out;
+    for (const auto& x : fan.counterexample.at("gamma"))
+        out.gamma.push_back(*parse_rational(x.get<std::string>()));
+    out.reason = fan.counterexample.at("reason").get<std::string>();
+    return out;
+}
+
+std::vector<OutcomeDecl> unit_velocity_outcomes(std::size_t n,
+                                                const std::function<std::optional<Vector>(const Vector&)>& simulate) {
+    std::vector<OutcomeDecl> out;
+    for (std::size_t i = 0; i < n; ++i)
+        for (const int s : {-1, 1}) {
+            const Vector u = Rational(s) * unit_vector(n, i);
+            if (const auto up = simulate(u))
+                out.push_back(OutcomeDecl{std::string("u") + std::to_string(i + 1) + (s < 0 ? " = -1" : " = +1"), u, *up});
+        }
+    return out;
 }
 
 void remove_overlaps(std::vector<Region>& regions, std::size_t c) {

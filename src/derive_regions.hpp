@@ -76,6 +76,18 @@ void remove_overlaps(std::vector<Region>& regions, std::size_t c);
 std::vector<WrittenPiece> add_region_pieces(std::vector<Region>& regions, std::size_t c, Law& law,
                                            const DeriveProgress& progress = {});
 
+// The laws with friction (derive_friction.cpp, derive_sequential_friction.cpp): whether the
+// pieces written tile R^d, decided by the `fan` of the law; a point where they do not (the fan's
+// witness, with its reason), or nothing. DeriveLimit when the fan is undecided.
+struct TilingDefect {
+    Vector gamma;
+    std::string reason;
+};
+std::optional<TilingDefect> tiling_defect(const Law& law);
+// The outcomes u- = -e_i and +e_i of every coordinate, each where `simulate` gives one u+.
+std::vector<OutcomeDecl> unit_velocity_outcomes(std::size_t n,
+                                                const std::function<std::optional<Vector>(const Vector&)>& simulate);
+
 // Shared by the derivations. DeriveLimit when an entry of m has more than max_bits bits.
 void check_bits(const Matrix& m, std::size_t max_bits, const std::string& what);
 std::string list_text(const std::vector<Rational>& xs); // "1,2,1/2"

@@ -241,27 +241,16 @@ DeriveResult derive_sequential_friction(const DeriveOptions& options, const Mech
     law.W = options.W;
     law.friction = options.friction;
     add_region_pieces(regions, d, law, options.progress);
-    for (std::size_t i = 0; i < mech.balls(); ++i)
-        for (const int s : {-1, 1}) {
-            const Vector u = Rational(s) * unit_vector(mech.balls(), i);
-            if (const auto up = simulate_sequential_friction(mech, options.restitution, options.rule, u, options.max_impacts))
-                law.outcomes.push_back(OutcomeDecl{std::string("u") + std::to_string(i + 1) + (s < 0 ? " = -1" : " = +1"), u, *up});
-        }
-    if (!options.outcomes_override.empty())
-        law.outcomes = options.outcomes_override;
+    law.outcomes = !options.outcomes_override.empty()
+                       ? options.outcomes_override
+                       : unit_velocity_outcomes(mech.balls(), [&](const Vector& u) {
+                             return simulate_sequential_friction(mech, options.restitution, options.rule, u,
+                                                                 options.max_impacts);
+                         });
     // Single-valued: the regions must tile R^d (the fan of the written law).
-    const Model model(law);
-    const std::vector<std::string> only{"fan"};
-    const VerifyReport report = verify(model, Limits{}, {}, &only);
-    const ObligationResult& fan = report.at("fan");
-    if (fan.verdict == Verdict::undecided)
-        throw DeriveLimit("the fan of the derived law is undecided: " + fan.limit);
-    if (fan.verdict == Verdict::refuted) {
-        Vector g;
-        for (const auto& x : fan.counterexample.at("gamma"))
-            g.push_back(*parse_rational(x.get<std::string>()));
-        result.not_a_function = g;
-        result.not_a_function_reason = fan.counterexample.at("reason").get<std::string>();
+    if (const auto defect = tiling_defect(law)) {
+        result.not_a_function = defect->gamma;
+        result.not_a_function_reason = defect->reason;
         return result;
     }
     result.law = std::move(law);

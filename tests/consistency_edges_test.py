@@ -14,6 +14,7 @@ Usage: consistency_edges_test.py IMPACTCERT SOURCE_DIR
 """
 import json
 import os
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -109,9 +110,7 @@ try:
         if p.returncode != 2 or "--shard" not in p.stderr or len(p.stderr.strip().splitlines()) != 1:
             fail(f"{cmd}: exit {p.returncode}: {p.stderr.strip()!r}")
 finally:
-    for f in os.listdir(tmp):
-        os.unlink(os.path.join(tmp, f))
-    os.rmdir(tmp)
+    shutil.rmtree(tmp, ignore_errors=True)
 if failures:
     print(f"{len(failures)} failure(s)")
     sys.exit(1)

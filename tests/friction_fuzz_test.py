@@ -13,6 +13,7 @@ Usage: friction_fuzz_test.py BUILD_DIR SOURCE_DIR SAMPLES
 """
 import json
 import os
+import shutil
 import shlex
 import subprocess
 import sys
@@ -128,9 +129,7 @@ try:
                 fail(f"{name}/{mode}: replay exit {r.returncode}: {(r.stdout + r.stderr)[:300]}")
             print(f"{name}/{mode}: {wanted} {v[wanted]}, worst replayed and recomputed")
 finally:
-    for f in os.listdir(tmp):
-        os.unlink(os.path.join(tmp, f))
-    os.rmdir(tmp)
+    shutil.rmtree(tmp, ignore_errors=True)
 if failures:
     print(f"{len(failures)} failure(s)")
     sys.exit(1)

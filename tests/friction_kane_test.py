@@ -18,6 +18,7 @@ Usage: friction_kane_test.py BUILD_DIR SOURCE_DIR
 import hashlib
 import json
 import os
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -259,9 +260,7 @@ try:
     if "--max-modes" not in p.stderr:
         fail("--max-modes: " + p.stderr.strip())
 finally:
-    for f in os.listdir(tmp):
-        os.unlink(os.path.join(tmp, f))
-    os.rmdir(tmp)
+    shutil.rmtree(tmp, ignore_errors=True)
 
 if failures:
     print(f"{len(failures)} failure(s)")

@@ -14,6 +14,7 @@ Usage: friction_oracle_test.py IMPACTCERT SAMPLES_PER_LAW
 """
 import json
 import os
+import shutil
 import random
 import subprocess
 import sys
@@ -219,9 +220,7 @@ try:
         else:
             print(f"kane mu = {mu}: not a function, gamma- = {w['gamma_minus']}: both solutions recomputed")
 finally:
-    for f in os.listdir(tmp):
-        os.unlink(os.path.join(tmp, f))
-    os.rmdir(tmp)
+    shutil.rmtree(tmp, ignore_errors=True)
 
 if failures:
     print(f"{len(failures)} failure(s)")

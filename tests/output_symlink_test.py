@@ -6,6 +6,7 @@ and then execs impactcert, which keeps that PID; the link's target must be left 
 output written whole, and no temporary file left behind.
 Usage: output_symlink_test.py IMPACTCERT"""
 import os
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -38,9 +39,7 @@ try:
             if os.path.islink(os.path.join(tmp, n)):
                 os.unlink(os.path.join(tmp, n))
 finally:
-    for n in os.listdir(tmp):
-        os.unlink(os.path.join(tmp, n))
-    os.rmdir(tmp)
+    shutil.rmtree(tmp, ignore_errors=True)
 for f in failures:
     print("FAIL:", f)
 print("ok" if not failures else f"{len(failures)} failure(s)")

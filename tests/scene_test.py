@@ -11,6 +11,7 @@ Usage: scene_test.py IMPACTCERT
 """
 import json
 import os
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -167,9 +168,7 @@ try:
         else:
             print(f"refused: {name}: {lines[0]}")
 finally:
-    for f in os.listdir(tmp):
-        os.unlink(os.path.join(tmp, f))
-    os.rmdir(tmp)
+    shutil.rmtree(tmp, ignore_errors=True)
 if failures:
     print(f"{len(failures)} failure(s)")
     sys.exit(1)
