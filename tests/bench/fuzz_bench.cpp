@@ -136,9 +136,9 @@ int main(int argc, char** argv) {
     };
     for (const bool rough : {false, true}) {
         const Mechanics m = disk(rough);
-        const auto start = std::chrono::steady_clock::now();
+        const auto rough_start = std::chrono::steady_clock::now();
         const auto dsum = fuzz::run_consistency(m, c, *echo, nullptr);
-        const double dt = seconds_since(start);
+        const double dt = seconds_since(rough_start);
         std::printf("%-28s %8.3f M samples/s with %u jobs (%llu samples in %.2f s)%s\n",
                     rough ? "consistency, rough disk" : "consistency, smooth disk", static_cast<double>(dsum.samples) / dt / 1e6,
                     cores, static_cast<unsigned long long>(dsum.samples), dt,
