@@ -264,6 +264,8 @@ class CommandImpl final : public Implementation {
     std::string last_exit_;
     bool fresh_ = false; // started and not answered yet: its start-up time is not a hang
     bool pid_reaped_ = false;
+    pid_t guardian_ = -1;    // see start_guardian()
+    int guardian_pipe_ = -1; // its write end, held by the fuzzer only
     const std::atomic<bool>* stop_flag_ = nullptr;
     static constexpr std::size_t kMaxLine = 1 << 16; // bytes without a newline: a malformed answer
 
@@ -309,11 +311,58 @@ class CommandImpl final : public Implementation {
         fcntl(from_child_, F_SETFL, fcntl(from_child_, F_GETFL) | O_NONBLOCK);
         rbuf_.clear();
         fresh_ = true;
+        start_guardian(pid); // after pid_ is set: if it throws, stop() still ends the command
+    }
+
+    // The guardian: a child of the fuzzer that waits for the end of a pipe whose only writer is
+    // the fuzzer, then kills the command's process group. The pipe ends when the fuzzer ends, by
+    // any means (kill -9 included, which no handler sees), so background processes of the command
+    // do not outlive the fuzzer; PR_SET_PDEATHSIG reaches only the direct child. A normal stop()
+    // kills the guardian first, so it never signals a group that is gone.
+    void start_guardian(pid_t group) {
+        int g[2];
+        if (pipe2(g, O_CLOEXEC) != 0)
+            throw std::runtime_error(std::string("pipe: ") + std::strerror(errno));
+        const pid_t guardian = fork();
+        if (guardian < 0) {
+            close(g[0]);
+            close(g[1]);
+            throw std::runtime_error(std::string("fork: ") + std::strerror(errno));
+        }
+        if (guardian == 0) {
+            // Only async-signal-safe calls here (the fuzzer may have threads). Every other
+            // descriptor is closed: a copy of another guardian's pipe would keep it waiting.
+            const int r = g[0];
+            if (r > 0)
+                close_range(0, static_cast<unsigned>(r) - 1, 0);
+            close_range(static_cast<unsigned>(r) + 1, ~0U, 0);
+            char c;
+            while (read(r, &c, 1) < 0 && errno == EINTR) {
+            }
+            kill(-group, SIGKILL);
+            _exit(0);
+        }
+        close(g[0]);
+        guardian_ = guardian;
+        guardian_pipe_ = g[1];
+    }
+
+    void stop_guardian() {
+        if (guardian_ < 0)
+            return;
+        kill(guardian_, SIGKILL);
+        int st = 0;
+        while (waitpid(guardian_, &st, 0) < 0 && errno == EINTR) {
+        }
+        close(guardian_pipe_);
+        guardian_ = -1;
+        guardian_pipe_ = -1;
     }
 
     void stop() {
         if (pid_ < 0)
             return;
+        stop_guardian();
         close(to_child_);
         close(from_child_);
         kill(-pid_, SIGKILL); // the whole group: a shell and what it started
