@@ -190,7 +190,10 @@ int main(int argc, char** argv) {
         cmd->add_option("-o,--output", args->out, "law file to write (default, or -: standard output)");
     }
     for (auto [cmd, args] : {std::pair{sequential_cmd, &derive_args}, std::pair{newton_cmd, &newton_args}, std::pair{poisson_cmd, &poisson_args}})
+    {
         cmd->add_option("--max-bits", args->max_bits, "limit: bits of one matrix entry (numerator and denominator) during the derivation; undecided (exit 3) beyond it")->check(natural_text)->capture_default_str();
+        cmd->add_option("--max-memory", args->max_memory_mb, "limit: megabytes of the regions and pieces the derivation holds (counted as they grow); undecided (exit 3) beyond it")->check(natural_text)->capture_default_str();
+    }
     sequential_cmd->add_flag("--json", derive_args.json, "with exit 1 (no finite law): the exact witness as JSON on standard output");
     sequential_cmd->add_option("--rule", derive_args.rule, "which approaching contact impacts first: most-negative, left-first or right-first; any: every admissible order (the law when the order never matters, else exit 1 with a witness)")->capture_default_str();
     sequential_cmd->add_option("--max-words", derive_args.max_words, "with --rule any: limit on the admissible words (cells) examined; undecided (exit 3) beyond it")->check(natural_text)->capture_default_str();

@@ -395,13 +395,16 @@ DeriveResult derive_sequential(const DeriveOptions& options) {
         return derive_planar(options, mech, Qk);
     std::vector<Region> regions;
     std::vector<Region> work;
+    RegionBudget budget(options.max_memory_mb); // the regions found and the cells waiting
     work.push_back({cone_of(c, {}), Matrix::identity(c), {}, {}});
+    budget.add(RegionBudget::bytes_of(work.back()), "regions");
     std::size_t nodes = 0;
     while (!work.empty()) {
         if (options.progress && ++nodes % 1024 == 0)
             options.progress("regions", regions.size(), 0);
         Region node = std::move(work.back());
         work.pop_back();
+        budget.remove(RegionBudget::bytes_of(node));
         // Branches: no contact approaches (the word ends), or contact k is the one the rule picks.
         for (std::size_t branch = 0; branch <= c; ++branch) {
             PPL::C_Polyhedron cell = node.cone;
@@ -438,6 +441,7 @@ DeriveResult derive_sequential(const DeriveOptions& options) {
                 continue;
             if (branch == c) {
                 regions.push_back({cell, node.M, node.key, word_name(node.key, c)});
+                budget.add(RegionBudget::bytes_of(regions.back()), "regions");
                 continue;
             }
             if (node.key.size() == options.max_impacts) {
@@ -457,13 +461,15 @@ DeriveResult derive_sequential(const DeriveOptions& options) {
             Matrix next = Qk[branch] * node.M;
             check_bits(next, options.max_bits, "the map of word " + word_name(word, c));
             work.push_back({cell, std::move(next), word, {}});
+            budget.add(RegionBudget::bytes_of(work.back()), "regions");
         }
     }
     result.regions = regions.size();
     for (const auto& region : regions)
         result.max_word = std::max(result.max_word, region.key.size());
     Law law = law_header(options, n);
-    const auto written = add_region_pieces(regions, c, law, options.progress);
+    const auto written = add_region_pieces(regions, c, law, options.progress, &budget);
+    result.peak_bytes = budget.peak();
     std::vector<std::pair<std::string, std::vector<std::size_t>>> pieces;
     for (const auto& piece : written)
         pieces.emplace_back(piece.name, regions[piece.region].key);

@@ -42,6 +42,10 @@ struct DeriveLimit : std::runtime_error {
     using std::runtime_error::runtime_error;
 };
 inline constexpr std::size_t kDefaultMaxBits = 65536;
+// --max-memory of derive: megabytes of the regions and pieces a derivation holds (PPL's count of
+// each polyhedron, the numbers of each map and ray); undecided (exit 3) beyond it, checked as
+// they grow.
+inline constexpr std::size_t kDefaultDeriveMemoryMb = 2048;
 std::size_t entry_bits(const Matrix& m); // the largest numerator-plus-denominator bit length
 
 // The system (a chain by its masses, or any system: system.hpp), then the process.
@@ -50,6 +54,7 @@ struct DeriveOptions : System {
     ImpactRule rule = ImpactRule::most_negative;
     std::size_t max_impacts = 100;     // longest word allowed
     std::size_t max_bits = kDefaultMaxBits;
+    std::size_t max_memory_mb = kDefaultDeriveMemoryMb;
     std::vector<OutcomeDecl> outcomes_override; // non-empty: declare these instead of the simulated ones
     bool polyhedral = false; // two contacts by PPL polyhedra too (the tests compare it with the sectors)
     DeriveProgress progress;  // optional
@@ -61,6 +66,7 @@ struct DeriveResult {
     std::string word;                  // the first max_impacts + 1 impacts at not_finite
     std::size_t regions = 0;           // word regions found
     std::size_t max_word = 0;          // longest word
+    std::size_t peak_bytes = 0;        // the most the regions and pieces held (--max-memory's count)
     // With friction: a gamma- where the written regions do not tile (a gap or an overlap of two
     // different maps: the fan's witness), and the fan's reason.
     std::optional<Vector> not_a_function;
@@ -143,6 +149,7 @@ struct ClassicalOptions : System {
     std::vector<Rational> restitution; // one per contact, each in [0, 1]
     RestitutionOn on = RestitutionOn::all; // Newton only
     std::size_t max_bits = kDefaultMaxBits;
+    std::size_t max_memory_mb = kDefaultDeriveMemoryMb;
     std::vector<OutcomeDecl> outcomes_override;
 };
 

@@ -139,7 +139,10 @@ void declare_single_impacts(Law& law, const Matrix& G, const std::vector<Rationa
 // simulation in ball velocities (or the ones given).
 void finish(Law& law, std::vector<Region>& regions, const Mechanics& mech, const ClassicalOptions& o,
             const std::function<Vector(const Vector&)>& simulate) {
-    add_region_pieces(regions, mech.contacts(), law);
+    RegionBudget budget(o.max_memory_mb);
+    for (const auto& r : regions)
+        budget.add(RegionBudget::bytes_of(r), "regions");
+    add_region_pieces(regions, mech.contacts(), law, {}, &budget);
     declare_single_impacts(law, mech.G, o.restitution);
     declare_outcomes(law, o.outcomes_override, [&](const Vector& u) -> std::optional<Vector> { return simulate(u); });
 }

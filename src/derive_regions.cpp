@@ -254,8 +254,24 @@ void remove_overlaps(std::vector<Region>& regions, std::size_t c) {
     regions = std::move(out);
 }
 
+RegionBudget::RegionBudget(std::size_t max_mb)
+    : max_bytes_(max_mb > (SIZE_MAX >> 20) ? SIZE_MAX : max_mb << 20) {}
+
+std::size_t RegionBudget::bytes_of(const Region& r) {
+    return sizeof(Region) + r.cone.total_memory_in_bytes() + matrix_bytes(r.M) +
+           r.key.size() * sizeof(std::size_t) + r.name.size();
+}
+
+void RegionBudget::add(std::size_t bytes, const char* what) {
+    held_ = bytes > SIZE_MAX - held_ ? SIZE_MAX : held_ + bytes;
+    peak_ = std::max(peak_, held_);
+    if (held_ > max_bytes_)
+        throw DeriveLimit(std::string("the ") + what + " held need more than " + std::to_string(max_bytes_ >> 20) +
+                          " MB (raise it with --max-memory)");
+}
+
 std::vector<WrittenPiece> add_region_pieces(std::vector<Region>& regions, std::size_t c, Law& law,
-                                           const DeriveProgress& progress) {
+                                           const DeriveProgress& progress, RegionBudget* budget) {
     sort_by_key(regions);
     // Regions with the same matrix (the braid relation Q1 Q2 Q1 = Q2 Q1 Q2 makes "121" and "212"
     // one map) are merged where their union is convex (the test below). The merged piece keeps
@@ -462,6 +478,12 @@ std::vector<WrittenPiece> add_region_pieces(std::vector<Region>& regions, std::s
             piece.name = simplices.size() == 1 ? region.name : region.name + "." + std::to_string(s + 1);
             piece.Q = region.M;
             piece.rays = simplices[s];
+            if (budget) {
+                std::size_t bytes = sizeof(PieceDecl) + piece.name.size() + matrix_bytes(piece.Q);
+                for (const auto& r : *piece.rays)
+                    bytes += vector_bytes(r);
+                budget->add(bytes, "regions and pieces");
+            }
             law.pieces.push_back(piece);
             written.push_back({piece.name, index});
         }

@@ -35,6 +35,21 @@ struct Region {
     std::string name;
 };
 
+// The memory budget of a derivation (--max-memory): the bytes of the regions and pieces it holds
+// (PPL's count of a polyhedron, the numbers of a map, a word, a piece's rays), added as they are
+// made and removed as they are dropped; DeriveLimit naming --max-memory as soon as they exceed it.
+class RegionBudget {
+  public:
+    explicit RegionBudget(std::size_t max_mb);
+    static std::size_t bytes_of(const Region& r);
+    void add(std::size_t bytes, const char* what);
+    void remove(std::size_t bytes) { held_ -= std::min(held_, bytes); }
+    std::size_t held() const { return held_; }
+    std::size_t peak() const { return peak_; }
+  private:
+    std::size_t max_bytes_, held_ = 0, peak_ = 0;
+};
+
 // PPL initialised once per process, and its rounding mode set while an instance lives.
 class PplScope {
   public:
@@ -73,8 +88,9 @@ void remove_overlaps(std::vector<Region>& regions, std::size_t c);
 
 // Sorts by key, merges, triangulates; appends pieces to law.pieces. `regions` is replaced by
 // the merged list (indices of WrittenPiece::region refer to it).
+// `budget`, when given, holds the regions already; the pieces written are added to it.
 std::vector<WrittenPiece> add_region_pieces(std::vector<Region>& regions, std::size_t c, Law& law,
-                                           const DeriveProgress& progress = {});
+                                           const DeriveProgress& progress = {}, RegionBudget* budget = nullptr);
 
 // The laws with friction (derive_friction.cpp, derive_sequential_friction.cpp): whether the
 // pieces written tile R^d, decided by the `fan` of the law; a point where they do not (the fan's

@@ -163,12 +163,15 @@ DeriveResult derive_sequential_friction(const DeriveOptions& options, const Mech
     std::vector<Region> work;
     // key: the word as (contact, mode index) pairs flattened; name kept in Region::name.
     work.push_back({cone_of(d, {}), Matrix::identity(d), {}, ""});
+    RegionBudget budget(options.max_memory_mb); // the regions found and the cells waiting
+    budget.add(RegionBudget::bytes_of(work.back()), "regions");
     std::size_t nodes = 0;
     while (!work.empty()) {
         if (options.progress && ++nodes % 1024 == 0)
             options.progress("regions", regions.size(), 0);
         Region node = std::move(work.back());
         work.pop_back();
+        budget.remove(RegionBudget::bytes_of(node));
         for (std::size_t branch = 0; branch <= N; ++branch) {
             PPL::C_Polyhedron cell = node.cone;
             auto add = [&](PPL::C_Polyhedron& p, const Vector& a) {
@@ -181,6 +184,7 @@ DeriveResult derive_sequential_friction(const DeriveOptions& options, const Mech
                 if (!full_dimensional(cell, d))
                     continue;
                 regions.push_back({cell, node.M, node.key, node.name.empty() ? "none" : node.name});
+                budget.add(RegionBudget::bytes_of(regions.back()), "regions");
                 continue;
             }
             const std::size_t k = branch;
@@ -222,6 +226,7 @@ DeriveResult derive_sequential_friction(const DeriveOptions& options, const Mech
                 Matrix next = step.map * node.M;
                 check_bits(next, options.max_bits, "the map of word " + name);
                 work.push_back({sub, std::move(next), key, name});
+                budget.add(RegionBudget::bytes_of(work.back()), "regions");
             }
         }
     }
@@ -240,7 +245,8 @@ DeriveResult derive_sequential_friction(const DeriveOptions& options, const Mech
     law.M = options.M;
     law.W = options.W;
     law.friction = options.friction;
-    add_region_pieces(regions, d, law, options.progress);
+    add_region_pieces(regions, d, law, options.progress, &budget);
+    result.peak_bytes = budget.peak();
     law.outcomes = !options.outcomes_override.empty()
                        ? options.outcomes_override
                        : unit_velocity_outcomes(mech.balls(), [&](const Vector& u) {

@@ -57,22 +57,6 @@ void Model::add_piece(const std::string& name, const Matrix& Q, const std::vecto
     pieces_.push_back(std::move(piece));
 }
 
-namespace {
-
-std::size_t rational_bytes(const Rational& q) {
-    return 96 + 8 * (mpz_size(mpq_numref(q.mpq())) + mpz_size(mpq_denref(q.mpq())));
-}
-
-std::size_t matrix_bytes(const Matrix& m) {
-    std::size_t bytes = 0;
-    for (std::size_t i = 0; i < m.rows(); ++i)
-        for (std::size_t j = 0; j < m.cols(); ++j)
-            bytes += rational_bytes(m(i, j));
-    return bytes;
-}
-
-} // namespace
-
 Model::Model(Law law, std::size_t max_pieces, std::size_t max_memory_mb) : law_(std::move(law)) {
     if (law_.name.empty())
         input_error("$.name", "empty law name");

@@ -366,4 +366,23 @@ std::size_t matrix_bits(const Matrix& m) {
     return bits;
 }
 
+std::size_t rational_bytes(const Rational& q) {
+    return 96 + 8 * (mpz_size(mpq_numref(q.mpq())) + mpz_size(mpq_denref(q.mpq())));
+}
+
+std::size_t matrix_bytes(const Matrix& m) {
+    std::size_t bytes = 0;
+    for (std::size_t i = 0; i < m.rows(); ++i)
+        for (std::size_t j = 0; j < m.cols(); ++j)
+            bytes += rational_bytes(m(i, j));
+    return bytes;
+}
+
+std::size_t vector_bytes(const Vector& v) {
+    std::size_t bytes = 0;
+    for (const auto& x : v)
+        bytes += rational_bytes(x);
+    return bytes;
+}
+
 } // namespace impactcert

@@ -81,5 +81,9 @@ std::string to_string(const Vector& v); // "(a, b, c)"
 
 // The largest bits of an entry (numerator plus denominator): the growth measure of compact laws.
 std::size_t matrix_bits(const Matrix& m);
+// The memory of numbers, as budgets count it: 96 bytes per rational and 8 per limb.
+std::size_t rational_bytes(const Rational& q);
+std::size_t matrix_bytes(const Matrix& m);
+std::size_t vector_bytes(const Vector& v);
 
 } // namespace impactcert

@@ -6,6 +6,7 @@
 #include "json.hpp"
 #include "law_json.hpp"
 #include "obligations.hpp"
+#include "output_file.hpp"
 #include "verdict_output.hpp"
 #include "certificate.hpp"
 #include "shard.hpp"
@@ -132,6 +133,7 @@ Json evaluate(const SweepSpec& spec, const Point& point) {
         o.restitution.assign(o.masses.size() - 1, o.restitution[0]);
     o.rule = spec.rule;
     o.max_impacts = spec.max_impacts;
+    o.max_memory_mb = spec.limits.max_memory_mb; // --max-memory bounds the derivation too
     Json out;
     Json at = Json::object();
     for (std::size_t p = 0; p < spec.parameters.size(); ++p)
@@ -402,13 +404,8 @@ std::string svg_map(const SweepSpec& spec, const std::vector<Json>& results, con
     return s + "</svg>\n";
 }
 
-void write(const std::string& path, const std::string& text) {
-    std::ofstream out(path, std::ios::binary);
-    out << text;
-    out.close();
-    if (!out)
-        throw InputError(path + ": cannot write");
-}
+// Whole or absent (output_file.hpp): a killed run leaves the previous file or none.
+void write(const std::string& path, const std::string& text) { write_file(path, text); }
 
 } // namespace
 
@@ -698,12 +695,17 @@ void check_point_shape(const Json& r, const std::string& where) {
             fail(std::string(key) + ": expected a non-negative integer");
     if (!r.contains("obligations") || !r["obligations"].is_object())
         fail("obligations: expected an object");
+    // A verdict is one of the four words a run writes (a part's hash is no proof of origin: it
+    // is recomputed by anyone, and a verdict is written into sweep.csv and sweep.html as is).
+    auto verdict_word = [](const Json& v) {
+        return v.is_string() && (v == "proved" || v == "refuted" || v == "undecided" || v == "skipped");
+    };
     for (const char* id : kObligationIds)
         if (!r["obligations"].contains(id) || !r["obligations"][id].is_object() ||
-            !r["obligations"][id].contains("verdict") || !r["obligations"][id]["verdict"].is_string())
-            fail(std::string("obligations.") + id + ".verdict: expected a string");
-    if (!r["order"].is_object() || !r["order"].contains("verdict") || !r["order"]["verdict"].is_string())
-        fail("order.verdict: expected a string");
+            !r["obligations"][id].contains("verdict") || !verdict_word(r["obligations"][id]["verdict"]))
+            fail(std::string("obligations.") + id + ".verdict: expected proved, refuted, undecided or skipped");
+    if (!r["order"].is_object() || !r["order"].contains("verdict") || !verdict_word(r["order"]["verdict"]))
+        fail("order.verdict: expected proved, refuted, undecided or skipped");
 }
 
 } // namespace
@@ -833,7 +835,7 @@ void write_sweep_outputs(const SweepSpec& spec, const std::vector<Json>& results
     csv += std::string(kOrderColumn) + ",pieces,max_word,derive\n";
     for (const auto& r : results) {
         for (auto it = r["point"].begin(); it != r["point"].end(); ++it)
-            csv += it.value().get<std::string>() + ",";
+            csv += csv_field(it.value().get<std::string>()) + ",";
         const bool ok = r["derive"] == "ok";
         for (const char* id : kObligationIds)
             csv += (ok ? r["obligations"][id]["verdict"].get<std::string>() : std::string()) + ",";

@@ -140,15 +140,23 @@ TEST_CASE("shards: a missing, duplicated, foreign or forged part is rejected", "
         CJson p = CJson::parse(parts[1]);
         auto& blocks = nonexpansive_of(p)["data"]["blocks"];
         REQUIRE(!blocks.empty());
-        bool changed = false;
-        for (auto& pair : blocks[0]["pairs"])
-            if (!changed && pair["certificate"]["method"] == "nonnegative entries") {
-                pair["certificate"]["method"] = "PSD";
-                changed = true;
+        // (Issue 33, 10a: the method is written "nonnegative-entries"; the test looked for
+        // "nonnegative entries", never forged anything, and passed on a missing pair.) A number
+        // inside an LDL^T certificate is changed, and the rejection must name that entry: pair i
+        // of shard 2's block list entry b is block 1 + 3b of 7 pairs, the merged list's pair
+        // 7 (1 + 3b) + i.
+        std::string forged_path;
+        for (std::size_t b = 0; b < blocks.size() && forged_path.empty(); ++b)
+            for (std::size_t i = 0; i < blocks[b]["pairs"].size() && forged_path.empty(); ++i) {
+                auto& cert = blocks[b]["pairs"][i]["certificate"];
+                if (cert["method"] == "psd-ldlt") {
+                    REQUIRE(cert["D"][0] != "3/7");
+                    cert["D"][0] = "3/7";
+                    forged_path = "data.pairs[" + std::to_string(7 * (1 + 3 * b) + i) + "].certificate";
+                }
             }
-        if (!changed)
-            blocks[0]["pairs"].erase(0);
-        CHECK(check_parts({parts[0], p.dump(), parts[2]}).status != impactcert_check::kVerified);
+        REQUIRE(!forged_path.empty());
+        rejected(check_parts({parts[0], p.dump(), parts[2]}), forged_path);
     }
     {
         // Forged: a block dropped, or taken from another shard.
@@ -185,6 +193,74 @@ TEST_CASE("shards: a missing, duplicated, foreign or forged part is rejected", "
     const auto [status, line] = check_files({dir + "/part1.json"});
     INFO(line);
     CHECK(status != 0); // one part of three
+}
+
+TEST_CASE("defect 33.7 fail: every block of every part is examined, also after the first refuting block",
+          "[shard][reliability]") {
+    // The approaching-only Newton law of three equal balls: with one pair per block and three
+    // shards, pair 4 (shard 2's second block) is the first that fails, so the merged certificate
+    // ends at block 4. The blocks after it -- 5 in shard 3's part (it fails too), 6, 9, ..., 24 in
+    // shard 1's (24 fails) -- were never read: any forgery there was "verified".
+    const impactcert::test::ScratchDir scratch("shard-after-cut");
+    const std::string law = impactcert::test::source_path("proofs/classical3/newton-approaching/law.json");
+    const auto parts = certify_shards(law, 3, scratch.path, "--shard-block 1");
+    const auto good = check_parts(parts);
+    INFO(good.message);
+    REQUIRE(good.status == impactcert_check::kVerified);
+    REQUIRE(good.message.find("refuted") != std::string::npos);
+    auto blocks_of = [](CJson& p) -> CJson& { return nonexpansive_of(p)["data"]["blocks"]; };
+    auto rejected = [&](std::size_t part, const CJson& forged, const std::string& words) {
+        std::vector<std::string> texts = parts;
+        texts[part] = forged.dump();
+        const auto o = check_parts(texts);
+        INFO(o.message);
+        CHECK(o.status != impactcert_check::kVerified);
+        CHECK(o.message.find(words) != std::string::npos);
+    };
+    {
+        // Shard 1's blocks are 0, 3, ..., 24; the last (list index 8) fails, after the cut: its
+        // counterexample's number is forged.
+        CJson p = CJson::parse(parts[0]);
+        auto& blocks = blocks_of(p);
+        REQUIRE(blocks.back()["block"] == 24);
+        REQUIRE(blocks.back().contains("counterexample"));
+        CJson q = p;
+        blocks_of(q).back()["counterexample"]["lhs"] = "12345";
+        rejected(0, q, "$.obligations[nonexpansive].data.blocks[8]");
+    }
+    {
+        // Shard 3's part: block 5 lies after the cut (block 4 fails first); its counterexample,
+        // its KKT certificate and its pair names are forged in turn.
+        CJson p = CJson::parse(parts[2]);
+        REQUIRE(blocks_of(p).size() == 2);
+        REQUIRE(blocks_of(p)[1]["block"] == 5);
+        CJson a = p;
+        blocks_of(a)[1]["counterexample"]["rhs"] = "1";
+        rejected(2, a, "blocks[1].counterexample.rhs");
+        CJson b = p;
+        auto& cert = blocks_of(b)[1]["pairs"][0]["certificate"];
+        REQUIRE(cert["method"] == "kkt-enumeration");
+        cert["minimum"] = "1";
+        rejected(2, b, "blocks[1].pairs[0].certificate");
+        CJson c = p;
+        blocks_of(c)[1]["pairs"][0]["piece_b"] = blocks_of(c)[1]["pairs"][0]["piece_a"];
+        rejected(2, c, "blocks[1].pairs[0]");
+        CJson d = p; // the failing pair's counterexample removed: the block ends at a failure unshown
+        blocks_of(d)[1].erase("counterexample");
+        rejected(2, d, "data.blocks");
+    }
+    {
+        // Shard 1's part: a whole block after the cut (block 6) with its pair's certificate forged
+        // to a failing one, and one with its pair dropped.
+        CJson p = CJson::parse(parts[0]);
+        REQUIRE(blocks_of(p)[2]["block"] == 6);
+        CJson a = p;
+        blocks_of(a)[2]["pairs"].erase(0);
+        rejected(0, a, "blocks[2].pairs");
+        CJson b = p;
+        blocks_of(b)[2]["limit"] = "forged limit";
+        rejected(0, b, "blocks[2]");
+    }
 }
 
 TEST_CASE("shards: sweep --shard in three processes, sweep --merge equals the single sweep", "[shard][sweep][issue19]") {

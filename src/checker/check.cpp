@@ -19,7 +19,7 @@
 namespace impactcert_check {
 namespace detail {
 
-int check(const Json& cert, const Limits& limits) {
+int check(const Json& cert, const Limits& limits, const std::vector<ExtraBlock>& extra) {
     if (!cert.is_object() || !cert.contains("format") || cert.at("format") != "impactcert-certificate/1")
         malformed("$.format", "not an impactcert-certificate/1 document");
     expect_keys(cert, "$", {"format", "tool", "law_sha256", "law", "verdict", "system", "obligations"});
@@ -37,7 +37,7 @@ int check(const Json& cert, const Limits& limits) {
     const Json& obligations = field(cert, "$", "obligations");
     if (!obligations.is_array() || obligations.size() != ids_of(law).size())
         malformed("$.obligations", "expected the " + std::to_string(ids_of(law).size()) + " obligations");
-    Checker checker(law, obligations, limits);
+    Checker checker(law, obligations, limits, extra);
     bool any_claimed_refuted = false, any_claimed_undecided = false;
     // Progress on a terminal for long checks: the obligation being checked, rewritten in place.
     const bool terminal = limits.progress && isatty(2) != 0;
@@ -89,6 +89,7 @@ int check(const Json& cert, const Limits& limits) {
         if (claimed && truth == Checker::Truth::undecided)
             any_claimed_undecided = true;
     }
+    checker.check_extra_blocks();
     const std::string top = str(field(cert, "$", "verdict"), "$.verdict");
     const char* follows = any_claimed_refuted ? "refuted" : any_claimed_undecided ? "undecided" : "proved";
     require(top == follows, "$.verdict", "does not follow from the claimed obligations");

@@ -54,9 +54,23 @@ struct Limits {
     bool progress = false; // impactcert-check: the obligation being checked, on a terminal, after a second
 };
 
+// A pair block of nonexpansive from a sharded run that lies beyond the first block failing or
+// stopping in the single run's order (parts.cpp): not in the merged certificate, but every entry,
+// counterexample and limit it lists is checked like the certificate's own, so that nothing a part
+// says goes unexamined.
+struct ExtraBlock {
+    std::size_t first = 0;       // the index of its first pair, in the single run's order
+    std::size_t block_pairs = 0; // pairs per block (the run's --shard-block)
+    const Json* pairs = nullptr; // its entries, when the part records them
+    const Json* counterexample = nullptr;
+    const Json* limit = nullptr;
+    std::string path;            // the part file and the block, for messages
+};
+
 class Checker {
   public:
-    Checker(const Law& law, const Json& obligations, const Limits& limits) : law_(law), obl_(obligations), limits_(limits) {}
+    Checker(const Law& law, const Json& obligations, const Limits& limits, const std::vector<ExtraBlock>& extra = {})
+        : law_(law), obl_(obligations), limits_(limits), extra_(extra) {}
 
     enum class Truth { proved, refuted, undecided };
 
@@ -64,11 +78,19 @@ class Checker {
     // that does not follow. Dependencies run one way only (fan and P1 depend on nothing else),
     // so this never recurses without bound.
     Truth holds(std::size_t k);
+    // After every obligation: the blocks of a sharded run beyond its cut (ExtraBlock).
+    void check_extra_blocks() {
+        for (const auto& x : extra_)
+            check_extra_block(x);
+    }
 
   private:
     const Law& law_;
     const Json& obl_;
     const Limits& limits_;
+    const std::vector<ExtraBlock>& extra_;
+    const Json* pair_entry_ = nullptr; // check_witness: the failing pair entry, when not the certificate's last
+    void check_extra_block(const ExtraBlock& x);
     std::map<std::string, Truth> decided_;
     std::vector<Vec> fan_points_;              // the fan's validated test points (when decided)
     std::vector<std::size_t> fan_cover_;       // how many open cones contain each of them
@@ -204,7 +226,7 @@ class Checker {
 };
 
 // The whole document (check.cpp): 0, or throws Malformed, Rejected, Undecided or a JSON error.
-int check(const Json& cert, const Limits& limits);
+int check(const Json& cert, const Limits& limits, const std::vector<ExtraBlock>& extra = {});
 
 // One line: control characters and backslashes escaped (check.cpp).
 std::string one_line(const std::string& text);
@@ -216,9 +238,7 @@ Outcome check_text(const std::string& text, const detail::Limits& limits);
 
 
 // check.cpp: the document checks, shared by check_text and check_parts (parts.cpp).
-namespace detail {
-int check(const Json& cert, const Limits& limits);
-} // namespace detail
+
 std::size_t nesting_depth(const std::string& text);
 // What the key pass refuses before anything is parsed: a repeated key, an object of more than
 // 4096 keys, or a NUL byte (nlohmann's reader stops at one, so whatever follows it -- a repeated

@@ -16,6 +16,55 @@
 
 namespace impactcert_check::detail {
 
+// A block beyond the merged certificate's first failure (ExtraBlock): its entries are the pairs
+// first, first + 1, ... of the single run's order, each checked by itself; the block is whole
+// unless it ends at a failing pair (then its counterexample must be that pair's canonical one) or
+// at a limit the prover can stop at.
+void Checker::check_extra_block(const ExtraBlock& x) {
+    const auto ps = firsts();
+    const std::size_t total = ps.size() * P();
+    require(x.first < total, at(x.path, "block"), "lies beyond the last pair");
+    bool failed = false;
+    std::size_t listed = 0;
+    if (x.pairs) {
+        const Json& l = *x.pairs;
+        if (!l.is_array())
+            malformed(at(x.path, "pairs"), "expected an array");
+        listed = l.size();
+        require(listed <= x.block_pairs && x.first + listed <= total, at(x.path, "pairs"), "more entries than the block has pairs");
+        for (std::size_t t = 0; t < listed; ++t) {
+            const std::size_t k = x.first + t;
+            const std::size_t i = ps[k / P()], j = k % P();
+            const std::string ep = at(at(x.path, "pairs"), t);
+            require(!failed, ep, "follows a failing pair");
+            expect_keys(l[t], ep, {"piece_a", "piece_b", "certificate"});
+            expect_piece(l[t], ep, "piece_a", i);
+            expect_piece(l[t], ep, "piece_b", j);
+            failed = !check_copositive_evidence(pair_form(i, j), field(l[t], ep, "certificate"), at(ep, "certificate"),
+                                                limits_.max_faces);
+        }
+    }
+    if (x.counterexample) {
+        require(x.pairs && failed, at(x.path, "counterexample"), "follows no failing pair of the block");
+        pair_entry_ = &x.pairs->back();
+        struct Reset {
+            const Json*& p;
+            ~Reset() { p = nullptr; }
+        } reset{pair_entry_};
+        check_witness("nonexpansive", *x.counterexample, at(x.path, "counterexample"), false);
+    } else {
+        require(!failed, at(x.path, "pairs"), "a pair fails, and the block shows no counterexample");
+    }
+    if (x.limit) {
+        if (!x.limit->is_string())
+            malformed(at(x.path, "limit"), "expected a string");
+        could_be_undecided("nonexpansive", x.limit->get<std::string>(), at(x.path, "limit"));
+    }
+    if (x.pairs && !x.counterexample && !x.limit)
+        require(listed == std::min(x.block_pairs, total - x.first), at(x.path, "pairs"),
+                "the block is neither whole nor ended by a failure or a limit");
+}
+
 Checker::Truth Checker::holds(std::size_t k) {
     if (auto it = decided_.find(ids_of(law_)[k]); it != decided_.end())
         return it->second;

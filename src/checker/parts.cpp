@@ -28,7 +28,8 @@ struct Part {
 std::string where(const Part& p, const std::string& path) { return p.name + ": " + path; }
 
 // The nonexpansive entries of slice parts, merged in the single run's order.
-Json merge_slices(const std::vector<Part>& parts, const std::vector<const Json*>& entries, std::size_t n) {
+Json merge_slices(const std::vector<Part>& parts, const std::vector<const Json*>& entries, std::size_t n,
+                  std::vector<ExtraBlock>& extra) {
     const Json& first = *entries[0];
     const std::string p0 = where(parts[0], "$.obligations[nonexpansive].data");
     const Json& slice0 = field(field(first, p0, "data"), p0, "slice");
@@ -67,6 +68,8 @@ Json merge_slices(const std::vector<Part>& parts, const std::vector<const Json*>
             require(natural(field(list[i], bp, "block"), at(bp, "block")) == b && b < blocks, at(bp, "block"),
                     "is not the shard's next pair block (blocks b with b mod N = K - 1, in order)");
             const bool event = list[i].contains("counterexample") || list[i].contains("limit");
+            require(!(list[i].contains("counterexample") && list[i].contains("limit")), bp,
+                    "a block either fails or stops at a limit, not both");
             require(!event || i + 1 == list.size(), bp, "a block that fails or stops must be the shard's last");
         }
         const bool stopped = !list.empty() && (list.back().contains("counterexample") || list.back().contains("limit"));
@@ -109,6 +112,34 @@ Json merge_slices(const std::vector<Part>& parts, const std::vector<const Json*>
         if (block.contains("limit"))
             limit = str(block.at("limit"), at(bp, "limit"));
     }
+    // Every block after the cut, in any part, is checked too (ExtraBlock): a part is a claim
+    // about each of its blocks, and none may go unexamined because an earlier block failed.
+    if (counterexample || limit) {
+        std::size_t cut = 0; // the first block that fails or stops
+        for (std::size_t b = 0; b < blocks; ++b) {
+            const Json& block = entries[b % n]->at("data").at("blocks")[b / n];
+            if (block.contains("counterexample") || block.contains("limit")) {
+                cut = b;
+                break;
+            }
+        }
+        for (std::size_t k = 0; k < n; ++k) {
+            const Json& list = entries[k]->at("data").at("blocks");
+            for (std::size_t i = 0; i < list.size(); ++i) {
+                const std::size_t b = parts[k].index + i * n;
+                if (b <= cut)
+                    continue;
+                ExtraBlock x;
+                x.first = b * block_pairs;
+                x.block_pairs = block_pairs;
+                x.pairs = list[i].contains("pairs") ? &list[i].at("pairs") : nullptr;
+                x.counterexample = list[i].contains("counterexample") ? &list[i].at("counterexample") : nullptr;
+                x.limit = list[i].contains("limit") ? &list[i].at("limit") : nullptr;
+                x.path = where(parts[k], "$.obligations[nonexpansive].data.blocks[" + std::to_string(i) + "]");
+                extra.push_back(std::move(x));
+            }
+        }
+    }
     if (!counterexample && !limit && first.at("data").contains("fan_limit"))
         limit = str(first.at("data").at("fan_limit"), at(p0, "fan_limit"));
     if (limit) {
@@ -136,7 +167,7 @@ Json merge_slices(const std::vector<Part>& parts, const std::vector<const Json*>
     return out;
 }
 
-Json assemble(std::vector<Part>& parts) {
+Json assemble(std::vector<Part>& parts, std::vector<ExtraBlock>& extra) {
     const std::size_t n = parts.size();
     for (auto& part : parts) {
         const Json& d = part.doc;
@@ -197,7 +228,7 @@ Json assemble(std::vector<Part>& parts) {
             for (std::size_t k = 0; k < n; ++k)
                 require(by_id[i][k] != nullptr, where(parts[k], "$.obligations"),
                         "the pair blocks of nonexpansive are missing from this shard");
-            entry = merge_slices(parts, by_id[i], n);
+            entry = merge_slices(parts, by_id[i], n, extra);
         } else {
             require(own != nullptr, where(parts[owner], "$.obligations"), "obligation " + kIds[i] + " is missing from its shard");
             for (std::size_t k = 0; k < n; ++k)
@@ -295,10 +326,11 @@ Outcome check_parts(const std::vector<std::string>& texts, const std::vector<std
             }
         }
         return outcome_of([&] {
-            const Json cert = assemble(parts);
+            std::vector<ExtraBlock> extra;
+            const Json cert = assemble(parts, extra);
             if (merged)
                 *merged = cert.dump(1) + "\n";
-            check(cert, limits);
+            check(cert, limits, extra);
             return cert.at("law").at("name").get<std::string>() + ": " + cert.at("verdict").get<std::string>() + ", " +
                    std::to_string(parts.size()) + (parts.size() == 1 ? " part" : " parts") + " merged";
         });

@@ -182,7 +182,7 @@ void Checker::check_witness(const std::string& id, const Json& w, const std::str
             require(!across, at(wp, "discontinuity"), "P1 is not refuted");
             if (holds("fan") != Truth::undecided)
                 require(!domain_witness(), wp, "S is not a function: the canonical witness is the fan's");
-            const Json& entry = last_entry("nonexpansive", "pairs");
+            const Json& entry = pair_entry_ ? *pair_entry_ : last_entry("nonexpansive", "pairs");
             require(entry.at("piece_a") == w.at("piece_a") && entry.at("piece_b") == w.at("piece_b"), wp,
                     "is not the first pair that fails");
             const Mat A = pair_form(a, b);

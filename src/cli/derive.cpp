@@ -61,6 +61,7 @@ int run_derive_sequential(const DeriveArgs& a) {
     o.rule = any_order ? ImpactRule::most_negative : parse_rule(a.rule);
     o.max_impacts = a.max_impacts;
     o.max_bits = a.max_bits;
+    o.max_memory_mb = a.max_memory_mb;
     o.outcomes_override = outcomes_from(a.outcomes_from, mech.balls());
     TerminalProgress terminal; // on a terminal only, after a second
     if (const Progress show = terminal.callback())
@@ -212,6 +213,7 @@ int run_derive_classical(const DeriveArgs& a, bool poisson) {
                         : restitution_list(a.restitution.empty() ? "1" : a.restitution, mech.normals);
     o.on = parse_restitution_on(a.restitution_on);
     o.max_bits = a.max_bits;
+    o.max_memory_mb = a.max_memory_mb;
     if (poisson && o.on != RestitutionOn::all)
         throw InputError("--restitution-on: the Poisson-type law has no such choice (its expansion phase acts only "
                          "where compression did)");

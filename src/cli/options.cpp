@@ -46,7 +46,7 @@ void add_limit_options(CLI::App* cmd, ProofOptions& proof) {
     cmd->add_option("--max-faces", limits.max_faces, "limit: simplex faces of one KKT enumeration (copositivity); beyond it an obligation is undecided")->check(natural_text)->capture_default_str();
     cmd->add_option("--max-chambers", limits.max_chambers, "limit: steps of the chamber enumeration that decides a fan not meeting face to face")->check(natural_text)->capture_default_str();
     cmd->add_option("--max-subsets", limits.max_subsets, "limit: constraint subsets for the extreme rays of cone intersections (P1, not face to face)")->check(natural_text)->capture_default_str();
-    cmd->add_option("--max-memory", limits.max_memory_mb, "limit: megabytes of the pieces a law's symmetries generate (counted by the size of their numbers; input error beyond it)")->check(natural_text)->capture_default_str();
+    cmd->add_option("--max-memory", limits.max_memory_mb, "limit: megabytes of the pieces a law's symmetries generate (counted by the size of their numbers; input error beyond it); sweep: also the regions and pieces each derivation holds (undecided beyond it)")->check(natural_text)->capture_default_str();
     cmd->add_option("--max-pieces", limits.max_pieces, "limit: pieces of a law given by orbit representatives, listed and generated (input error beyond it)")->check(natural_text)->capture_default_str();
     cmd->add_flag("--no-integer-kernels", proof.no_integer_kernels, "decide the pair forms over GMP alone (same verdicts; for comparison)");
 }

@@ -44,6 +44,7 @@ struct DeriveArgs {
     std::string restitution_tangential; // friction: e_T of every tangent (empty: the system's, else 0)
     std::size_t max_modes = kMaxFrictionModes; // friction: contact modes enumerated at most
     std::size_t max_impacts = 100, max_bits = kDefaultMaxBits, max_words = kDefaultMaxWords;
+    std::size_t max_memory_mb = kDefaultDeriveMemoryMb;
     bool json = false;
 };
 int run_derive_sequential(const DeriveArgs& a);
