@@ -63,6 +63,19 @@ System planar_disks() {
     return s;
 }
 
+// A full (coupled) mass matrix on a chain: the case the LCP table lacked (issue 33, 10c).
+System coupled_chain() {
+    System s;
+    s.name = "coupled";
+    Matrix M(3, 3);
+    M(0, 0) = 2, M(0, 1) = 1, M(1, 0) = 1, M(1, 1) = 2, M(2, 2) = 1;
+    s.M = M;
+    Matrix W(3, 2);
+    W(0, 0) = -1, W(1, 0) = 1, W(1, 1) = -1, W(2, 1) = 1;
+    s.W = W;
+    return s;
+}
+
 } // namespace
 
 TEST_CASE("derive newton and poisson agree with the LCP solved by active sets in ball velocities", "[classical]") {
@@ -77,6 +90,7 @@ TEST_CASE("derive newton and poisson agree with the LCP solved by active sets in
         {"4 balls, e = 9/10", chain_system({q("2"), q("1"), q("3"), q("1")}, Walls::none), {q("9/10"), q("9/10"), q("9/10")}},
         {"2 balls and a left wall, e = 1, 1/3", chain_system({q("1"), q("3")}, Walls::left), {q("1"), q("1/3")}},
         {"3 balls and a right wall, e = 1", chain_system({q("1"), q("1"), q("1")}, Walls::right), {q("1"), q("1"), q("1")}},
+        {"3 balls, full M (coupled), e = 1, 1/2", coupled_chain(), {q("1"), q("1/2")}},
     };
     std::mt19937_64 rng(20261124);
     for (const auto& c : cases) {
@@ -109,6 +123,22 @@ TEST_CASE("the independent LCP solution satisfies the Newton law's conditions (n
     const Vector up = simulate_newton(m, e, RestitutionOn::approaching, test::vec({"0", "1", "-1"}));
     REQUIRE(up == test::vec({"-2/3", "-2/3", "4/3"}));
     REQUIRE(m.energy2(up) == q("8/3"));
+    // By hand, with no construction shared: three equal balls and a right wall, e = 1, u- = (0, 1, 1).
+    // Only the wall approaches; balls 2 and 3 touch (gamma = 0), so Newton's condition at their
+    // contact keeps them together: a mass of 2 bouncing off the wall, u+ = (0, -1, -1), with
+    // impulses 2 (between 2 and 3) and 4 (the wall), both >= 0. The derived law agrees.
+    {
+        const System wall = chain_system({q("1"), q("1"), q("1")}, Walls::right);
+        const Mechanics mw = make_mechanics(wall);
+        const std::vector<Rational> e3 = {q("1"), q("1"), q("1")};
+        REQUIRE(simulate_newton(mw, e3, RestitutionOn::all, test::vec({"0", "1", "1"})) == test::vec({"0", "-1", "-1"}));
+        ClassicalOptions ow;
+        static_cast<System&>(ow) = wall;
+        ow.restitution = e3;
+        require_law_gives(Model(derive_newton(ow)), test::vec({"0", "1", "1"}), test::vec({"0", "-1", "-1"}));
+        // And a single ball against the wall: (0, 0, 1) -> (0, 0, -1).
+        require_law_gives(Model(derive_newton(ow)), test::vec({"0", "0", "1"}), test::vec({"0", "0", "-1"}));
+    }
     // A law derived with another restitution disagrees with the simulation somewhere.
     ClassicalOptions o;
     o.masses = {q("1"), q("1"), q("1")};
@@ -185,7 +215,9 @@ TEST_CASE("the classical laws of three equal elastic balls: what each fails, wit
         // The classical outcome (1,0,0) -> (0,0,1) is missed: S gives (-1/3, 2/3, 2/3).
         const Vector u = test::vec({"1", "0", "0"});
         const Vector gamma = committed.contact_velocities(u);
-        for (const auto& g : committed.values_at(gamma))
+        const auto values = committed.values_at(gamma);
+        REQUIRE(!values.empty()); // (issue 33, 10g: an empty list checked nothing)
+        for (const auto& g : values)
             REQUIRE(committed.post_impact_velocities(u, gamma, g) == test::vec({"-1/3", "2/3", "2/3"}));
     }
     // Second route for the two headline witnesses. Newton (all): a ray whose image has a negative
@@ -216,8 +248,25 @@ TEST_CASE("systems: files, full mass matrices, and bad systems (exit 2, one line
         "M": [["2","1","0"],["1","2","0"],["0","0","1"]], "contacts": "chain"})");
     auto run = run_cli("derive newton --system " + full + " -o " + dir + "/full-law.json");
     REQUIRE(run.status == 0);
+    // Pinned (issue 33, 10c): with coupled masses the Newton law is not kinematic -- at the ray
+    // (-2, 1) of piece J1 the image is (2, -1): the separating contact is made to approach, which
+    // Newton's inequality allows (gamma+ + e gamma- = 0); the rest holds. Exit 1 (refuted).
     run = run_cli("certify --law " + dir + "/full-law.json -o " + dir + "/full.cert.json");
-    REQUIRE((run.status == 0 || run.status == 1));
+    REQUIRE(run.status == 1);
+    {
+        const Model law = load_model_file(dir + "/full-law.json");
+        const VerifyReport report = verify(law);
+        for (const char* id : {"P3", "kinematic"})
+            CHECK(report.at(id).verdict == Verdict::refuted);
+        for (const char* id : {"fan", "P1", "P2", "kinetic", "energetic", "single-impacts", "nonexpansive",
+                               "nonexpansive-lemma", "outcomes"})
+            CHECK(report.at(id).verdict == Verdict::proved);
+        test::require_sound(law, report);
+        const auto& w = report.at("kinematic").counterexample;
+        const Vector ray = test::vec_of(w["ray"]);
+        const Vector image = law.pieces()[law.piece_index(w["piece"].get<std::string>())].Q * ray;
+        REQUIRE(std::any_of(image.begin(), image.end(), [](const Rational& v) { return sign_of(v) == Sign::negative; }));
+    }
     const auto check = std::system(("'" + std::string(IMPACTCERT_CHECKER) + "' " + dir + "/full.cert.json >/dev/null 2>&1").c_str());
     REQUIRE(WEXITSTATUS(check) == 0);
     const Model coupled = load_model_file(dir + "/full-law.json");

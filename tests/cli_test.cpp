@@ -9,9 +9,11 @@
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <iterator>
 #include <sstream>
 #include <vector>
 #include <sys/stat.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 using impactcert::test::run_cli;
@@ -203,12 +205,18 @@ TEST_CASE("cli: a directory, a missing file or an unreadable one as --law is one
     auto run = run_cli("verify --law " + path + "/law.json"); // a file used as a directory
     CHECK(run.status == 2);
     CHECK(run.err == "impactcert: " + path + "/law.json: cannot read file: Not a directory\n");
-    if (geteuid() != 0) { // root reads anything
-        ::chmod(path.c_str(), 0);
-        run = run_cli("verify --law " + path);
-        CHECK(run.status == 2);
-        CHECK(run.err == "impactcert: " + path + ": cannot read file: Permission denied\n");
-    }
+    // Root reads anything: as root (CI), the case runs as the user nobody through setpriv
+    // (util-linux), so that it is never skipped (issue 33, 10h).
+    ::chmod(path.c_str(), 0);
+    const std::string as_user = geteuid() == 0 ? "setpriv --reuid=65534 --regid=65534 --clear-groups " : "";
+    const std::string cmd = as_user + "'" + IMPACTCERT_CLI + "' verify --law " + path;
+    const int raw = std::system((cmd + " 2>/tmp/impactcert-cli-test-unreadable.err").c_str());
+    CHECK(WIFEXITED(raw));
+    CHECK(WEXITSTATUS(raw) == 2);
+    std::ifstream err_file("/tmp/impactcert-cli-test-unreadable.err");
+    const std::string err((std::istreambuf_iterator<char>(err_file)), std::istreambuf_iterator<char>());
+    CHECK(err == "impactcert: " + path + ": cannot read file: Permission denied\n");
+    std::remove("/tmp/impactcert-cli-test-unreadable.err");
     std::remove(path.c_str());
 }
 

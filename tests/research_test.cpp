@@ -472,6 +472,9 @@ TEST_CASE("derive --rule any: the pair stage is bounded by --max-words too", "[r
     run = test::run_cli("derive sequential --masses 1,1,1,1,1 --rule any --max-words 400");
     CHECK(run.status == 3);
     CHECK(run.err.find("--max-words") != std::string::npos);
+    // The pair stage's own message (issue 33, 10f: "--max-words" is in the word stage's too).
+    CHECK(run.err.find("pairs of final cells to compare") != std::string::npos);
+    CHECK(run.err.find("admissible words (--max-words)") == std::string::npos);
 }
 
 TEST_CASE("exact conditions: a grid that runs downwards finds the same crossings", "[research][conditions]") {
