@@ -141,10 +141,10 @@ int main(int argc, char** argv) {
 
     ProofOptions proof;
     VerifyArgs verify_args;
-    auto* verify_cmd = app.add_subcommand("verify", "decide every proof obligation; exit 0 when every claim is proved, 1 when one is refuted, 2 on bad input");
+    auto* verify_cmd = app.add_subcommand("verify", "decide every proof obligation; exit 0 when every claim is proved, 1 when one is refuted, 2 on bad input, 3 undecided (a limit, named)");
     add_verify_options(verify_cmd, verify_args, proof);
 
-    auto* certify_cmd = app.add_subcommand("certify", "write the impactcert-certificate/1 JSON; exit 0 when every claim is proved, 1 when one is refuted, 2 on bad input");
+    auto* certify_cmd = app.add_subcommand("certify", "write the impactcert-certificate/1 JSON; exit 0 when every claim is proved, 1 when one is refuted, 2 on bad input, 3 undecided (a limit, named); with --shard K/N: 0 when the part is written (the verdict is the merge's: impactcert-check PART...)");
     certify_cmd->add_option("--law", law_path, "law file (impactcert-law/1); default: the paper's 3-ball law");
     certify_cmd->add_option("-o,--output", out_path, "certificate file to write")->required();
     std::string shard_text;
@@ -159,7 +159,7 @@ int main(int argc, char** argv) {
     smt_cmd->add_option("--law", law_path, "law file (impactcert-law/1); default: the paper's 3-ball law");
     smt_cmd->add_option("-o,--output", out_path, "directory to write the .smt2 files into")->required();
 
-    auto* eval_cmd = app.add_subcommand("eval", "evaluate S exactly at points given as arguments or stdin lines");
+    auto* eval_cmd = app.add_subcommand("eval", "evaluate S exactly at points given as arguments or stdin lines; exit 0, 2 bad input; with --float and --impl/--impl-cmd (the fuzzer's replays): 1 when an answer is off (beyond --max-ulps, or inconsistent)");
     eval_cmd->add_option("--law", law_path, "law file (impactcert-law/1); default: the paper's 3-ball law");
     eval_cmd->add_flag("--velocities", velocities, "points are ball velocities u- (print u+)");
     eval_cmd->add_flag("--float", as_float, "evaluate the float law in double (inputs read with strtod; output in hex, %a)");
@@ -171,6 +171,13 @@ int main(int argc, char** argv) {
     eval_cmd->add_option("--walls", eval_float_args.system.walls, "with --masses: fixed walls")->capture_default_str();
     eval_cmd->add_option("--system", eval_float_args.system.system_path, "with --float and --impl/--impl-cmd: check consistency with this system");
     eval_cmd->add_option("--max-rel-error", eval_float_args.max_rel_error, "consistency: the relative tolerance (as fuzz)");
+    eval_cmd->add_option_function<std::string>("--max-ulps", [&](const std::string& text) {
+        std::string why;
+        const auto k = fuzz::parse_seed(text, &why); // a decimal integer in [0, 2^64 - 1]
+        if (!k)
+            throw CLI::ValidationError("--max-ulps", text + ": must be a decimal integer in [0, 2^64 - 1]");
+        eval_float_args.max_ulps = *k;
+    }, "with --float and --impl/--impl-cmd against a law: the error allowed per component (default 0); exit 1 beyond it");
     eval_cmd->add_option("--float-law", eval_float_args.float_law, "consistency: the implementation is impactcert's float law of this file");
     eval_cmd->add_flag("--pair", eval_float_args.pair, "consistency: the two points are a pair (non-expansivity, continuity)");
     eval_cmd->add_option("points", eval_args, "numbers: rationals (-3/4), decimals (0.1, 2.5e-3), hex floats (0x1.8p-3)");
@@ -178,9 +185,9 @@ int main(int argc, char** argv) {
     auto* derive_cmd = app.add_subcommand("derive", "derive an impact law from the mechanics (SPEC section 7)");
     derive_cmd->require_subcommand(1);
     DeriveArgs newton_args, poisson_args;
-    auto* sequential_cmd = derive_cmd->add_subcommand("sequential", "the sequential impact law of a system (a chain by default); exit 0 law written, 1 no finite law (with a witness), 2 bad input");
-    auto* newton_cmd = derive_cmd->add_subcommand("newton", "the Newton-type simultaneous impact law (an LCP), exactly; exit 0 law written, 2 bad input");
-    auto* poisson_cmd = derive_cmd->add_subcommand("poisson", "the Poisson-type simultaneous impact law (compression and expansion LCPs), exactly; exit 0 law written, 2 bad input");
+    auto* sequential_cmd = derive_cmd->add_subcommand("sequential", "the sequential impact law of a system (a chain by default); exit 0 law written, 1 with friction not a function or with --rule any the order matters (witness), 2 bad input, 3 a limit (--max-impacts: a sequence longer than the bound, with the point; --max-memory, --max-bits, --max-words)");
+    auto* newton_cmd = derive_cmd->add_subcommand("newton", "the Newton-type simultaneous impact law (an LCP), exactly; exit 0 law written, 1 with friction: not a function (the witness), 2 bad input, 3 a limit (--max-bits, --max-memory, --max-modes)");
+    auto* poisson_cmd = derive_cmd->add_subcommand("poisson", "the Poisson-type simultaneous impact law (compression and expansion LCPs), exactly; exit 0 law written, 2 bad input, 3 a limit (--max-bits, --max-memory)");
     for (auto [cmd, args] : {std::pair{sequential_cmd, &derive_args}, std::pair{newton_cmd, &newton_args}, std::pair{poisson_cmd, &poisson_args}}) {
         cmd->add_option("--masses", args->system.masses, "a chain: ball masses M1,M2,... (rationals, > 0)");
         cmd->add_option("--walls", args->system.walls, "with --masses: fixed walls, none, left, right or both")->capture_default_str();
@@ -194,7 +201,7 @@ int main(int argc, char** argv) {
         cmd->add_option("--max-bits", args->max_bits, "limit: bits of one matrix entry (numerator and denominator) during the derivation; undecided (exit 3) beyond it")->check(natural_text)->capture_default_str();
         cmd->add_option("--max-memory", args->max_memory_mb, "limit: megabytes of the regions and pieces the derivation holds (counted as they grow); undecided (exit 3) beyond it")->check(natural_text)->capture_default_str();
     }
-    sequential_cmd->add_flag("--json", derive_args.json, "with exit 1 (no finite law): the exact witness as JSON on standard output");
+    sequential_cmd->add_flag("--json", derive_args.json, "with exit 1 (a witness) or exit 3 at --max-impacts (the point): the exact gamma- as JSON on standard output");
     sequential_cmd->add_option("--rule", derive_args.rule, "which approaching contact impacts first: most-negative, left-first or right-first; any: every admissible order (the law when the order never matters, else exit 1 with a witness)")->capture_default_str();
     sequential_cmd->add_option("--max-words", derive_args.max_words, "with --rule any: limit on the admissible words (cells) examined; undecided (exit 3) beyond it")->check(natural_text)->capture_default_str();
     sequential_cmd->add_option("--max-impacts", derive_args.max_impacts, "longest impact sequence allowed")->check(natural_text)->capture_default_str();
@@ -210,7 +217,7 @@ int main(int argc, char** argv) {
     cradle_cmd->add_flag("--no-symmetries", cradle_args.no_symmetries, "declare no symmetries (needs --pieces all)");
     cradle_cmd->add_option("-o,--output", cradle_args.out, "law file to write (default: standard output)");
 
-    auto* sweep_cmd = app.add_subcommand("sweep", "derive + verify over a grid of parameters named in --masses/--restitution; writes DIR/sweep.csv, sweep.json, sweep.html; exit 0 when it ran, 2 on bad input");
+    auto* sweep_cmd = app.add_subcommand("sweep", "derive + verify over a grid of parameters named in --masses/--restitution; writes DIR/sweep.csv, sweep.json, sweep.html; exit 0 when it ran (verdicts per point in the files), 2 on bad input, 3 beyond --max-points");
     sweep_cmd->add_option("--masses", sweep_args.masses, "ball masses, numbers or parameter names (1,m,1)");
     sweep_cmd->add_option("--restitution", sweep_args.restitution, "E or E1,...,E(n-1), numbers or parameter names")->capture_default_str();
     sweep_cmd->add_option("--rule", sweep_args.rule, "most-negative, left-first or right-first")->capture_default_str();
@@ -227,7 +234,7 @@ int main(int argc, char** argv) {
     for (auto* cmd : {certify_cmd, report_cmd})
         add_jobs_option(cmd, proof);
 
-    auto* fuzz_cmd = app.add_subcommand("fuzz", "fuzz a float implementation against the exact law; exit 0 no violation, 1 violation, 2 bad input");
+    auto* fuzz_cmd = app.add_subcommand("fuzz", "fuzz a float implementation against the exact law; exit 0 no violation, 1 violation, 2 bad input, 3 undecided (no sample checked before --seconds)");
     fuzz_cmd->add_option_function<std::string>("--seed", [&](const std::string& text) {
         std::string why;
         const auto seed = fuzz::parse_seed(text, &why);
@@ -236,7 +243,7 @@ int main(int argc, char** argv) {
         fuzz_options.seed = *seed;
     }, "seed, a decimal integer in [0, 2^64 - 1] (a run is a pure function of seed and sample index)");
     fuzz_cmd->add_option("--samples", fuzz_options.samples, "number of samples")->check(positive_text, "> 0");
-    fuzz_cmd->add_option("--seconds", fuzz_options.seconds, "stop after this many seconds")->check(CLI::NonNegativeNumber);
+    fuzz_cmd->add_option("--seconds", fuzz_options.seconds, "stop after this many seconds (> 0; without it, no time limit)")->check(positive_text, "> 0");
     fuzz_cmd->add_option("--jobs", fuzz_options.jobs, "threads")->check(natural_text)->check(CLI::Range(1u, 256u));
     fuzz_cmd->add_option("--law", fuzz_args.law_path, "law file (impactcert-law/1); default: the paper's 3-ball law");
     fuzz_cmd->add_flag("--velocities", fuzz_args.velocities, "the implementation maps ball velocities u- to u+ (n doubles) instead of contact velocities");
@@ -260,6 +267,37 @@ int main(int argc, char** argv) {
     fuzz_cmd->add_option("--range", fuzz_args.range, "consistency: input components 0 or of magnitude in LO..HI (default 1e-3..1e3)");
     fuzz_cmd->add_flag("--json", fuzz_args.json, "print the summary as impactcert-fuzz/1 JSON");
     fuzz_cmd->add_option("--junit", fuzz_args.junit, "also write a JUnit XML report to this file");
+
+    // Examples and the exit statuses at the end of every --help (docs/exit-status.md has the table).
+    app.footer("Exit statuses: 0 done (proved, written, no violation), 1 shown false with a witness, 2 bad input,\n"
+               "3 undecided at a limit (the option is named). Table: docs/exit-status.md. Formats: docs/formats.md.\n"
+               "Run `impactcert COMMAND --help` for a command's options and examples.");
+    const std::pair<CLI::App*, const char*> examples[] = {
+        {verify_cmd, "Examples:\n  impactcert verify                                 # the paper's 3-ball law\n"
+                     "  impactcert verify --law proofs/newton4/law.json --json\n"
+                     "  impactcert verify --law proofs/cradle4/law.json --shard 2/8 --json  # slice 2 of 8"},
+        {certify_cmd, "Examples:\n  impactcert certify -o cert.json && impactcert-check cert.json\n"
+                      "  for k in 1 2 3; do impactcert certify --law proofs/cradle4/law.json --shard $k/3 -o part$k.json; done\n"
+                      "  impactcert-check --merged cert.json part1.json part2.json part3.json"},
+        {report_cmd, "Examples:\n  impactcert report --law proofs/newton4/law.json -o report/"},
+        {smt_cmd, "Examples:\n  impactcert smt -o smt/ && z3 smt/nonexpansive.smt2   # unsat: the claim holds"},
+        {eval_cmd, "Examples:\n  impactcert eval -- -1 0                  # gamma+ of the paper's law at gamma- = (-1, 0)\n"
+                   "  impactcert eval --velocities --pieces 1 0 0\n"
+                   "  impactcert eval --float --law proofs/newton4/law.json -- 0x1p-3 -1 0"},
+        {sequential_cmd, "Examples:\n  impactcert derive sequential --masses 1,1,1 -o newton3.json\n"
+                         "  impactcert derive sequential --masses 1,2,1 --rule any --json\n"
+                         "  impactcert derive sequential --system examples/scenes/two-disks.json --restitution 1/2"},
+        {newton_cmd, "Examples:\n  impactcert derive newton --masses 1,1,1 --restitution-on approaching\n"
+                     "  impactcert derive newton --system proofs/kane/gains/system.json --restitution 1/2"},
+        {poisson_cmd, "Examples:\n  impactcert derive poisson --masses 1,2,1 --walls left --restitution 1/2"},
+        {cradle_cmd, "Examples:\n  impactcert derive cradle --balls 6 -o cradle6.json"},
+        {sweep_cmd, "Examples:\n  impactcert sweep --masses 1,m,1 --restitution e --vary m=1/4..4:8:log --vary e=0..1:5 -o sweep/"},
+        {fuzz_cmd, "Examples:\n  impactcert fuzz --samples 100000                  # the built-in float law of the paper\n"
+                   "  impactcert fuzz --law proofs/newton4/law.json --impl build/tests/libimpactcert_example_newton4.so:newton4_two_sweeps --samples 100000\n"
+                   "  impactcert fuzz --masses 1,1,1 --velocities --impl-cmd 'python3 examples/engines/newton_cradle.py --restitution 1' --samples 2000"},
+    };
+    for (const auto& [cmd, text] : examples)
+        cmd->footer(std::string(text) + "\nExit statuses: docs/exit-status.md.");
 
     return run_program(app, argc, argv, [&]() -> int {
         const Limits limits = proof.resolved();

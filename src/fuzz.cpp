@@ -882,8 +882,10 @@ Summary run(const Options& options, const LawReference& reference, const Impleme
     return total;
 }
 
-std::string explain(const LawReference& reference, Implementation* impl, const double* x) {
+std::string explain(const LawReference& reference, Implementation* impl, const double* x, std::uint64_t* worst_ulps) {
     const std::size_t mo = reference.out_dim();
+    if (worst_ulps)
+        *worst_ulps = UINT64_MAX;
     std::fesetround(FE_TONEAREST);
     RefPoint r;
     reference.eval(x, r);
@@ -917,9 +919,16 @@ std::string explain(const LawReference& reference, Implementation* impl, const d
         text += "  # correctly rounded, piece " + reference.model().pieces()[r.piece[v]].name;
         if (impl) {
             text += ", error";
-            for (std::size_t i = 0; i < mo; ++i)
-                text += (i ? ", " : " ") + std::to_string(ulp_distance(y[i], r.value[v][i]));
+            std::uint64_t worst = 0;
+            for (std::size_t i = 0; i < mo; ++i) {
+                const std::uint64_t d = ulp_distance(y[i], r.value[v][i]);
+                text += (i ? ", " : " ") + std::to_string(d);
+                const bool bad = std::isnan(y[i]) && !std::isnan(r.value[v][i]);
+                worst = std::max(worst, bad ? UINT64_MAX : d);
+            }
             text += " ulp";
+            if (worst_ulps)
+                *worst_ulps = std::min(*worst_ulps, worst);
         }
         text += "\n";
     }

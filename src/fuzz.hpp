@@ -133,7 +133,11 @@ Summary run(const Options& options, const LawReference& reference, const Impleme
 
 // One point explained (for `eval --float` replays): the implementation's output, the correctly
 // rounded value(s), the piece(s) and the error in ulps, as lines of text.
-std::string explain(const LawReference& reference, Implementation* impl, const double* x);
+// `worst_ulps`, when given, receives the implementation's error: the largest component distance
+// in ulps to the nearest correctly rounded value (UINT64_MAX when it failed, answered a non-finite
+// number, or the input lies in no cone).
+std::string explain(const LawReference& reference, Implementation* impl, const double* x,
+                    std::uint64_t* worst_ulps = nullptr);
 
 // A seed as the command line gives it: decimal digits only, value in [0, 2^64 - 1]. No sign,
 // exponent, hex or white space (they used to wrap or saturate silently); `why` gets the reason.

@@ -211,10 +211,20 @@ TEST_CASE("derive: e = 0 has no finite law - the witness needs more impacts than
     CHECK_FALSE(finished);
     CHECK(word.size() == 20);
     CHECK(r.word.size() == 21);
+    // A sequence longer than the bound is a limit, not a proof (issue 32): exit 3 naming it.
     const auto run = test::run_cli("derive sequential --masses 1,1,1 --restitution 0 --max-impacts 20");
-    CHECK(run.status == 1);
-    CHECK(run.err.find("no finite law") != std::string::npos);
+    CHECK(run.status == 3);
+    CHECK(run.err.find("undecided: derive: gamma- = ") != std::string::npos);
+    CHECK(run.err.find("raise the bound with --max-impacts") != std::string::npos);
     CHECK(std::count(run.err.begin(), run.err.end(), '\n') == 1);
+    // Issue 32's case: finite (282 pieces), but beyond the default bound of 100 impacts.
+    const auto heavy = test::run_cli("derive sequential --masses 1,2000 --walls left --rule left-first");
+    CHECK(heavy.status == 3);
+    CHECK(heavy.err.find("--max-impacts") != std::string::npos);
+    const auto raised = test::run_cli("derive sequential --masses 1,2000 --walls left --rule left-first --max-impacts 200 "
+                                      "-o /tmp/impactcert-derive-test-heavy.json");
+    CHECK(raised.status == 0);
+    CHECK(raised.err.find("282 pieces") != std::string::npos);
 }
 
 TEST_CASE("derive: the CLI writes a law that loads - bad input is one line and exit 2", "[derive][cli]") {

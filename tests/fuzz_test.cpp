@@ -52,10 +52,17 @@ TEST_CASE("fuzz: a deliberately wrong implementation is caught within a second, 
     replay = replay.substr(0, replay.find('\n'));
     const auto again = test::run_cli(replay);
     INFO(replay << "\n" << again.out << again.err);
-    CHECK(again.status == 0);
+    CHECK(again.status == 1); // the replay of a violation exits 1, as the fuzzer did (issue 32: it exited 0)
+    CHECK(again.out.find("not within 0 ulp of the correctly rounded value (--max-ulps)") != std::string::npos);
     CHECK(again.out.find("impl ") == 0);
     CHECK(again.out.find(", error ") != std::string::npos);
     CHECK(again.out.find(", error 0, 0 ulp") == std::string::npos); // the error shows again
+    // Negative control: the same point with every error allowed exits 0.
+    std::string lenient = replay;
+    lenient.replace(lenient.find(" -- "), 4, " --max-ulps 18446744073709551615 -- ");
+    const auto allowed = test::run_cli(lenient);
+    INFO(lenient << "\n" << allowed.out << allowed.err);
+    CHECK(allowed.status == 0);
 }
 
 TEST_CASE("fuzz: JSON summary and bad options", "[fuzz][cli]") {
@@ -390,7 +397,7 @@ TEST_CASE("fuzz: wrong implementations of the kinds simulators ship are found in
         replay = replay.substr(0, replay.find('\n'));
         const auto again = test::run_cli(replay);
         INFO(replay << "\n" << again.out << again.err);
-        CHECK(again.status == 0);
+        CHECK(again.status == 1);
         CHECK(again.out.rfind("impl ", 0) == 0);
         CHECK(again.out.find(", error 0, 0, 0 ulp") == std::string::npos);
     }

@@ -280,7 +280,8 @@ TEST_CASE("defect 18.4 fail: derive bounds the size of its numbers, and shortens
     // A long witness: one short line on stderr, the exact gamma- in --json (and it does exceed
     // the bound: the sequence, simulated exactly, is longer).
     const auto run = run_cli("derive sequential --masses 1,1,1 --restitution 1e-10 --json");
-    REQUIRE(run.status == 1);
+    REQUIRE(run.status == 3); // a limit (--max-impacts), not a refutation
+    REQUIRE(run.err.find("--max-impacts") != std::string::npos);
     REQUIRE(run.err.size() < 400);
     REQUIRE(run.err.find('~') != std::string::npos);
     const Json j = Json::parse(run.out);
@@ -686,6 +687,17 @@ TEST_CASE("defect 18.10g: impactcert-check as a program: exit 0, 1, 2 and 3, and
     for (const char* args : {"--frobnicate 1", "--max-pieces abc", "--jobs 0", "--max-memory -1", "/nonexistent.json", ""}) {
         REQUIRE(run(std::string(args) + (std::string(args).find(".json") == std::string::npos && *args ? " " + cradle : ""), &out) == 2);
     }
+    // --help and --version alone: printed, exit 0 (issue 32: --help was exit 2, --version "needs a
+    // value"). With a certificate beside them nothing is checked, and a gate must not pass: 2.
+    REQUIRE(run("--help", &out) == 0);
+    REQUIRE(out.find("usage: impactcert-check") != std::string::npos);
+    REQUIRE(out.find("exit 0 verified, 1 rejected") != std::string::npos);
+    REQUIRE(run("--version", &out) == 0);
+    REQUIRE(out.rfind("impactcert-check ", 0) == 0);
+    REQUIRE(std::count(out.begin(), out.end(), '\n') == 1);
+    REQUIRE(run("--help " + cradle, &out) == 2);
+    REQUIRE(out.find("nothing was checked") != std::string::npos);
+    REQUIRE(run(cradle + " --version", &out) == 2);
 }
 
 TEST_CASE("reading JSON: NUL bytes, control characters in keys, empty and 4097th keys give one exact line", "[reliability][cli]") {

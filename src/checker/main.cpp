@@ -45,7 +45,11 @@ const char* const kUsage =
     "--max-memory 640 (megabytes of a compact law's generated pieces, by the size of their numbers);\n"
     "the checker's own: --max-product-bits 4194304 (bits of\n"
     "an entry of a declared identity's product); --jobs J threads for the pair forms (default: all\n"
-    "cores; the outcome does not depend on it)\n";
+    "cores; the outcome does not depend on it)\n"
+    "--help and --version alone print and exit 0; given with a certificate, nothing is checked (exit 2)\n"
+    "examples:\n"
+    "  impactcert-check proofs/newton3/certificate.json\n"
+    "  impactcert-check --merged cert.json part-1.json part-2.json part-3.json\n";
 
 int usage_error(const std::string& why) {
     std::cerr << "impactcert-check: " << one_line(why) << " (see --help)\n";
@@ -63,9 +67,16 @@ int main(int argc, char** argv) {
     bool options_done = false;
     for (int i = 1; i < argc; ++i) {
         const std::string arg = argv[i];
-        if (!options_done && (arg == "--help" || arg == "-h")) {
-            // Usage is not a verification: never status 0.
-            std::cout << kUsage;
+        if (!options_done && (arg == "--help" || arg == "-h" || arg == "--version")) {
+            // Alone, the conventions of every program: print, exit 0. With anything else on the
+            // line, usage is not a verification: a gate given `--help CERT` must not pass (exit 2).
+            if (arg == "--version")
+                std::cout << "impactcert-check " << IMPACTCERT_CHECK_VERSION << "\n";
+            else
+                std::cout << kUsage;
+            if (argc == 2)
+                return 0;
+            std::cerr << "impactcert-check: " << arg << " with other arguments: nothing was checked\n";
             return impactcert_check::kMalformed;
         }
         if (!options_done && arg == "--") {

@@ -72,20 +72,23 @@ int run_derive_sequential(const DeriveArgs& a) {
     if (any_order) {
         const OrderResult order = order_independence(o, a.max_words);
         if (order.not_finite) {
-            std::cerr << "impactcert: derive: no finite law: at gamma- = " << short_text(*order.not_finite)
+            // A limit, not a proof that no finite law exists (issue 32): exit 3 naming the option.
+            std::cerr << "impactcert: undecided: derive: at gamma- = " << short_text(*order.not_finite)
                       << " an admissible order takes more than " << o.max_impacts << " impacts (word "
-                      << word_text(order.long_word, mech.contacts()).substr(0, 60) << "...)\n";
+                      << word_text(order.long_word, mech.contacts()).substr(0, 60)
+                      << "...); raise the bound with --max-impacts\n";
             if (a.json) {
                 Json j;
                 j["format"] = "impactcert-derive/1";
-                j["verdict"] = "not-finite";
+                j["verdict"] = "undecided";
+                j["limit"] = "--max-impacts";
                 j["rule"] = "any";
                 j["gamma_minus"] = to_json(*order.not_finite);
                 j["max_impacts"] = o.max_impacts;
                 j["word"] = word_text(order.long_word, mech.contacts()) + "...";
                 write_stdout(j.dump(2) + "\n");
             }
-            return kExitRefuted;
+            return kExitUndecided;
         }
         if (order.witness) {
             const OrderWitness& w = *order.witness;
@@ -126,21 +129,23 @@ int run_derive_sequential(const DeriveArgs& a) {
         return kExitRefuted;
     }
     if (r.not_finite) {
-        // One line, shortened; the exact witness in full with --json.
+        // One line, shortened; the exact gamma- in full with --json. A sequence longer than the
+        // bound is a limit, not a proof that none is finite (issue 32): exit 3 naming the option.
         std::string word = r.word.size() > 60 ? r.word.substr(0, 60) : r.word;
-        std::cerr << "impactcert: derive: no finite law: gamma- = " << short_text(*r.not_finite) << " needs more than "
-                  << o.max_impacts << " impacts (word " << word << "...)" << (a.json ? "" : "; the exact gamma- with --json")
-                  << "\n";
+        std::cerr << "impactcert: undecided: derive: gamma- = " << short_text(*r.not_finite) << " needs more than "
+                  << o.max_impacts << " impacts (word " << word << "...); raise the bound with --max-impacts"
+                  << (a.json ? "" : " (the exact gamma- with --json)") << "\n";
         if (a.json) {
             Json j;
             j["format"] = "impactcert-derive/1";
-            j["verdict"] = "not-finite";
+            j["verdict"] = "undecided";
+            j["limit"] = "--max-impacts";
             j["gamma_minus"] = to_json(*r.not_finite);
             j["max_impacts"] = o.max_impacts;
             j["word"] = r.word + "...";
             write_stdout(j.dump(2) + "\n");
         }
-        return kExitRefuted;
+        return kExitUndecided;
     }
     emit(a.out, law_text(*r.law),
          std::to_string(r.law->pieces.size()) + " pieces, " + std::to_string(r.regions) + " regions, longest word " +

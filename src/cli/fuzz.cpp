@@ -108,11 +108,21 @@ int run_eval_float(const FuzzArgs& a, const std::vector<std::vector<std::string>
         const LawFacts facts = law_facts(model, a.velocities);
         const fuzz::LawReference reference(model, a.velocities, facts.continuous_tiling);
         auto impl = make_impl(a, model, reference.in_dim());
+        // Exit 1 when an answer is not within --max-ulps (default 0) of a correctly rounded
+        // value, as the fuzzer decides in law mode (issue 32: a replay showing a 10^18-ulp error
+        // exited 0).
+        const std::uint64_t allowed = a.max_ulps.value_or(0);
+        bool off = false;
         for (const auto& toks : points) {
             const auto x = parse_doubles(toks);
-            std::printf("%s", fuzz::explain(reference, impl.get(), x.data()).c_str());
+            std::uint64_t worst = 0;
+            std::printf("%s", fuzz::explain(reference, impl.get(), x.data(), &worst).c_str());
+            off = off || worst > allowed;
         }
-        return kExitProved;
+        if (off)
+            std::printf("not within %llu ulp of the correctly rounded value (--max-ulps)\n",
+                        static_cast<unsigned long long>(allowed));
+        return off ? kExitRefuted : kExitProved;
     }
     if (!a.law_path.empty()) {
         // Any law file: the general float evaluator, with its error bound.
@@ -227,6 +237,8 @@ int run_fuzz(FuzzArgs a) {
         options.tolerance = impl->states_bound() ? fuzz::Tolerance::stated_bound : fuzz::Tolerance::ulps;
     }
     options.replay_prefix = "impactcert eval --float";
+    if (options.tolerance == fuzz::Tolerance::ulps && options.max_ulps > 0)
+        options.replay_prefix += " --max-ulps " + std::to_string(options.max_ulps);
     if (!a.law_path.empty())
         options.replay_prefix += " --law " + fuzz::shell_quote(a.law_path);
     if (a.velocities)
