@@ -171,6 +171,7 @@ int main(int argc, char** argv) {
     eval_cmd->add_option("--walls", eval_float_args.system.walls, "with --masses: fixed walls")->capture_default_str();
     eval_cmd->add_option("--system", eval_float_args.system.system_path, "with --float and --impl/--impl-cmd: check consistency with this system");
     eval_cmd->add_option("--max-rel-error", eval_float_args.max_rel_error, "consistency: the relative tolerance (as fuzz)");
+    eval_cmd->add_option("--restitution", eval_float_args.restitution, "consistency: the restitution the implementation is meant to apply (as fuzz)");
     eval_cmd->add_option_function<std::string>("--max-ulps", [&](const std::string& text) {
         std::string why;
         const auto k = fuzz::parse_seed(text, &why); // a decimal integer in [0, 2^64 - 1]
@@ -264,6 +265,7 @@ int main(int argc, char** argv) {
     fuzz_cmd->add_option("--system", fuzz_args.system.system_path, "without --law: check consistency with this system (impactcert-system/1 or a law file)");
     fuzz_cmd->add_option("--float-law", fuzz_args.float_law, "consistency: test impactcert's own float implementation of this law file (contact velocities)");
     fuzz_cmd->add_option("--require", fuzz_args.require, "consistency: also check nonexpansive and/or continuity on close pairs (comma-separated)");
+    fuzz_cmd->add_option("--restitution", fuzz_args.restitution, "consistency, frictionless: the restitution the implementation is meant to apply (E, or one per contact); checks the restitution property where one contact alone approaches");
     fuzz_cmd->add_option("--range", fuzz_args.range, "consistency: input components 0 or of magnitude in LO..HI (default 1e-3..1e3)");
     fuzz_cmd->add_flag("--json", fuzz_args.json, "print the summary as impactcert-fuzz/1 JSON");
     fuzz_cmd->add_option("--junit", fuzz_args.junit, "also write a JUnit XML report to this file");

@@ -26,11 +26,13 @@ const char* property_id(Property p) {
     case Property::kinetic: return "kinetic";
     case Property::friction_cone: return "friction_cone";
     case Property::coulomb: return "coulomb";
+    case Property::restitution: return "restitution";
     case Property::momentum: return "momentum";
     case Property::energy: return "energy";
     case Property::nonexpansive: return "nonexpansive";
     case Property::continuity: return "continuity";
     case Property::at_rest: return "at-rest";
+    case Property::nondeterministic: return "nondeterministic";
     case Property::non_finite: return "non_finite";
     case Property::count: break;
     }
@@ -43,11 +45,13 @@ const char* property_title(Property p) {
     case Property::kinetic: return "pulling impulse (kinetic)";
     case Property::friction_cone: return "friction beyond mu Lambda_N (friction cone)";
     case Property::coulomb: return "friction not opposing the slip (coulomb)";
+    case Property::restitution: return "restitution not applied (restitution)";
     case Property::momentum: return "change outside the range of M^-1 W (momentum)";
     case Property::energy: return "energy gain";
     case Property::nonexpansive: return "expansion of a pair (nonexpansive)";
     case Property::continuity: return "jump between close inputs (continuity)";
     case Property::at_rest: return "motion from rest (at-rest)";
+    case Property::nondeterministic: return "the same input answered differently (nondeterministic)";
     case Property::non_finite: return "non-finite output";
     case Property::count: break;
     }
@@ -144,8 +148,11 @@ std::string percent(double f) {
 
 } // namespace
 
-ConsistencyChecker::ConsistencyChecker(const Mechanics& m, bool velocities, double max_rel_error)
-    : m_(m), velocities_(velocities), R_(max_rel_error) {
+ConsistencyChecker::ConsistencyChecker(const Mechanics& m, bool velocities, double max_rel_error,
+                                       std::vector<Rational> restitution)
+    : m_(m), velocities_(velocities), R_(max_rel_error), e_(std::move(restitution)) {
+    if (!e_.empty() && e_.size() != m.normals)
+        throw std::logic_error("ConsistencyChecker: one restitution per normal contact");
     // The allowance for underflow (proofs/README.md, "Consistency ... near underflow"): an output
     // component may be off by one subnormal ulp, 2^-1074, whatever its scale; in the metric X of
     // the input space that is at most sqrt(d trace X) 2^-1074 (|v|_X^2 <= lambda_max |v|^2).
@@ -222,6 +229,30 @@ std::vector<Finding> ConsistencyChecker::check(const double* xd, const double* y
             finding(Property::kinematic, std::sqrt(worst_score),
                     "gamma+_" + std::to_string(*worst + 1) + " = " + exact_text(gp[*worst]) + " < 0 (gamma-_" +
                         std::to_string(*worst + 1) + " = " + exact_text(gm[*worst]) + ")");
+    }
+    // restitution: exactly one normal contact k approaches, and the single impact at k leaves every
+    // other normal contact not approaching; then every law gives gamma+_k = -e_k gamma-_k.
+    if (!e_.empty() && !m_.has_friction()) {
+        std::optional<std::size_t> only;
+        std::size_t approaching = 0;
+        for (std::size_t k = 0; k < c; ++k)
+            if (sign_of(gm[k]) == Sign::negative) {
+                ++approaching;
+                only = k;
+            }
+        if (approaching == 1) {
+            const std::size_t k = *only;
+            const Rational impulse = (Rational(1) + e_[k]) * gm[k] / m_.G(k, k);
+            bool single = true;
+            for (std::size_t j = 0; j < c && single; ++j)
+                single = j == k || sign_of(gm[j] - m_.G(j, k) * impulse) != Sign::negative;
+            const Rational dev = gp[k] + e_[k] * gm[k];
+            if (single && dev * dev > tol2 * m_.G(k, k))
+                finding(Property::restitution, std::sqrt(ratio(dev * dev, m_.G(k, k) * s2)),
+                        "gamma+_" + std::to_string(k + 1) + " = " + exact_text(gp[k]) + ", not -e gamma-_" +
+                            std::to_string(k + 1) + " = " + exact_text(-(e_[k] * gm[k])) + " (e = " + to_string(e_[k]) +
+                            "; contact " + std::to_string(k + 1) + " alone approaches, gamma- = " + exact_text(gm[k]) + ")");
+        }
     }
     // kinetic
     {
@@ -321,6 +352,26 @@ std::vector<Finding> ConsistencyChecker::check(const double* xd, const double* y
         }
     }
     return out;
+}
+
+Finding ConsistencyChecker::nondeterministic(const double* x, const double* y1, const std::vector<double>& y2) const {
+    const std::size_t d = dim();
+    Finding f;
+    f.property = Property::nondeterministic;
+    f.score = 1;
+    f.input.assign(x, x + d);
+    f.output.assign(y1, y1 + d);
+    f.output_b = y2;
+    std::string a, b;
+    for (std::size_t i = 0; i < d; ++i) {
+        char buf[40];
+        std::snprintf(buf, sizeof buf, "%s%.17g", i ? ", " : "", y1[i]);
+        a += buf;
+        std::snprintf(buf, sizeof buf, "%s%.17g", i ? ", " : "", i < y2.size() ? y2[i] : NAN);
+        b += buf;
+    }
+    f.detail = "answered (" + a + "), then (" + b + ")";
+    return f;
 }
 
 std::optional<Finding> ConsistencyChecker::at_rest(const double* yd) const {
@@ -492,7 +543,15 @@ ConsistencySummary run_consistency(const Mechanics& m, const ConsistencyOptions&
     if (d > kMaxDim)
         throw InputError("fuzz: at most " + std::to_string(kMaxDim) + " input components, the system has " +
                          std::to_string(d));
-    const ConsistencyChecker checker(m, o.velocities, o.max_rel_error);
+    const ConsistencyChecker checker(m, o.velocities, o.max_rel_error, o.restitution);
+    // A nondeterministic answer's replay: the input twice, in one run of the implementation.
+    auto twice = [&](const Finding& f) {
+        std::string s = o.replay_prefix;
+        for (int rep = 0; rep < 2; ++rep)
+            for (double x : f.input)
+                s += " " + hex(x);
+        return s;
+    };
     const unsigned jobs = std::max(1u, o.jobs);
     const std::size_t block = std::max<std::size_t>(1, impl.batch_samples());
     // (samples + block - 1) / block would wrap for samples near 2^64 (reliability round four, 5)
@@ -523,6 +582,12 @@ ConsistencySummary run_consistency(const Mechanics& m, const ConsistencyOptions&
         case ImplStatus::malformed: ++part.sum.malformed; break;
         case ImplStatus::refused: ++part.sum.refused; break;
         case ImplStatus::skipped: break;
+        case ImplStatus::nondeterministic: {
+            Finding f = checker.nondeterministic(zero.data(), y.data(), impls[0]->repeated_answer());
+            f.replay = twice(f);
+            record(part, std::move(f), o.keep);
+            break;
+        }
         }
     }
     const auto start = std::chrono::steady_clock::now();
@@ -572,6 +637,13 @@ ConsistencySummary run_consistency(const Mechanics& m, const ConsistencyOptions&
                     case ImplStatus::malformed: ++part.sum.malformed; break;
                     case ImplStatus::refused: ++part.sum.refused; break;
                     case ImplStatus::skipped: break;
+                    case ImplStatus::nondeterministic: {
+                        Finding f = checker.nondeterministic(&in[q * d], &out[q * d], impls[j]->repeated_answer());
+                        f.index = indices[s];
+                        f.replay = twice(f);
+                        record(part, std::move(f), o.keep);
+                        break;
+                    }
                     }
                     return true;
                 };

@@ -25,8 +25,15 @@
 //     output component may be one subnormal ulp off whatever its scale: proofs/README.md).
 //     An output within R s + A of a consistent one never violates any of them (the README's lemma),
 //     so every violation reported is one of the map itself, reproduced exactly by its replay.
+//       restitution (frictionless, the restitution given) where exactly one normal contact k
+//                   approaches and the single impact at k leaves every other contact not
+//                   approaching -- every impact law then gives gamma+_k = -e_k gamma-_k --
+//                   (gamma+_k + e_k gamma-_k)^2 > (R s + A)^2 G_kk
 //   - The probe: the input at rest is evaluated once before the samples; an answer that moves
 //     (beyond the underflow allowance) is the finding `at-rest` (energy from nothing).
+//   - nondeterministic: an implementation run as a process that answers the same input
+//     differently (fuzz_impl.hpp, ImplStatus::nondeterministic) is its own finding, with both
+//     answers; the rest of that batch is not checked (its answers cannot be trusted to be in step).
 //   - The summary has, per property, the count and the worst case (largest violation relative to
 //     the sample's scale) with exact figures and a replay command.
 #pragma once
@@ -46,7 +53,8 @@ namespace impactcert::fuzz {
 
 // friction_cone and coulomb: systems with friction only (SPEC section 9).
 enum class Property : std::size_t {
-    kinematic, kinetic, friction_cone, coulomb, momentum, energy, nonexpansive, continuity, at_rest, non_finite, count
+    kinematic, kinetic, friction_cone, coulomb, restitution, momentum, energy, nonexpansive, continuity, at_rest,
+    nondeterministic, non_finite, count
 };
 inline constexpr std::size_t kProperties = static_cast<std::size_t>(Property::count);
 const char* property_id(Property p);    // "kinematic", "kinetic", "momentum", "energy", ...
@@ -61,6 +69,7 @@ struct ConsistencyOptions {
     double range_lo = 1e-3, range_hi = 1e3;
     bool velocities = true;
     bool nonexpansive = false, continuity = false; // --require
+    std::vector<Rational> restitution; // --restitution: one per normal contact; empty: not checked
     std::size_t keep = 10;
     std::string replay_prefix; // "impactcert eval --float --masses ... --impl-cmd ..."
 };
@@ -91,7 +100,8 @@ struct ConsistencySummary {
 // The exact checks of one sample (or pair), for the run and for replays.
 class ConsistencyChecker {
   public:
-    ConsistencyChecker(const Mechanics& m, bool velocities, double max_rel_error);
+    ConsistencyChecker(const Mechanics& m, bool velocities, double max_rel_error,
+                       std::vector<Rational> restitution = {});
     std::size_t dim() const;
     // Findings for one input/output (each property at most once).
     std::vector<Finding> check(const double* x, const double* y) const;
@@ -103,12 +113,16 @@ class ConsistencyChecker {
     // The probe (SPEC section 8, "Diagnosis", at-rest): the answer y to the input at rest must be
     // at rest, |y| <= A (the underflow allowance); a finding otherwise (a non-finite y too).
     std::optional<Finding> at_rest(const double* y) const;
+    // The same input x answered y1, then y2 (nondeterministic).
+    Finding nondeterministic(const double* x, const double* y1, const std::vector<double>& y2) const;
+    bool checks_restitution() const { return !e_.empty(); }
 
   private:
     const Mechanics& m_;
     bool velocities_;
     double R_;
     Rational A_; // the underflow allowance, sqrt(d trace X) 2^-1074
+    std::vector<Rational> e_; // the restitution per normal contact (empty: not checked)
 };
 
 ConsistencySummary run_consistency(const Mechanics& m, const ConsistencyOptions& options, const Implementation& impl,

@@ -556,11 +556,13 @@ struct Worker {
         ++sum.points;
         ref.eval(x, r, opt.tolerance == Tolerance::stated_bound);
         sum.slow += r.slow ? 1 : 0;
-        if (st == ImplStatus::crashed || st == ImplStatus::hung || st == ImplStatus::malformed) {
+        if (st == ImplStatus::crashed || st == ImplStatus::hung || st == ImplStatus::malformed ||
+            st == ImplStatus::nondeterministic) {
             ++(st == ImplStatus::crashed ? sum.crashed : st == ImplStatus::hung ? sum.hung : sum.malformed);
             record(index,
                    st == ImplStatus::crashed ? "the implementation crashed (its process ended) on this input"
                    : st == ImplStatus::hung  ? "the implementation did not answer within the timeout"
+                   : st == ImplStatus::nondeterministic ? "nondeterministic: the implementation answered this input differently when it came again"
                                              : "the implementation's answer is not the expected number of values",
                    s, x, nullptr, nullptr, r.in_domain ? r.value[0] : nullptr);
             return true;

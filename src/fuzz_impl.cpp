@@ -221,12 +221,40 @@ class CommandImpl final : public Implementation {
             }
             if (pid_ < 0)
                 start();
+            sentinel_differs_ = false;
             const std::size_t answered = batch(in + done * in_dim_, out + done * out_dim_, count - done, status + done);
             if (failure_ == ImplStatus::malformed && answered == count - done) {
-                // More lines than inputs: every answer of this batch may belong to another input.
-                for (std::size_t i = done; i < count; ++i)
-                    status[i] = ImplStatus::malformed;
+                // The repeated first input answered otherwise, or more lines than inputs: every
+                // answer of this batch may belong to another input -- or the map is not a
+                // function of its input. A fresh process answers the first input twice: a
+                // deterministic map gives the batch's first answer both times (the difference was
+                // a shift of lines: malformed); anything else is nondeterminism, its own finding.
+                const bool differs = sentinel_differs_ && status[done] == ImplStatus::ok;
+                std::vector<double> other(sentinel_, sentinel_ + out_dim_);
                 stop();
+                bool nondeterministic = false;
+                if (differs) {
+                    start();
+                    std::vector<double> again(out_dim_, 0.0);
+                    ImplStatus st = ImplStatus::ok;
+                    sentinel_differs_ = false;
+                    const std::size_t n = batch(in + done * in_dim_, again.data(), 1, &st);
+                    const bool same_as_batch =
+                        n == 1 && st == ImplStatus::ok && failure_ != ImplStatus::malformed &&
+                        std::memcmp(again.data(), out + done * out_dim_, out_dim_ * sizeof(double)) == 0;
+                    if (!same_as_batch && n == 1 && st == ImplStatus::ok) {
+                        nondeterministic = true;
+                        if (std::memcmp(again.data(), out + done * out_dim_, out_dim_ * sizeof(double)) != 0)
+                            other = again;
+                    }
+                    stop();
+                }
+                for (std::size_t i = done; i < count; ++i)
+                    status[i] = nondeterministic ? ImplStatus::skipped : ImplStatus::malformed;
+                if (nondeterministic) {
+                    status[done] = ImplStatus::nondeterministic;
+                    repeated_ = other;
+                }
                 return;
             }
             done += answered;
@@ -248,6 +276,7 @@ class CommandImpl final : public Implementation {
     std::string describe() const override { return cmd_; }
     std::size_t batch_samples() const override { return 2048; }
     std::string replay_flags() const override { return "--impl-cmd " + shell_quote(cmd_); }
+    std::vector<double> repeated_answer() const override { return repeated_; }
 
     // Why the last process ended (for the probe's error message).
     std::string last_exit() const { return last_exit_; }
@@ -264,6 +293,9 @@ class CommandImpl final : public Implementation {
     std::string last_exit_;
     bool fresh_ = false; // started and not answered yet: its start-up time is not a hang
     bool pid_reaped_ = false;
+    bool sentinel_differs_ = false; // batch(): the repeated first input was answered otherwise
+    double sentinel_[64] = {};      // ... with this
+    std::vector<double> repeated_;  // the other answer of the last nondeterministic point
     pid_t guardian_ = -1;    // see start_guardian()
     int guardian_pipe_ = -1; // its write end, held by the fuzzer only
     const std::atomic<bool>* stop_flag_ = nullptr;
@@ -436,6 +468,10 @@ class CommandImpl final : public Implementation {
                                           : !parsed;
                     if (sentinel_read || !same) {
                         failure_ = ImplStatus::malformed;
+                        if (!sentinel_read && parsed && status[0] == ImplStatus::ok) {
+                            sentinel_differs_ = true; // the first input, answered otherwise
+                            std::memcpy(sentinel_, sentinel, out_dim_ * sizeof(double));
+                        }
                         rbuf_.clear();
                         return answered;
                     }

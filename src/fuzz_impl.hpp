@@ -34,7 +34,11 @@
 namespace impactcert::fuzz {
 
 // refused: a built-in declined the input; skipped: not evaluated (the run's time ran out).
-enum class ImplStatus : std::uint8_t { ok, crashed, hung, malformed, refused, skipped };
+// nondeterministic: the same input was answered differently (a process only: the batch's first
+// input is sent again at its end; when the answers differ and a fresh process answers it twice
+// differently too, or otherwise than the batch did, the map is not a function of its input). The
+// point's `out` is its first answer; repeated_answer() the other.
+enum class ImplStatus : std::uint8_t { ok, crashed, hung, malformed, refused, skipped, nondeterministic };
 
 class Implementation {
   public:
@@ -51,6 +55,8 @@ class Implementation {
     virtual std::unique_ptr<Implementation> clone() const = 0;
     virtual std::string describe() const = 0;
     virtual std::string replay_flags() const = 0;
+    // After eval() marked a point nondeterministic: the other answer it gave to the same input.
+    virtual std::vector<double> repeated_answer() const { return {}; }
 };
 
 // The paper's law in double (contact velocities g1, g2; or ball velocities, sorted).

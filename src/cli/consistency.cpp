@@ -11,6 +11,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <cstdio>
 #include <cstdlib>
 #include <memory>
@@ -25,6 +26,7 @@ struct Setup {
     std::unique_ptr<Model> law; // --float-law: the law whose float implementation is tested
     std::unique_ptr<fuzz::Implementation> impl;
     double R = 1e-9;
+    std::vector<Rational> restitution; // --restitution, per normal contact
 };
 
 // The shortest decimal that reads back as x.
@@ -39,8 +41,13 @@ std::string shortest(double x) {
 }
 
 Setup setup(const FuzzArgs& a) {
-    Setup s{system_from(a.system), {}, nullptr, nullptr, 1e-9};
+    Setup s{system_from(a.system), {}, nullptr, nullptr, 1e-9, {}};
     s.mech = make_mechanics(s.system);
+    if (!a.restitution.empty()) {
+        if (s.mech.has_friction())
+            throw InputError("--restitution: the restitution property is checked on frictionless systems only");
+        s.restitution = restitution_list(a.restitution, s.mech.normals);
+    }
     if (a.max_ulps)
         throw InputError("--max-ulps: consistency fuzzing has no exact law to count ulps against; give --max-rel-error");
     if (a.max_rel_error) {
@@ -154,7 +161,8 @@ int run_consistency_fuzz(const FuzzArgs& a) {
         else if (item == "continuity")
             o.continuity = true;
         else if (item != "kinematic" && item != "kinetic" && item != "momentum" && item != "energy" &&
-                 item != "friction_cone" && item != "coulomb" && item != "at-rest")
+                 item != "friction_cone" && item != "coulomb" && item != "at-rest" && item != "restitution" &&
+                 item != "nondeterministic")
             throw InputError("--require: unknown property \"" + item +
                              "\" (nonexpansive, continuity; kinematic, kinetic, momentum and energy are always checked, "
                              "friction_cone and coulomb with friction)");
@@ -171,10 +179,12 @@ int run_consistency_fuzz(const FuzzArgs& a) {
     o.keep = a.options.keep;
     o.max_rel_error = s.R;
     o.velocities = a.velocities;
+    o.restitution = s.restitution;
     const std::string rbuf = shortest(s.R);
     o.replay_prefix = "impactcert eval --float " + system_flags(a.system) + (a.velocities ? " --velocities " : " ") +
                       (s.law ? "--float-law " + fuzz::shell_quote(a.float_law) : s.impl->replay_flags()) +
-                      " --max-rel-error " + rbuf + " --";
+                      " --max-rel-error " + rbuf +
+                      (a.restitution.empty() ? "" : " --restitution " + fuzz::shell_quote(a.restitution)) + " --";
     const bool tty = !a.json && isatty(STDERR_FILENO);
     const auto start = std::chrono::steady_clock::now();
     auto progress = [&](std::uint64_t done) {
@@ -197,6 +207,8 @@ int run_consistency_fuzz(const FuzzArgs& a) {
     checked[static_cast<std::size_t>(fuzz::Property::friction_cone)] = s.mech.has_friction();
     checked[static_cast<std::size_t>(fuzz::Property::coulomb)] = s.mech.has_friction();
     checked[static_cast<std::size_t>(fuzz::Property::nonexpansive)] = o.nonexpansive;
+    checked[static_cast<std::size_t>(fuzz::Property::restitution)] = !o.restitution.empty();
+    checked[static_cast<std::size_t>(fuzz::Property::nondeterministic)] = a.impl_cmd_given && !a.impl_cmd.empty();
     checked[static_cast<std::size_t>(fuzz::Property::continuity)] = o.continuity;
     const std::string target = s.impl->describe();
     const std::string space = a.velocities ? "ball velocities" : "contact velocities";
@@ -265,6 +277,8 @@ int run_consistency_fuzz(const FuzzArgs& a) {
                 line(head + "not checked (contact velocities carry no momentum; use --velocities)");
             else if (prop == fuzz::Property::nonexpansive || prop == fuzz::Property::continuity)
                 line(head + "not requested (--require " + fuzz::property_id(prop) + ")");
+            else if (prop == fuzz::Property::restitution)
+                line(head + (s.mech.has_friction() ? "not checked (with friction)" : "not checked (give --restitution E)"));
             continue;
         }
         if (!slot.count) {
@@ -297,7 +311,7 @@ int run_consistency_fuzz(const FuzzArgs& a) {
 
 int run_consistency_eval(const FuzzArgs& a, const std::vector<std::vector<std::string>>& points) {
     Setup s = setup(a);
-    const fuzz::ConsistencyChecker checker(s.mech, a.velocities, s.R);
+    const fuzz::ConsistencyChecker checker(s.mech, a.velocities, s.R, s.restitution);
     const std::size_t d = checker.dim();
     std::vector<std::vector<double>> xs;
     for (const auto& toks : points) {
@@ -317,9 +331,27 @@ int run_consistency_eval(const FuzzArgs& a, const std::vector<std::vector<std::s
     std::string text;
     bool violated = false;
     for (std::size_t i = 0; i < xs.size(); ++i) {
+        if (status[i] == fuzz::ImplStatus::skipped)
+            continue; // the rest of a nondeterministic batch
         text += "input  " + decimals(xs[i]) + "\n";
+        if (status[i] == fuzz::ImplStatus::nondeterministic) {
+            const auto f = checker.nondeterministic(&in[i * d], &out[i * d], s.impl->repeated_answer());
+            text += "  " + std::string(fuzz::property_title(f.property)) + ": " + f.detail + "\n";
+            violated = true;
+            continue;
+        }
         if (status[i] != fuzz::ImplStatus::ok) {
             text += "  the implementation failed on this input\n";
+            violated = true;
+            continue;
+        }
+        // The same input given again, answered otherwise (the replay of a nondeterministic finding).
+        if (i > 0 && xs[i] == xs[i - 1] && status[i - 1] == fuzz::ImplStatus::ok &&
+            std::memcmp(&out[i * d], &out[(i - 1) * d], d * sizeof(double)) != 0) {
+            const std::vector<double> again(out.begin() + static_cast<std::ptrdiff_t>(i * d),
+                                            out.begin() + static_cast<std::ptrdiff_t>((i + 1) * d));
+            const auto f = checker.nondeterministic(&in[(i - 1) * d], &out[(i - 1) * d], again);
+            text += "  " + std::string(fuzz::property_title(f.property)) + ": " + f.detail + "\n";
             violated = true;
             continue;
         }

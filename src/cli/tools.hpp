@@ -63,6 +63,7 @@ struct FuzzArgs {
     std::string law_path, impl_spec, impl_cmd, junit, range, float_law;
     SystemArgs system;
     std::string require;
+    std::string restitution; // consistency: the restitution the implementation is meant to apply
     bool velocities = false, json = false, pair = false, pieces = false;
     bool impl_given = false, impl_cmd_given = false; // given, even as an empty string
     std::optional<std::uint64_t> max_ulps;

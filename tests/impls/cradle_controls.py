@@ -9,6 +9,8 @@ Modes:
   stuck   u+ = u-: approaching balls pass through each other (negative contact velocity)
   pull    u+ = 2 u- - sorted(u-): the impulses reversed (contacts pull)
   restless  sort, but balls at rest are answered with the first one moving (energy from nothing)
+  jitter  sort, but the last ball's velocity drifts by 2^-40 per line answered (an engine whose
+          answer depends on what it computed before: the same input is answered differently)
 """
 import sys
 
@@ -19,6 +21,7 @@ def parse(token):
 
 def main():
     mode = sys.argv[1]
+    answered = 0
     for line in sys.stdin:
         u = [parse(t) for t in line.split()]
         s = sorted(u)
@@ -30,10 +33,13 @@ def main():
             out = u
         elif mode == "restless":
             out = s if any(x != 0 for x in u) else [1.0 / 1024] + [0.0] * (len(u) - 1)
+        elif mode == "jitter":
+            out = s[:-1] + [s[-1] + answered * 2.0 ** -40]
         elif mode == "pull":
             out = [2 * a - b for a, b in zip(u, s)]
         else:
             sys.exit("unknown mode " + mode)
+        answered += 1
         sys.stdout.write(" ".join("%.17g" % x for x in out) + "\n")
         sys.stdout.flush()
 

@@ -1,0 +1,115 @@
+#!/usr/bin/env python3
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""Diagnosis for engine developers (issue 31, items 2 and 3), with an independent oracle.
+
+restitution: where one contact alone approaches and the single impact there leaves the others
+  not approaching, every impact law gives gamma+_k = -e gamma-_k. A map of e = 1 (the sort)
+  checked against --restitution 1/2 is reported, and each worst case is recomputed here in
+  Python fractions (one contact approaching, the single impact's other contacts >= 0, and the
+  deviation beyond the tolerance); its replay exits 1 and names the property. Negative controls:
+  the same map against --restitution 1, and a sequential-impulse engine at e = 1/2 converged
+  (100 iterations) against --restitution 1/2: nothing. With friction, --restitution is refused.
+nondeterministic: a driver whose answer depends on what it answered before is reported as such
+  (not as malformed), with both answers; the rest of its batches is not checked; its replay (the
+  input twice) exits 1 saying so. The sort is never reported.
+Usage: diagnosis_test.py BINDIR SOURCE_DIR"""
+import json
+import os
+import subprocess
+import sys
+from fractions import Fraction as F
+
+BIN, SRC = os.path.abspath(sys.argv[1]), os.path.abspath(sys.argv[2])
+CLI = os.path.join(BIN, "impactcert")
+CONTROLS = "python3 " + os.path.join(SRC, "tests", "impls", "cradle_controls.py")
+ENGINE = "python3 " + os.path.join(SRC, "examples", "engines", "newton_cradle.py")
+failures = []
+
+
+def fail(msg):
+    failures.append(msg)
+    print("FAIL:", msg)
+
+
+def fuzz(impl, *extra):
+    p = subprocess.run([CLI, "fuzz", "--masses", "1,1,1", "--velocities", "--impl-cmd", impl, "--samples", "3000",
+                        "--json"] + list(extra), capture_output=True, text=True)
+    return p.returncode, json.loads(p.stdout) if p.stdout.startswith("{") else None, p.stderr
+
+
+def replay(cmd):
+    words = cmd.split()
+    words[0] = CLI
+    return subprocess.run(" ".join(words), shell=True, capture_output=True, text=True, cwd=SRC)
+
+
+def fx(h):
+    return F(float.fromhex(h)) if "0x" in h.lower() else F(h)
+
+
+# --- restitution
+status, j, err = fuzz(CONTROLS + " sort", "--restitution", "1/2")
+R = F(1, 10 ** 9)  # the default --max-rel-error, as a bound on the printed 1e-09 (1e-09 as a double is near it)
+if status != 1 or not j or j["violations"]["restitution"] == 0:
+    fail(f"the sort against e = 1/2: exit {status}, {j and j['violations']}")
+else:
+    others = {k: v for k, v in j["violations"].items() if v and k != "restitution"}
+    if others:
+        fail(f"the sort against e = 1/2: other findings {others}")
+    w = j["worst"]["restitution"]
+    u = [fx(x) for x in w["input"]]
+    v = [fx(x) for x in w["output"]]
+    gm = [u[1] - u[0], u[2] - u[1]]  # the chain's contact velocities
+    gp = [v[1] - v[0], v[2] - v[1]]
+    G = [[F(2), F(-1)], [F(-1), F(2)]]  # W^T M^-1 W of three unit masses
+    e = F(1, 2)
+    approaching = [k for k in range(2) if gm[k] < 0]
+    ok = len(approaching) == 1
+    if ok:
+        k = approaching[0]
+        impulse = (1 + e) * gm[k] / G[k][k]
+        ok = all(gm[i] - G[i][k] * impulse >= 0 for i in range(2) if i != k)
+        dev = gp[k] + e * gm[k]
+        s2 = sum(x * x for x in u)  # |u-|_M^2
+        # beyond the tolerance, with margin: dev^2 > (2R)^2 G_kk s^2 (the underflow allowance is negligible here)
+        ok = ok and dev * dev > 4 * R * R * G[k][k] * s2
+    if not ok:
+        fail(f"the worst restitution case does not recompute: u- {u}, u+ {v}")
+    r = replay(w["replay"])
+    if r.returncode != 1 or "(restitution)" not in r.stdout:
+        fail(f"restitution replay: exit {r.returncode}: {r.stdout[-300:]}")
+    else:
+        print(f"restitution: {j['violations']['restitution']} findings of a map of e = 1 against e = 1/2; "
+              f"the worst recomputed exactly, its replay exits 1")
+for impl, e in ((CONTROLS + " sort", "1"), (ENGINE + " --restitution 0.5 --iterations 100", "1/2")):
+    status, j, err = fuzz(impl, "--restitution", e)
+    if not j or j["violations"]["restitution"] != 0 or not j["checked_properties"]["restitution"]:
+        fail(f"{impl} against e = {e}: {j and j['violations']}")
+    else:
+        print(f"no restitution finding: {impl.split('/')[-1]} against e = {e}")
+status, j, err = fuzz(CONTROLS + " sort")
+if not j or j["checked_properties"]["restitution"]:
+    fail("restitution checked without --restitution")
+p = subprocess.run([CLI, "fuzz", "--system", os.path.join(SRC, "proofs", "kane", "gains", "system.json"), "--impl-cmd",
+                    "cat", "--restitution", "1/2"], capture_output=True, text=True)
+if p.returncode != 2 or "--restitution" not in p.stderr:
+    fail(f"--restitution with friction: exit {p.returncode}: {p.stderr.strip()}")
+
+# --- nondeterministic
+status, j, err = fuzz(CONTROLS + " jitter")
+if status != 1 or not j or j["violations"]["nondeterministic"] == 0 or j["violations"]["malformed"] != 0:
+    fail(f"jitter: exit {status}, {j and j['violations']}")
+else:
+    w = j["worst"]["nondeterministic"]
+    if not w["input"] or "output_b" not in w or w["output"] == w["output_b"]:
+        fail(f"jitter: the finding lacks two different answers: {w}")
+    r = replay(w["replay"])
+    if r.returncode != 1 or "answered differently" not in r.stdout:
+        fail(f"nondeterministic replay: exit {r.returncode}: {r.stdout[-300:]}")
+    else:
+        print(f"nondeterministic: {j['violations']['nondeterministic']} findings, none malformed; the replay exits 1")
+status, j, err = fuzz(CONTROLS + " sort")
+if status != 0 or not j or j["violations"]["nondeterministic"] != 0 or not j["checked_properties"]["nondeterministic"]:
+    fail(f"sort: nondeterminism reported or not checked: {j and j['violations']}")
+print("ok" if not failures else f"{len(failures)} failure(s)")
+sys.exit(1 if failures else 0)
