@@ -265,6 +265,7 @@ int main(int argc, char** argv) {
     fuzz_cmd->add_option("--system", fuzz_args.system.system_path, "without --law: check consistency with this system (impactcert-system/1 or a law file)");
     fuzz_cmd->add_option("--float-law", fuzz_args.float_law, "consistency: test impactcert's own float implementation of this law file (contact velocities)");
     fuzz_cmd->add_option("--require", fuzz_args.require, "consistency: also check nonexpansive and/or continuity on close pairs (comma-separated)");
+    fuzz_cmd->add_option("--reference", fuzz_args.reference, "consistency: the exact law the implementation means to compute, a law file of the system or by name (approaching: the Newton law with restitution on approaching contacts, what sequential-impulse engines converge to; newton; poisson; with --restitution): each finding is then law-level or solver-level");
     fuzz_cmd->add_option("--restitution", fuzz_args.restitution, "consistency, frictionless: the restitution the implementation is meant to apply (E, or one per contact); checks the restitution property where one contact alone approaches");
     fuzz_cmd->add_option("--range", fuzz_args.range, "consistency: input components 0 or of magnitude in LO..HI (default 1e-3..1e3)");
     fuzz_cmd->add_flag("--json", fuzz_args.json, "print the summary as impactcert-fuzz/1 JSON");

@@ -182,6 +182,31 @@ bool ConsistencyChecker::approaching(const double* x) const {
 }
 
 std::vector<Finding> ConsistencyChecker::check(const double* xd, const double* yd) const {
+    const std::size_t d = dim();
+    Vector x(d), y(d);
+    for (std::size_t i = 0; i < d; ++i) {
+        x[i] = *exact_of(xd[i]); // inputs are finite by construction (the caller checks)
+        auto r = exact_of(yd[i]);
+        if (!r) {
+            Finding f;
+            f.property = Property::non_finite;
+            f.score = 1;
+            f.detail = "output component " + std::to_string(i + 1) + " is not finite";
+            f.input.assign(xd, xd + d);
+            f.output.assign(yd, yd + d);
+            return {std::move(f)};
+        }
+        y[i] = *r;
+    }
+    std::vector<Finding> out = check_exact(x, y, false);
+    for (auto& f : out) {
+        f.input.assign(xd, xd + d);
+        f.output.assign(yd, yd + d);
+    }
+    return out;
+}
+
+std::vector<Finding> ConsistencyChecker::check_exact(const Vector& x, const Vector& y, bool no_tolerance) const {
     const std::size_t d = dim(), c = m_.normals;
     std::vector<Finding> out;
     auto finding = [&](Property p, double score, std::string detail) {
@@ -189,26 +214,15 @@ std::vector<Finding> ConsistencyChecker::check(const double* xd, const double* y
         f.property = p;
         f.score = score;
         f.detail = std::move(detail);
-        f.input.assign(xd, xd + d);
-        f.output.assign(yd, yd + d);
         out.push_back(std::move(f));
     };
-    Vector x(d), y(d);
-    for (std::size_t i = 0; i < d; ++i) {
-        x[i] = *exact_of(xd[i]); // inputs are finite by construction (the caller checks)
-        auto r = exact_of(yd[i]);
-        if (!r) {
-            finding(Property::non_finite, 1, "output component " + std::to_string(i + 1) + " is not finite");
-            return out;
-        }
-        y[i] = *r;
-    }
     const Matrix& X = velocities_ ? m_.M : m_.H;
-    const Rational R = *exact_of(R_);
+    const Rational R = no_tolerance ? Rational(0) : *exact_of(R_);
+    const Rational allow = no_tolerance ? Rational(0) : A_; // the underflow allowance, or none
     const Rational s2 = bilinear(x, X, x);
     // (R s + A)^2 <= R^2 s^2 + A (2 R s_up + A): the tolerance with the underflow allowance A.
     const Rational s_up = sqrt_up(s2);
-    const Rational tol2 = R * R * s2 + A_ * (Rational(2) * R * s_up + A_);
+    const Rational tol2 = R * R * s2 + allow * (Rational(2) * R * s_up + allow);
     const Vector gm = velocities_ ? transpose(m_.W) * x : x;
     const Vector gp = velocities_ ? transpose(m_.W) * y : y;
     const Vector lambda = m_.H * (gp - gm);
@@ -275,7 +289,7 @@ std::vector<Finding> ConsistencyChecker::check(const double* xd, const double* y
     // Friction (SPEC section 9), per tangent j of contact k, with the tolerances of proofs/README.md
     // ("Consistency with friction"): the friction cone, then Coulomb's law.
     if (m_.has_friction()) {
-        const Rational tol = R * s_up + A_;
+        const Rational tol = R * s_up + allow;
         std::optional<std::size_t> worst_cone, worst_slip;
         double cone_score = 0, slip_score = 0;
         std::string cone_detail, slip_detail;
@@ -343,7 +357,7 @@ std::vector<Finding> ConsistencyChecker::check(const double* xd, const double* y
         const Rational t2 = bilinear(y, X, y);
         const Rational one_r = Rational(1) + R;
         // |y| > (1 + R) s + A, squared with s_up >= s on the cross term
-        if (t2 > one_r * one_r * s2 + A_ * (Rational(2) * one_r * s_up + A_)) {
+        if (t2 > one_r * one_r * s2 + allow * (Rational(2) * one_r * s_up + allow)) {
             const Rational half(1, 2);
             const std::string what = velocities_ ? "T" : "T (contact part)";
             finding(Property::energy, ratio(t2 - s2, s2),
@@ -526,9 +540,62 @@ struct Partial {
     std::vector<Finding> examples;
 };
 
+// Law-level or solver-level (ConsistencyOptions::reference): the reference law's exact answer at
+// the finding's input (the value nearest the implementation's where the law has several) is
+// checked for the same property with no tolerance at all.
+void classify(Finding& f, const Model* reference, const ConsistencyChecker& checker, const Mechanics& m,
+              bool velocities) {
+    if (!reference)
+        return;
+    switch (f.property) {
+    case Property::nonexpansive:
+    case Property::continuity:
+        return; // pairs: not classified
+    case Property::at_rest:
+    case Property::nondeterministic:
+    case Property::non_finite:
+        f.level = 2; // a law maps rest to rest, is a function and is finite: the implementation's own
+        return;
+    default:
+        break;
+    }
+    const std::size_t d = f.input.size();
+    Vector x(d), y(d);
+    for (std::size_t i = 0; i < d; ++i) {
+        x[i] = *exact_of(f.input[i]);
+        y[i] = *exact_of(f.output[i]);
+    }
+    const Vector gamma = velocities ? transpose(m.W) * x : x;
+    const Matrix& X = velocities ? m.M : m.H;
+    std::optional<Vector> best;
+    Rational best_d2;
+    for (const Vector& g : reference->values_at(gamma)) {
+        const Vector ystar = velocities ? reference->post_impact_velocities(x, gamma, g) : g;
+        const Vector diff = y - ystar;
+        const Rational d2 = bilinear(diff, X, diff);
+        if (!best || d2 < best_d2) {
+            best = ystar;
+            best_d2 = d2;
+        }
+    }
+    if (!best)
+        return; // outside every cone of the reference law
+    bool law = false;
+    for (const auto& g : checker.check_exact(x, *best, true))
+        law = law || g.property == f.property;
+    f.level = law ? 1 : 2;
+    const Rational s2 = bilinear(x, X, x);
+    f.off = sign_of(s2) == Sign::positive ? std::sqrt(ratio(best_d2, s2)) : 0;
+}
+
 void record(Partial& p, Finding f, std::size_t keep) {
     auto& slot = p.sum.properties[static_cast<std::size_t>(f.property)];
     ++slot.count;
+    slot.law += f.level == 1 ? 1 : 0;
+    slot.solver += f.level == 2 ? 1 : 0;
+    if (f.level == 2 && (!slot.worst_solver || f.off > slot.worst_solver->off ||
+                         (f.off == slot.worst_solver->off && f.index < slot.worst_solver->index)))
+        slot.worst_solver = f;
     if (!slot.worst || f.score > slot.worst->score || (f.score == slot.worst->score && f.index < slot.worst->index))
         slot.worst = f;
     if (p.examples.size() < keep)
@@ -544,6 +611,11 @@ ConsistencySummary run_consistency(const Mechanics& m, const ConsistencyOptions&
         throw InputError("fuzz: at most " + std::to_string(kMaxDim) + " input components, the system has " +
                          std::to_string(d));
     const ConsistencyChecker checker(m, o.velocities, o.max_rel_error, o.restitution);
+    // Every finding is classified (law-level or solver-level) when a reference law is given.
+    auto note = [&](Partial& part, Finding f) {
+        classify(f, o.reference, checker, m, o.velocities);
+        record(part, std::move(f), o.keep);
+    };
     // A nondeterministic answer's replay: the input twice, in one run of the implementation.
     auto twice = [&](const Finding& f) {
         std::string s = o.replay_prefix;
@@ -574,7 +646,7 @@ ConsistencySummary run_consistency(const Mechanics& m, const ConsistencyOptions&
         case ImplStatus::ok:
             if (auto f = checker.at_rest(y.data())) {
                 f->replay = replay_text(o.replay_prefix, *f);
-                record(part, std::move(*f), o.keep);
+                note(part, std::move(*f));
             }
             break;
         case ImplStatus::crashed: ++part.sum.crashed; break;
@@ -585,7 +657,7 @@ ConsistencySummary run_consistency(const Mechanics& m, const ConsistencyOptions&
         case ImplStatus::nondeterministic: {
             Finding f = checker.nondeterministic(zero.data(), y.data(), impls[0]->repeated_answer());
             f.replay = twice(f);
-            record(part, std::move(f), o.keep);
+            note(part, std::move(f));
             break;
         }
         }
@@ -641,7 +713,7 @@ ConsistencySummary run_consistency(const Mechanics& m, const ConsistencyOptions&
                         Finding f = checker.nondeterministic(&in[q * d], &out[q * d], impls[j]->repeated_answer());
                         f.index = indices[s];
                         f.replay = twice(f);
-                        record(part, std::move(f), o.keep);
+                        note(part, std::move(f));
                         break;
                     }
                     }
@@ -655,7 +727,7 @@ ConsistencySummary run_consistency(const Mechanics& m, const ConsistencyOptions&
                 for (auto& f : checker.check(&in[pa_i * d], &out[pa_i * d])) {
                     f.index = indices[s];
                     f.replay = replay_text(o.replay_prefix, f);
-                    record(part, std::move(f), o.keep);
+                    note(part, std::move(f));
                 }
                 if (!has_pair[s] || failed(pb_i))
                     continue;
@@ -664,13 +736,13 @@ ConsistencySummary run_consistency(const Mechanics& m, const ConsistencyOptions&
                 for (auto& f : checker.check(&in[pb_i * d], &out[pb_i * d])) {
                     f.index = indices[s];
                     f.replay = replay_text(o.replay_prefix, f);
-                    record(part, std::move(f), o.keep);
+                    note(part, std::move(f));
                 }
                 for (auto& f : checker.check_pair(&in[pa_i * d], &out[pa_i * d], &in[pb_i * d], &out[pb_i * d],
                                                   o.nonexpansive, o.continuity)) {
                     f.index = indices[s];
                     f.replay = replay_text(o.replay_prefix, f);
-                    record(part, std::move(f), o.keep);
+                    note(part, std::move(f));
                 }
             }
             done.fetch_add(last - first);
@@ -728,6 +800,12 @@ ConsistencySummary run_consistency(const Mechanics& m, const ConsistencyOptions&
             auto& into = sum.properties[p];
             const auto& from = part.sum.properties[p];
             into.count += from.count;
+            into.law += from.law;
+            into.solver += from.solver;
+            if (from.worst_solver && (!into.worst_solver || from.worst_solver->off > into.worst_solver->off ||
+                                      (from.worst_solver->off == into.worst_solver->off &&
+                                       from.worst_solver->index < into.worst_solver->index)))
+                into.worst_solver = from.worst_solver;
             if (from.worst && (!into.worst || from.worst->score > into.worst->score ||
                                (from.worst->score == into.worst->score && from.worst->index < into.worst->index)))
                 into.worst = from.worst;

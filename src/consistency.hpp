@@ -40,6 +40,7 @@
 
 #include "fuzz_impl.hpp"
 #include "fuzz_reference.hpp"
+#include "law.hpp"
 #include "system.hpp"
 
 #include <array>
@@ -70,6 +71,7 @@ struct ConsistencyOptions {
     bool velocities = true;
     bool nonexpansive = false, continuity = false; // --require
     std::vector<Rational> restitution; // --restitution: one per normal contact; empty: not checked
+    const Model* reference = nullptr;  // --reference: the exact law the implementation means to compute
     std::size_t keep = 10;
     std::string replay_prefix; // "impactcert eval --float --masses ... --impl-cmd ..."
 };
@@ -81,11 +83,19 @@ struct Finding {
     std::string detail;         // exact figures: "T- = 1, T+ = 4/3 (+33.3%)"
     std::vector<double> input, input_b, output, output_b;
     std::string replay;
+    // With a reference law (--reference; SPEC section 8, "Diagnosis"): 1 law-level (the exact law
+    // breaks the property at this input too: more iterations will not help), 2 solver-level (it
+    // does not: the answer is `off` the law's, relative to |x| in the metric), 0 not classified
+    // (a pair property, or an input outside the law's cones).
+    int level = 0;
+    double off = 0;
 };
 
 struct PropertyCount {
     std::uint64_t count = 0;
     std::optional<Finding> worst;
+    std::uint64_t law = 0, solver = 0;   // by level, with a reference law
+    std::optional<Finding> worst_solver; // the solver-level finding furthest off the law
 };
 
 struct ConsistencySummary {
@@ -105,6 +115,9 @@ class ConsistencyChecker {
     std::size_t dim() const;
     // Findings for one input/output (each property at most once).
     std::vector<Finding> check(const double* x, const double* y) const;
+    // The same on exact vectors (no input/output doubles in the findings); with no_tolerance,
+    // R = 0 and no underflow allowance: whether the exact answer y itself breaks a property.
+    std::vector<Finding> check_exact(const Vector& x, const Vector& y, bool no_tolerance) const;
     // Findings for a pair (nonexpansive and/or continuity).
     std::vector<Finding> check_pair(const double* a, const double* ya, const double* b, const double* yb,
                                     bool nonexpansive, bool continuity) const;

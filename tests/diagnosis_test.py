@@ -12,6 +12,11 @@ restitution: where one contact alone approaches and the single impact there leav
 nondeterministic: a driver whose answer depends on what it answered before is reported as such
   (not as malformed), with both answers; the rest of its batches is not checked; its replay (the
   input twice) exits 1 saying so. The sort is never reported.
+law-level or solver-level (--reference approaching): Box2D at its default 8 iterations and at 200,
+  e = 1: the kinematic violations at 8 are solver-level and vanish at 200; the energy gains are
+  law-level at both, and one of them is recomputed here: the exact Newton law with restitution
+  on approaching contacts, solved as an LCP by active sets in Python fractions, gains energy at
+  that input too.
 Usage: diagnosis_test.py BINDIR SOURCE_DIR"""
 import json
 import os
@@ -111,5 +116,74 @@ else:
 status, j, err = fuzz(CONTROLS + " sort")
 if status != 0 or not j or j["violations"]["nondeterministic"] != 0 or not j["checked_properties"]["nondeterministic"]:
     fail(f"sort: nondeterminism reported or not checked: {j and j['violations']}")
+# --- law-level or solver-level
+BOX2D = os.path.join(BIN, "examples", "engines", "box2d_cradle")
+
+
+def approaching_law(u, e):
+    """u+ of three unit masses under the Newton law with restitution e on approaching contacts only."""
+    gm = [u[1] - u[0], u[2] - u[1]]
+    G = [[F(2), F(-1)], [F(-1), F(2)]]
+    s = [e * g if g < 0 else F(0) for g in gm]
+    for active in ([], [0], [1], [0, 1]):
+        lam = [F(0), F(0)]
+        if len(active) == 1:
+            k = active[0]
+            lam[k] = -(gm[k] + s[k]) / G[k][k]
+        elif len(active) == 2:
+            b = [-(gm[0] + s[0]), -(gm[1] + s[1])]
+            det = G[0][0] * G[1][1] - G[0][1] * G[1][0]
+            lam = [(b[0] * G[1][1] - G[0][1] * b[1]) / det, (G[0][0] * b[1] - G[1][0] * b[0]) / det]
+        gp = [gm[i] + G[i][0] * lam[0] + G[i][1] * lam[1] for i in range(2)]
+        if all(x >= 0 for x in lam) and all(gp[i] + s[i] >= 0 for i in range(2)) and \
+                all(lam[i] == 0 or gp[i] + s[i] == 0 for i in range(2)):
+            # u+ = u- + W lam, W = [[-1, 0], [1, -1], [0, 1]] (unit masses)
+            return [u[0] - lam[0], u[1] + lam[0] - lam[1], u[2] + lam[1]]
+    raise AssertionError("no active set solves the LCP")
+
+
+levels = {}
+for iterations in (8, 200):
+    p = subprocess.run([CLI, "fuzz", "--masses", "1,1,1", "--velocities", "--impl-cmd",
+                        f"{BOX2D} --restitution 1 --iterations {iterations}", "--samples", "2000", "--max-rel-error", "1e-5",
+                        "--range", "1e-3..60", "--restitution", "1", "--reference", "approaching", "--json"],
+                       capture_output=True, text=True)
+    j = json.loads(p.stdout) if p.stdout.startswith("{") else None
+    if not j or "levels" not in j:
+        fail(f"Box2D at {iterations} iterations: exit {p.returncode}: {p.stderr.strip()[:200]}")
+        continue
+    levels[iterations] = (j["violations"], j["levels"])
+    energy = j["levels"].get("energy", {})
+    if not energy or energy["law"] != j["violations"]["energy"] or energy["solver"] != 0:
+        fail(f"Box2D at {iterations}: energy gains not all law-level: {energy}")
+    w = j["worst"]["energy"]
+    u = [fx(x) for x in w["input"]]
+    up = approaching_law(u, F(1))
+    if not sum(x * x for x in up) > sum(x * x for x in u):
+        fail(f"Box2D at {iterations}: the exact law does not gain energy at {u}: {up}")
+if 8 in levels and 200 in levels:
+    v8, l8 = levels[8]
+    v200, l200 = levels[200]
+    kin = l8.get("kinematic", {})
+    if v8["kinematic"] == 0 or kin.get("solver") != v8["kinematic"] or kin.get("law") != 0:
+        fail(f"Box2D at 8 iterations: kinematic {v8['kinematic']}, levels {kin}")
+    elif v200["kinematic"] != 0:
+        fail(f"Box2D at 200 iterations: {v200['kinematic']} kinematic violations")
+    else:
+        print(f"Box2D, e = 1: {v8['kinematic']} kinematic violations at 8 iterations, all solver-level, none at 200; "
+              f"energy gains {v8['energy']} and {v200['energy']}, all law-level (one recomputed exactly)")
+# Negative control: against the Newton law with restitution on every contact (which conserves
+# energy), the same gains are solver-level, each off the law by a stated distance.
+p = subprocess.run([CLI, "fuzz", "--masses", "1,1,1", "--velocities", "--impl-cmd",
+                    f"{BOX2D} --restitution 1 --iterations 200", "--samples", "2000", "--max-rel-error", "1e-5",
+                    "--range", "1e-3..60", "--restitution", "1", "--reference", "newton", "--json"],
+                   capture_output=True, text=True)
+j = json.loads(p.stdout) if p.stdout.startswith("{") else None
+energy = j["levels"].get("energy", {}) if j and "levels" in j else {}
+if not energy or energy["law"] != 0 or energy["solver"] != j["violations"]["energy"] or \
+        not j["worst_solver"]["energy"].get("off", 0) > 0:
+    fail(f"against the Newton law on every contact, the energy gains are not solver-level: {energy}")
+else:
+    print(f"negative control: against the Newton law on every contact, {energy['solver']} energy gains are solver-level")
 print("ok" if not failures else f"{len(failures)} failure(s)")
 sys.exit(1 if failures else 0)

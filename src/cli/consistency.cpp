@@ -27,6 +27,8 @@ struct Setup {
     std::unique_ptr<fuzz::Implementation> impl;
     double R = 1e-9;
     std::vector<Rational> restitution; // --restitution, per normal contact
+    std::unique_ptr<Model> reference;  // --reference
+    std::string reference_name;        // as the summary names it
 };
 
 // The shortest decimal that reads back as x.
@@ -41,7 +43,7 @@ std::string shortest(double x) {
 }
 
 Setup setup(const FuzzArgs& a) {
-    Setup s{system_from(a.system), {}, nullptr, nullptr, 1e-9, {}};
+    Setup s{system_from(a.system), {}, nullptr, nullptr, 1e-9, {}, nullptr, {}};
     s.mech = make_mechanics(s.system);
     if (!a.restitution.empty()) {
         if (s.mech.has_friction())
@@ -63,6 +65,37 @@ Setup setup(const FuzzArgs& a) {
     if (dim > fuzz::kMaxDim)
         throw InputError("fuzz: at most " + std::to_string(fuzz::kMaxDim) + " input components, the system has " +
                          std::to_string(dim));
+    if (!a.reference.empty()) {
+        // The exact law the implementation means to compute: a law file of this system, or the
+        // classical law by name, derived here with the restitution given (--restitution, else
+        // the system's): "approaching" (Newton, restitution on approaching contacts only, what
+        // sequential-impulse engines converge to), "newton" (on all), "poisson".
+        const std::string& r = a.reference;
+        if (r == "approaching" || r == "newton" || r == "poisson") {
+            if (s.mech.has_friction())
+                throw InputError("--reference " + r + ": by name for frictionless systems only; give the law file "
+                                 "(impactcert derive newton --system ... -o LAW)");
+            ClassicalOptions co;
+            static_cast<System&>(co) = s.system;
+            co.restitution = !s.restitution.empty() ? s.restitution : s.system.restitution;
+            if (co.restitution.empty())
+                throw InputError("--reference " + r + ": needs the restitution (give --restitution E)");
+            co.on = r == "approaching" ? RestitutionOn::approaching : RestitutionOn::all;
+            s.reference = std::make_unique<Model>(r == "poisson" ? derive_poisson(co) : derive_newton(co));
+            std::string e;
+            for (std::size_t k = 0; k < co.restitution.size(); ++k)
+                e += (k ? "," : "") + to_string(co.restitution[k]);
+            s.reference_name = (r == "approaching" ? "the Newton law, restitution on approaching contacts"
+                                : r == "newton"    ? "the Newton law"
+                                                   : "the Poisson law") +
+                               std::string(", e = ") + e;
+        } else {
+            s.reference = std::make_unique<Model>(load_model(r));
+            if (s.reference->M() != s.mech.M || s.reference->W() != s.mech.W)
+                throw InputError("--reference " + r + ": the law's system (M, W) is not the one given");
+            s.reference_name = r;
+        }
+    }
     if (!a.float_law.empty()) {
         if (a.impl_given || a.impl_cmd_given)
             throw InputError("--float-law and --impl/--impl-cmd: give one implementation");
@@ -113,6 +146,10 @@ Json finding_json(const fuzz::Finding& f) {
         return j;
     };
     Json e = {{"index", f.index}, {"what", fuzz::property_id(f.property)}, {"detail", f.detail}, {"input", hexes(f.input)}};
+    if (f.level)
+        e["level"] = f.level == 1 ? "law" : "solver";
+    if (f.level == 2)
+        e["off"] = f.off;
     if (!f.input_b.empty())
         e["input_b"] = hexes(f.input_b);
     e["output"] = hexes(f.output);
@@ -180,6 +217,7 @@ int run_consistency_fuzz(const FuzzArgs& a) {
     o.max_rel_error = s.R;
     o.velocities = a.velocities;
     o.restitution = s.restitution;
+    o.reference = s.reference.get();
     const std::string rbuf = shortest(s.R);
     o.replay_prefix = "impactcert eval --float " + system_flags(a.system) + (a.velocities ? " --velocities " : " ") +
                       (s.law ? "--float-law " + fuzz::shell_quote(a.float_law) : s.impl->replay_flags()) +
@@ -248,6 +286,22 @@ int run_consistency_fuzz(const FuzzArgs& a) {
         j["checked_properties"] = props;
         j["violations"] = violations;
         j["worst"] = worst;
+        if (s.reference) {
+            Json levels = Json::object(), worst_solver = Json::object();
+            for (std::size_t p = 0; p < fuzz::kProperties; ++p) {
+                const auto& slot = sum.properties[p];
+                if (!slot.count)
+                    continue;
+                const char* id = fuzz::property_id(static_cast<fuzz::Property>(p));
+                levels[id] = Json{{"law", slot.law}, {"solver", slot.solver},
+                                  {"unclassified", slot.count - slot.law - slot.solver}};
+                if (slot.worst_solver)
+                    worst_solver[id] = finding_json(*slot.worst_solver);
+            }
+            j["reference"] = s.reference_name;
+            j["levels"] = levels;
+            j["worst_solver"] = worst_solver;
+        }
         Json examples = Json::array();
         for (const auto& f : sum.examples)
             examples.push_back(finding_json(f));
@@ -262,6 +316,8 @@ int run_consistency_fuzz(const FuzzArgs& a) {
          "), in " + space + " (seed " + std::to_string(o.seed) + ", " + std::to_string(o.jobs) + " job" +
          (o.jobs == 1 ? "" : "s") + ")");
     line(std::string("  tolerance      --max-rel-error ") + rbuf + " (proofs/README.md, \"Consistency of black-box impact maps\")");
+    if (s.reference)
+        line("  reference      " + s.reference_name + " (--reference: each finding law-level or solver-level)");
     line(std::string("  inputs         components 0 or of magnitude in ") + range + " (--range), some contact approaching");
     char buf[160];
     std::snprintf(buf, sizeof buf, "  samples        %llu (%llu pairs) in %.2f s, %.0f samples/s",
@@ -290,6 +346,20 @@ int run_consistency_fuzz(const FuzzArgs& a) {
              std::to_string(slot.worst->index) + "): " + slot.worst->detail);
         out += finding_text(*slot.worst);
         line("      replay: " + slot.worst->replay);
+        if (s.reference) {
+            const std::uint64_t other = slot.count - slot.law - slot.solver;
+            line("      against the reference law: " + std::to_string(slot.law) +
+                 " law-level (the exact law breaks it there too: more iterations will not help), " +
+                 std::to_string(slot.solver) + " solver-level (the exact law does not)" +
+                 (other ? ", " + std::to_string(other) + " not classified" : std::string()));
+            if (slot.worst_solver) {
+                char off[48];
+                std::snprintf(off, sizeof off, "%.3g", slot.worst_solver->off);
+                line("      solver-level worst (sample " + std::to_string(slot.worst_solver->index) + "): " + off +
+                     " off the exact law (relative); " + slot.worst_solver->detail);
+                line("      replay: " + slot.worst_solver->replay);
+            }
+        }
     }
     std::snprintf(buf, sizeof buf, "  implementation failures: %llu crashed, %llu hung, %llu malformed, %llu refused",
                   static_cast<unsigned long long>(sum.crashed), static_cast<unsigned long long>(sum.hung),

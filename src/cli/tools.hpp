@@ -64,6 +64,7 @@ struct FuzzArgs {
     SystemArgs system;
     std::string require;
     std::string restitution; // consistency: the restitution the implementation is meant to apply
+    std::string reference;   // consistency: the exact law it is meant to compute (a file, or a name)
     bool velocities = false, json = false, pair = false, pieces = false;
     bool impl_given = false, impl_cmd_given = false; // given, even as an empty string
     std::optional<std::uint64_t> max_ulps;
