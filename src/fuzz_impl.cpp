@@ -18,7 +18,9 @@
 #include <sys/types.h>
 #include <sys/wait.h>
 #include <unistd.h>
+#include <algorithm>
 #include <atomic>
+#include <memory>
 #include <vector>
 
 namespace impactcert::fuzz {
@@ -202,11 +204,73 @@ void unregister_group(pid_t pgid) {
     }
 }
 
+// The standard error of a command's processes: one anonymous file (O_TMPFILE, else a temporary
+// file unlinked at once), appended to by every process of every clone.
+struct StderrLog {
+    int fd = -1;
+    StderrLog() {
+        const char* dir = std::getenv("TMPDIR");
+        const std::string d = dir && *dir ? dir : "/tmp";
+        fd = open(d.c_str(), O_TMPFILE | O_RDWR | O_APPEND | O_CLOEXEC, 0600);
+        if (fd < 0) {
+            std::string name = d + "/impactcert-stderr-XXXXXX";
+            fd = mkostemp(name.data(), O_APPEND | O_CLOEXEC);
+            if (fd >= 0)
+                unlink(name.c_str());
+        }
+    }
+    ~StderrLog() {
+        if (fd >= 0)
+            close(fd);
+    }
+    StderrLog(const StderrLog&) = delete;
+    StderrLog& operator=(const StderrLog&) = delete;
+
+    StderrSummary summary() const {
+        StderrSummary s;
+        if (fd < 0)
+            return s;
+        char buf[1 << 16];
+        std::string line;
+        bool cut = false;
+        off_t at = 0;
+        for (;;) {
+            const ssize_t n = pread(fd, buf, sizeof buf, at);
+            if (n <= 0)
+                break;
+            at += n;
+            s.bytes += static_cast<std::uint64_t>(n);
+            for (ssize_t i = 0; i < n; ++i) {
+                if (buf[i] == '\n') {
+                    ++s.lines;
+                    if (s.first.size() < 3 && std::find(s.first.begin(), s.first.end(), line) == s.first.end())
+                        s.first.push_back(line);
+                    line.clear();
+                    cut = false;
+                } else if (line.size() < 200) {
+                    line += buf[i] >= 32 && buf[i] < 127 ? buf[i] : '?';
+                } else {
+                    cut = true;
+                }
+            }
+        }
+        (void)cut;
+        if (!line.empty()) { // a last line without its newline
+            ++s.lines;
+            if (s.first.size() < 3 && std::find(s.first.begin(), s.first.end(), line) == s.first.end())
+                s.first.push_back(line);
+        }
+        return s;
+    }
+};
+
 class CommandImpl final : public Implementation {
   public:
     static constexpr double kStartupGrace = 2.0; // seconds
-    CommandImpl(std::string cmd, std::size_t in_dim, std::size_t out_dim, double timeout, bool quiet = false)
-        : cmd_(std::move(cmd)), in_dim_(in_dim), out_dim_(out_dim), timeout_(timeout), quiet_(quiet) {}
+    CommandImpl(std::string cmd, std::size_t in_dim, std::size_t out_dim, double timeout, bool quiet = false,
+                std::shared_ptr<StderrLog> log = nullptr)
+        : cmd_(std::move(cmd)), in_dim_(in_dim), out_dim_(out_dim), timeout_(timeout), quiet_(quiet),
+          log_(std::move(log)) {}
     ~CommandImpl() override { stop(); }
     CommandImpl(const CommandImpl&) = delete;
     CommandImpl& operator=(const CommandImpl&) = delete;
@@ -271,7 +335,13 @@ class CommandImpl final : public Implementation {
     }
     void set_stop_flag(const std::atomic<bool>* stop) override { stop_flag_ = stop; }
     std::unique_ptr<Implementation> clone() const override {
-        return std::make_unique<CommandImpl>(cmd_, in_dim_, out_dim_, timeout_);
+        return std::make_unique<CommandImpl>(cmd_, in_dim_, out_dim_, timeout_, false,
+                                             log_ ? log_ : std::make_shared<StderrLog>());
+    }
+    std::optional<StderrSummary> stderr_summary() const override {
+        if (!log_ || log_->fd < 0)
+            return std::nullopt;
+        return log_->summary();
     }
     std::string describe() const override { return cmd_; }
     std::size_t batch_samples() const override { return 2048; }
@@ -286,6 +356,7 @@ class CommandImpl final : public Implementation {
     std::size_t in_dim_, out_dim_;
     double timeout_;
     bool quiet_; // the probe: the command's stderr goes to /dev/null (our error says it in one line)
+    std::shared_ptr<StderrLog> log_; // otherwise: collected here (shared by the clones)
     pid_t pid_ = -1;
     int to_child_ = -1, from_child_ = -1;
     std::string rbuf_, wbuf_;
@@ -328,6 +399,8 @@ class CommandImpl final : public Implementation {
                 const int null = open("/dev/null", O_WRONLY | O_CLOEXEC);
                 if (null >= 0)
                     dup2(null, STDERR_FILENO);
+            } else if (log_ && log_->fd >= 0) {
+                dup2(log_->fd, STDERR_FILENO); // collected, summarised at the end of the run
             }
             execl("/bin/sh", "sh", "-c", cmd_.c_str(), static_cast<char*>(nullptr));
             _exit(127);

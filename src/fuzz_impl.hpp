@@ -29,6 +29,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 
 namespace impactcert::fuzz {
@@ -39,6 +40,13 @@ namespace impactcert::fuzz {
 // differently too, or otherwise than the batch did, the map is not a function of its input). The
 // point's `out` is its first answer; repeated_answer() the other.
 enum class ImplStatus : std::uint8_t { ok, crashed, hung, malformed, refused, skipped, nondeterministic };
+
+// What an implementation run as a process wrote on its standard error: collected in one file for
+// all its processes (never echoed per sample) and summarised at the end of a run.
+struct StderrSummary {
+    std::uint64_t lines = 0, bytes = 0;
+    std::vector<std::string> first; // up to three distinct lines, in order, each cut at 200 characters
+};
 
 class Implementation {
   public:
@@ -57,6 +65,8 @@ class Implementation {
     virtual std::string replay_flags() const = 0;
     // After eval() marked a point nondeterministic: the other answer it gave to the same input.
     virtual std::vector<double> repeated_answer() const { return {}; }
+    // A process's standard error, collected (nothing for in-process implementations).
+    virtual std::optional<StderrSummary> stderr_summary() const { return std::nullopt; }
 };
 
 // The paper's law in double (contact velocities g1, g2; or ball velocities, sorted).

@@ -116,6 +116,20 @@ else:
 status, j, err = fuzz(CONTROLS + " sort")
 if status != 0 or not j or j["violations"]["nondeterministic"] != 0 or not j["checked_properties"]["nondeterministic"]:
     fail(f"sort: nondeterminism reported or not checked: {j and j['violations']}")
+# --- an engine's stderr: collected and summarised, never echoed per sample
+p = subprocess.run([CLI, "fuzz", "--masses", "1,1,1", "--velocities", "--impl-cmd", CONTROLS + " chatty", "--samples", "500"],
+                   capture_output=True, text=True)
+if "warning: step" in p.stderr or p.returncode != 0:
+    fail(f"chatty: exit {p.returncode}, its stderr echoed: {p.stderr[:200]!r}")
+else:
+    import re
+    m = re.search(r'its stderr: +([0-9]+) lines \(collected, not shown per sample\), first: "warning: step 0 clamped"', p.stdout)
+    # 500 samples, the probe and each batch's repeated first input: at least 500 lines
+    if not m or int(m.group(1)) < 500:
+        fail(f"chatty: no summary of its stderr: {p.stdout[-400:]}")
+    else:
+        print(f"an engine's stderr: {m.group(1)} lines collected, summarised in one line, none echoed")
+
 # --- law-level or solver-level
 BOX2D = os.path.join(BIN, "examples", "engines", "box2d_cradle")
 

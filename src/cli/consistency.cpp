@@ -115,6 +115,15 @@ Setup setup(const FuzzArgs& a) {
     return s;
 }
 
+// One line for what the implementation wrote on its standard error (collected, not echoed).
+std::string stderr_line(const fuzz::StderrSummary& e) {
+    std::string s = "  its stderr:    " + std::to_string(e.lines) + " line" + (e.lines == 1 ? "" : "s") +
+                    " (collected, not shown per sample)";
+    for (std::size_t i = 0; i < e.first.size(); ++i)
+        s += (i ? "; " : ", first: \"") + std::string(i ? "\"" : "") + e.first[i] + "\"";
+    return s;
+}
+
 std::string num(double x) {
     char buf[40];
     std::snprintf(buf, sizeof buf, "%.17g", x);
@@ -306,6 +315,8 @@ int run_consistency_fuzz(const FuzzArgs& a) {
         for (const auto& f : sum.examples)
             examples.push_back(finding_json(f));
         j["examples"] = examples;
+        if (const auto e = s.impl->stderr_summary())
+            j["stderr"] = Json{{"lines", e->lines}, {"bytes", e->bytes}, {"first", e->first}};
         j["verdict"] = sum.violations() ? "violations" : nothing ? "undecided" : "no violation";
         write_stdout(j.dump(2) + "\n");
         return sum.violations() ? kExitRefuted : nothing ? kExitUndecided : kExitProved;
@@ -365,6 +376,8 @@ int run_consistency_fuzz(const FuzzArgs& a) {
                   static_cast<unsigned long long>(sum.crashed), static_cast<unsigned long long>(sum.hung),
                   static_cast<unsigned long long>(sum.malformed), static_cast<unsigned long long>(sum.refused));
     line(buf);
+    if (const auto e = s.impl->stderr_summary(); e && e->lines)
+        line(stderr_line(*e));
     std::string verdict = sum.violations() ? "violations found"
                           : nothing ? "undecided: no sample was checked (--seconds ran out first; raise --seconds)"
                                     : "no violation";

@@ -316,6 +316,8 @@ int run_fuzz(FuzzArgs a) {
             examples.push_back(e);
         }
         j["examples"] = examples;
+        if (const auto e = impl->stderr_summary())
+            j["stderr"] = Json{{"lines", e->lines}, {"bytes", e->bytes}, {"first", e->first}};
         j["verdict"] = sum.violations() ? "violations" : sum.samples == 0 ? "undecided" : "no violation";
         std::cout << j.dump(2) << "\n";
     } else {
@@ -341,6 +343,13 @@ int run_fuzz(FuzzArgs a) {
                     u(sum.crashed), u(sum.hung), u(sum.malformed), u(sum.refused));
         if (sum.outside)
             std::printf("  points in no cone (skipped)    %llu\n", u(sum.outside));
+        if (const auto e = impl->stderr_summary(); e && e->lines) {
+            std::string first;
+            for (std::size_t i = 0; i < e->first.size(); ++i)
+                first += (i ? "; \"" : ", first: \"") + e->first[i] + "\"";
+            std::printf("  its stderr                     %llu line%s (collected, not shown per sample)%s\n", u(e->lines),
+                        e->lines == 1 ? "" : "s", first.c_str());
+        }
         for (const auto& v : sum.examples) {
             std::string in, out, ex;
             for (double x : v.input)

@@ -9,6 +9,7 @@ Modes:
   stuck   u+ = u-: approaching balls pass through each other (negative contact velocity)
   pull    u+ = 2 u- - sorted(u-): the impulses reversed (contacts pull)
   restless  sort, but balls at rest are answered with the first one moving (energy from nothing)
+  chatty  sort, and a warning on stderr for every line answered (an engine that logs each step)
   jitter  sort, but the last ball's velocity drifts by 2^-40 per line answered (an engine whose
           answer depends on what it computed before: the same input is answered differently)
 """
@@ -33,6 +34,9 @@ def main():
             out = u
         elif mode == "restless":
             out = s if any(x != 0 for x in u) else [1.0 / 1024] + [0.0] * (len(u) - 1)
+        elif mode == "chatty":
+            out = s
+            sys.stderr.write(f"warning: step {answered} clamped\n")
         elif mode == "jitter":
             out = s[:-1] + [s[-1] + answered * 2.0 ** -40]
         elif mode == "pull":
