@@ -21,7 +21,7 @@ import tempfile
 
 BUILD, SRC = os.path.abspath(sys.argv[1]), os.path.abspath(sys.argv[2])
 LIGHT = "--light" in sys.argv[3:]
-MASKS = [(re.compile(r"[0-9]+\.[0-9]+ ms\b"), "T ms"),
+MASKS = [(re.compile(r" +[0-9]+\.[0-9]+ ms\b"), " T ms"),
          (re.compile(r"in [0-9]+\.[0-9]+ s, [0-9]+ samples/s"), "in T s, R samples/s"),
          (re.compile(r"\b[0-9]+ jobs?\)"), "J jobs)"),
          (re.compile(r"^(  time +)[0-9.]+ s \(.*\)$"), r"\1T")]
