@@ -17,7 +17,7 @@ law-level or solver-level (--reference approaching): Box2D at its default 8 iter
   law-level at both, and one of them is recomputed here: the exact Newton law with restitution
   on approaching contacts, solved as an LCP by active sets in Python fractions, gains energy at
   that input too.
-Usage: diagnosis_test.py BINDIR SOURCE_DIR"""
+Usage: diagnosis_test.py BINDIR SOURCE_DIR [--light]"""
 import json
 import os
 import subprocess
@@ -25,6 +25,9 @@ import sys
 from fractions import Fraction as F
 
 BIN, SRC = os.path.abspath(sys.argv[1]), os.path.abspath(sys.argv[2])
+LIGHT = "--light" in sys.argv[3:]  # the sanitizer build: the same cases at a third of the samples
+SAMPLES = "1000" if LIGHT else "3000"
+ENGINE_SAMPLES = "700" if LIGHT else "2000"
 CLI = os.path.join(BIN, "impactcert")
 CONTROLS = "python3 " + os.path.join(SRC, "tests", "impls", "cradle_controls.py")
 ENGINE = "python3 " + os.path.join(SRC, "examples", "engines", "newton_cradle.py")
@@ -37,7 +40,7 @@ def fail(msg):
 
 
 def fuzz(impl, *extra):
-    p = subprocess.run([CLI, "fuzz", "--masses", "1,1,1", "--velocities", "--impl-cmd", impl, "--samples", "3000",
+    p = subprocess.run([CLI, "fuzz", "--masses", "1,1,1", "--velocities", "--impl-cmd", impl, "--samples", SAMPLES,
                         "--json"] + list(extra), capture_output=True, text=True)
     return p.returncode, json.loads(p.stdout) if p.stdout.startswith("{") else None, p.stderr
 
@@ -159,7 +162,7 @@ def approaching_law(u, e):
 levels = {}
 for iterations in (8, 200):
     p = subprocess.run([CLI, "fuzz", "--masses", "1,1,1", "--velocities", "--impl-cmd",
-                        f"{BOX2D} --restitution 1 --iterations {iterations}", "--samples", "2000", "--max-rel-error", "1e-5",
+                        f"{BOX2D} --restitution 1 --iterations {iterations}", "--samples", ENGINE_SAMPLES, "--max-rel-error", "1e-5",
                         "--range", "1e-3..60", "--restitution", "1", "--reference", "approaching", "--json"],
                        capture_output=True, text=True)
     j = json.loads(p.stdout) if p.stdout.startswith("{") else None
@@ -189,7 +192,7 @@ if 8 in levels and 200 in levels:
 # Negative control: against the Newton law with restitution on every contact (which conserves
 # energy), the same gains are solver-level, each off the law by a stated distance.
 p = subprocess.run([CLI, "fuzz", "--masses", "1,1,1", "--velocities", "--impl-cmd",
-                    f"{BOX2D} --restitution 1 --iterations 200", "--samples", "2000", "--max-rel-error", "1e-5",
+                    f"{BOX2D} --restitution 1 --iterations 200", "--samples", ENGINE_SAMPLES, "--max-rel-error", "1e-5",
                     "--range", "1e-3..60", "--restitution", "1", "--reference", "newton", "--json"],
                    capture_output=True, text=True)
 j = json.loads(p.stdout) if p.stdout.startswith("{") else None

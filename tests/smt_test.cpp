@@ -50,7 +50,7 @@ TEST_CASE("smt: z3 decides every universal claim exactly as impactcert does", "[
         "tests/laws/tjunction-orthants-zero.json", "tests/laws/overlap-newton3-duplicate.json",
         "tests/laws/tjunction-newton4-split.json",
     };
-    std::size_t agreed = 0, sat = 0;
+    std::size_t agreed = 0, sat = 0, index = 0;
     for (const auto& law : laws) {
         const Model m(law.empty() ? paper_law() : load_law_file(source_path(law)));
         const VerifyReport report = verify(m);
@@ -61,14 +61,18 @@ TEST_CASE("smt: z3 decides every universal claim exactly as impactcert does", "[
             // z3 4.8 does not answer nonexpansive for 25 cones in R^3 within 300 s.
             if (m.law().name == "tjunction-newton4-split" && problem.id == "nonexpansive")
                 continue;
+            // z3 is not instrumented: under the sanitizers every claim is written (instrumented
+            // code) and a quarter of them is asked of z3; the Release run asks all 95.
+            if (index++ % test::kSanitizerDivisor != 0)
+                continue;
             const std::string expected = report.at(problem.id).verdict == Verdict::proved ? "unsat" : "sat";
             CHECK(z3_answer(problem.script) == expected);
             agreed += 1;
             sat += expected == "sat" ? 1 : 0;
         }
     }
-    CHECK(agreed == 95);
-    CHECK(sat > 10); // the controls do make z3 find counterexamples
+    CHECK(agreed == (95 + test::kSanitizerDivisor - 1) / test::kSanitizerDivisor);
+    CHECK(sat > 10 / test::kSanitizerDivisor); // the controls do make z3 find counterexamples
 }
 
 TEST_CASE("smt: impactcert smt writes one file per universal claim", "[smt][cli]") {
