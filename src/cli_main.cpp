@@ -331,10 +331,13 @@ int main(int argc, char** argv) {
             if (fuzz_cmd->parsed()) {
                 fuzz_args.impl_given = fuzz_cmd->count("--impl") > 0;
                 fuzz_args.impl_cmd_given = fuzz_cmd->count("--impl-cmd") > 0;
+                fuzz_args.restitution_given = fuzz_cmd->count("--restitution") > 0;
+                fuzz_args.reference_given = fuzz_cmd->count("--reference") > 0;
                 return run_fuzz(fuzz_args);
             }
             eval_float_args.impl_given = eval_cmd->count("--impl") > 0;
             eval_float_args.impl_cmd_given = eval_cmd->count("--impl-cmd") > 0;
+            eval_float_args.restitution_given = eval_cmd->count("--restitution") > 0;
             return run_eval(law_path, velocities, eval_args, as_float, eval_float_args);
         } catch (const DeriveLimit& e) {
             throw Undecided(std::string("derive: ") + e.what());

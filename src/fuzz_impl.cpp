@@ -264,6 +264,15 @@ struct StderrLog {
     }
 };
 
+// Two answers are the same when every component is equal as a number (0 and -0 alike) or both
+// are NaN: what matters for the same input is the value, not its last bits of text.
+static bool same_values(const double* a, const double* b, std::size_t n) {
+    for (std::size_t i = 0; i < n; ++i)
+        if (!(a[i] == b[i] || (std::isnan(a[i]) && std::isnan(b[i]))))
+            return false;
+    return true;
+}
+
 class CommandImpl final : public Implementation {
   public:
     static constexpr double kStartupGrace = 2.0; // seconds
@@ -294,22 +303,26 @@ class CommandImpl final : public Implementation {
                 // deterministic map gives the batch's first answer both times (the difference was
                 // a shift of lines: malformed); anything else is nondeterminism, its own finding.
                 const bool differs = sentinel_differs_ && status[done] == ImplStatus::ok;
-                std::vector<double> other(sentinel_, sentinel_ + out_dim_);
                 stop();
                 bool nondeterministic = false;
+                std::vector<double> first, second;
                 if (differs) {
+                    // The fresh process gets the first input kRepeats times. A deterministic map
+                    // whose lines are shifted (a header line, a line too many) answers the later
+                    // repetitions alike, whatever the shift (up to kRepeats - 2 lines); only an
+                    // answer that changes between the last two is nondeterminism.
+                    constexpr std::size_t kRepeats = 7;
                     start();
-                    std::vector<double> again(out_dim_, 0.0);
-                    ImplStatus st = ImplStatus::ok;
-                    sentinel_differs_ = false;
-                    const std::size_t n = batch(in + done * in_dim_, again.data(), 1, &st);
-                    const bool same_as_batch =
-                        n == 1 && st == ImplStatus::ok && failure_ != ImplStatus::malformed &&
-                        std::memcmp(again.data(), out + done * out_dim_, out_dim_ * sizeof(double)) == 0;
-                    if (!same_as_batch && n == 1 && st == ImplStatus::ok) {
-                        nondeterministic = true;
-                        if (std::memcmp(again.data(), out + done * out_dim_, out_dim_ * sizeof(double)) != 0)
-                            other = again;
+                    std::vector<double> again_in, again(kRepeats * out_dim_, 0.0);
+                    for (std::size_t r = 0; r < kRepeats; ++r)
+                        again_in.insert(again_in.end(), in + done * in_dim_, in + (done + 1) * in_dim_);
+                    std::vector<ImplStatus> st(kRepeats, ImplStatus::ok);
+                    const std::size_t n = batch(again_in.data(), again.data(), kRepeats, st.data());
+                    if (n == kRepeats && st[kRepeats - 2] == ImplStatus::ok && st[kRepeats - 1] == ImplStatus::ok) {
+                        first.assign(again.begin() + static_cast<std::ptrdiff_t>((kRepeats - 2) * out_dim_),
+                                     again.begin() + static_cast<std::ptrdiff_t>((kRepeats - 1) * out_dim_));
+                        second.assign(again.begin() + static_cast<std::ptrdiff_t>((kRepeats - 1) * out_dim_), again.end());
+                        nondeterministic = !same_values(first.data(), second.data(), out_dim_);
                     }
                     stop();
                 }
@@ -317,7 +330,8 @@ class CommandImpl final : public Implementation {
                     status[i] = nondeterministic ? ImplStatus::skipped : ImplStatus::malformed;
                 if (nondeterministic) {
                     status[done] = ImplStatus::nondeterministic;
-                    repeated_ = other;
+                    std::copy(first.begin(), first.end(), out + done * out_dim_);
+                    repeated_ = second;
                 }
                 return;
             }
@@ -537,7 +551,7 @@ class CommandImpl final : public Implementation {
                     // not poison its batch).
                     const bool parsed = parse_line(rbuf_.data() + start, rbuf_.data() + nl, sentinel);
                     const bool same = status[0] == ImplStatus::ok
-                                          ? parsed && std::memcmp(sentinel, out, out_dim_ * sizeof(double)) == 0
+                                          ? parsed && same_values(sentinel, out, out_dim_)
                                           : !parsed;
                     if (sentinel_read || !same) {
                         failure_ = ImplStatus::malformed;

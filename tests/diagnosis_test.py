@@ -119,6 +119,29 @@ else:
 status, j, err = fuzz(CONTROLS + " sort")
 if status != 0 or not j or j["violations"]["nondeterministic"] != 0 or not j["checked_properties"]["nondeterministic"]:
     fail(f"sort: nondeterminism reported or not checked: {j and j['violations']}")
+# A deterministic driver whose lines get out of step (one line too many after its tenth answer)
+# is malformed, never nondeterministic; 0 and -0 are the same answer but two inputs.
+status, j, err = fuzz("python3 " + os.path.join(SRC, "tests", "impls", "late_shift.py"), "--jobs", "1")
+if not j or j["violations"]["nondeterministic"] != 0 or j["violations"]["malformed"] == 0:
+    fail(f"late shift: {j and j['violations']}")
+else:
+    print(f"a shifted deterministic driver: {j['violations']['malformed']} malformed, 0 nondeterministic")
+p = subprocess.run([CLI, "eval", "--float", "--masses", "1,2,3", "--impl-cmd", "cat", "--", "0", "1", "-0", "1"],
+                   capture_output=True, text=True)
+if p.returncode != 0 or "nondeterministic" in p.stdout:
+    fail(f"eval of the identity at 0 and -0: exit {p.returncode}: {p.stdout[-200:]}")
+# Bad --restitution and options of consistency mode elsewhere: one line, exit 2.
+for extra in (["--restitution", "1/2,1/2,1/2"], ["--restitution", "2"], ["--restitution", "-1/2"], ["--restitution", ""],
+              ["--require", "restitution"], ["--reference", ""], ["--reference", "sideways", "--restitution", "1"]):
+    p = subprocess.run([CLI, "fuzz", "--masses", "1,1,1", "--velocities", "--impl-cmd", CONTROLS + " sort",
+                        "--samples", "10"] + extra, capture_output=True, text=True)
+    if p.returncode != 2 or len(p.stderr.strip().splitlines()) != 1:
+        fail(f"fuzz {' '.join(extra)}: exit {p.returncode}: {p.stderr.strip()[:200]}")
+for extra in (["--restitution", "1"], ["--reference", "approaching"]):
+    p = subprocess.run([CLI, "fuzz", "--law", os.path.join(SRC, "proofs", "newton3", "law.json"), "--samples", "10"] + extra,
+                       capture_output=True, text=True)
+    if p.returncode != 2 or "consistency fuzzing only" not in p.stderr:
+        fail(f"law mode with {extra[0]}: exit {p.returncode}: {p.stderr.strip()[:200]}")
 # --- an engine's stderr: collected and summarised, never echoed per sample
 p = subprocess.run([CLI, "fuzz", "--masses", "1,1,1", "--velocities", "--impl-cmd", CONTROLS + " chatty", "--samples", "500"],
                    capture_output=True, text=True)

@@ -260,6 +260,17 @@ TEST_CASE("defect 33.7 fail: every block of every part is examined, also after t
         CJson b = p;
         blocks_of(b)[2]["limit"] = "forged limit";
         rejected(0, b, "blocks[2]");
+        // The shape of a block after the cut, as of one before it (the adversarial review): its
+        // counts, and its pairs where the run records them.
+        CJson c = p;
+        blocks_of(c)[2]["checks"] = -1;
+        rejected(0, c, "blocks[2].checks");
+        CJson d = p;
+        blocks_of(d)[2]["by_method"] = nullptr;
+        rejected(0, d, "blocks[2].by_method");
+        CJson e = p;
+        blocks_of(e)[2].erase("pairs");
+        rejected(0, e, "has no pairs");
     }
 }
 

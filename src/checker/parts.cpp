@@ -70,6 +70,18 @@ Json merge_slices(const std::vector<Part>& parts, const std::vector<const Json*>
             const bool event = list[i].contains("counterexample") || list[i].contains("limit");
             require(!(list[i].contains("counterexample") && list[i].contains("limit")), bp,
                     "a block either fails or stops at a limit, not both");
+            // Every block's shape, merged or not: its counts, and its pairs exactly when the run
+            // records them (the first part's first block says whether it does).
+            natural(field(list[i], bp, "checks"), at(bp, "checks"));
+            const Json& by = field(list[i], bp, "by_method");
+            if (!by.is_array() || by.size() != 4)
+                malformed(at(bp, "by_method"), "expected four counts");
+            for (std::size_t m = 0; m < 4; ++m)
+                natural(by[m], at(at(bp, "by_method"), m));
+            const Json& first_blocks = entries[0]->at("data").at("blocks");
+            const bool with_pairs = !first_blocks.empty() && first_blocks[0].contains("pairs");
+            require(list[i].contains("pairs") == with_pairs, bp,
+                    with_pairs ? "has no pairs, where the run records them" : "has pairs, where the run records none");
             require(!event || i + 1 == list.size(), bp, "a block that fails or stops must be the shard's last");
         }
         const bool stopped = !list.empty() && (list.back().contains("counterexample") || list.back().contains("limit"));

@@ -45,10 +45,19 @@ std::string shortest(double x) {
 Setup setup(const FuzzArgs& a) {
     Setup s{system_from(a.system), {}, nullptr, nullptr, 1e-9, {}, nullptr, {}};
     s.mech = make_mechanics(s.system);
-    if (!a.restitution.empty()) {
+    if (a.restitution_given) {
         if (s.mech.has_friction())
             throw InputError("--restitution: the restitution property is checked on frictionless systems only");
+        if (a.restitution.empty())
+            throw InputError("--restitution: expected E or one value per contact, got an empty text");
         s.restitution = restitution_list(a.restitution, s.mech.normals);
+        if (s.restitution.size() != s.mech.normals)
+            throw InputError("--restitution: expected one value or " + std::to_string(s.mech.normals) +
+                             " (one per contact), got " + std::to_string(s.restitution.size()));
+        for (std::size_t k = 0; k < s.restitution.size(); ++k)
+            if (sign_of(s.restitution[k]) == Sign::negative || s.restitution[k] > Rational(1))
+                throw InputError("--restitution: contact " + std::to_string(k + 1) + " must be in [0, 1], got " +
+                                 to_string(s.restitution[k]));
     }
     if (a.max_ulps)
         throw InputError("--max-ulps: consistency fuzzing has no exact law to count ulps against; give --max-rel-error");
@@ -65,6 +74,8 @@ Setup setup(const FuzzArgs& a) {
     if (dim > fuzz::kMaxDim)
         throw InputError("fuzz: at most " + std::to_string(fuzz::kMaxDim) + " input components, the system has " +
                          std::to_string(dim));
+    if (a.reference_given && a.reference.empty())
+        throw InputError("--reference: expected a law file or approaching, newton, poisson; got an empty text");
     if (!a.reference.empty()) {
         // The exact law the implementation means to compute: a law file of this system, or the
         // classical law by name, derived here with the restitution given (--restitution, else
@@ -206,6 +217,8 @@ int run_consistency_fuzz(const FuzzArgs& a) {
             o.nonexpansive = true;
         else if (item == "continuity")
             o.continuity = true;
+        else if (item == "restitution" && !a.restitution_given)
+            throw InputError("--require restitution: give the restitution with --restitution E");
         else if (item != "kinematic" && item != "kinetic" && item != "momentum" && item != "energy" &&
                  item != "friction_cone" && item != "coulomb" && item != "at-rest" && item != "restitution" &&
                  item != "nondeterministic")
@@ -429,8 +442,14 @@ int run_consistency_eval(const FuzzArgs& a, const std::vector<std::vector<std::s
             continue;
         }
         // The same input given again, answered otherwise (the replay of a nondeterministic finding).
-        if (i > 0 && xs[i] == xs[i - 1] && status[i - 1] == fuzz::ImplStatus::ok &&
-            std::memcmp(&out[i * d], &out[(i - 1) * d], d * sizeof(double)) != 0) {
+        // (Inputs compared bit for bit, so that 0 and -0 are two inputs; answers as numbers.)
+        bool same_answer = true;
+        for (std::size_t k = 0; k < d && i > 0; ++k) {
+            const double p = out[(i - 1) * d + k], q = out[i * d + k];
+            same_answer = same_answer && (p == q || (std::isnan(p) && std::isnan(q)));
+        }
+        if (i > 0 && std::memcmp(xs[i].data(), xs[i - 1].data(), d * sizeof(double)) == 0 &&
+            status[i - 1] == fuzz::ImplStatus::ok && !same_answer) {
             const std::vector<double> again(out.begin() + static_cast<std::ptrdiff_t>(i * d),
                                             out.begin() + static_cast<std::ptrdiff_t>((i + 1) * d));
             const auto f = checker.nondeterministic(&in[(i - 1) * d], &out[(i - 1) * d], again);

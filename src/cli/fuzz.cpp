@@ -213,8 +213,9 @@ int run_fuzz(FuzzArgs a) {
     if (a.system.given())
         throw InputError("--law and --masses/--system: a law names its own system (without --law the implementation "
                          "is checked for consistency with the system alone)");
-    if (!a.range.empty() || !a.require.empty())
-        throw InputError(std::string(a.range.empty() ? "--require" : "--range") +
+    if (!a.range.empty() || !a.require.empty() || a.restitution_given || a.reference_given)
+        throw InputError(std::string(!a.range.empty() ? "--range" : !a.require.empty() ? "--require"
+                                     : a.restitution_given ? "--restitution" : "--reference") +
                          ": consistency fuzzing only (give --masses or --system, no --law)");
     if (!a.junit.empty() && !std::ofstream(a.junit)) // before the run, not after it
         throw InputError("--junit " + a.junit + ": cannot write");

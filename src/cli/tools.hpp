@@ -67,6 +67,7 @@ struct FuzzArgs {
     std::string reference;   // consistency: the exact law it is meant to compute (a file, or a name)
     bool velocities = false, json = false, pair = false, pieces = false;
     bool impl_given = false, impl_cmd_given = false; // given, even as an empty string
+    bool restitution_given = false, reference_given = false;
     std::optional<std::uint64_t> max_ulps;
     std::optional<double> max_rel_error;
     double timeout = 10;
