@@ -13,11 +13,11 @@ for page in impactcert impactcert-check impactcert-verify; do
     warnings=$(groff -man -Tutf8 -ww -z "$dir/$page.1" 2>&1 || true)
     [ -z "$warnings" ] || fail "$page.1: groff: $warnings"
 done
-text=$(groff -man -Tutf8 "$dir/impactcert.1" 2>/dev/null | col -b)
+text=$(groff -man -Tutf8 "$dir/impactcert.1" 2>/dev/null | sed 's/.\x08//g')
 for needle in "impactcert derive sequential" "--max-impacts" "impactcert fuzz" "--impl-cmd" "Exit statuses" "Examples:"; do
     grep -qF -- "$needle" <<<"$text" || fail "impactcert.1 does not mention $needle"
 done
-grep -qF -- "--merged" <(groff -man -Tutf8 "$dir/impactcert-check.1" 2>/dev/null | col -b) || fail "impactcert-check.1 lacks --merged"
+grep -qF -- "--merged" <(groff -man -Tutf8 "$dir/impactcert-check.1" 2>/dev/null | sed 's/.\x08//g') || fail "impactcert-check.1 lacks --merged"
 complete_words() { # WORDS...: the completions of the last word
     bash -c 'source "$0"; COMP_WORDS=("${@}"); COMP_CWORD=$(( ${#COMP_WORDS[@]} - 1 )); _impactcert; echo "${COMPREPLY[*]}"' \
         "$dir/impactcert.bash" "$@"
