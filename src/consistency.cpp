@@ -624,6 +624,27 @@ ConsistencySummary run_consistency(const Mechanics& m, const ConsistencyOptions&
                 s += " " + hex(x);
         return s;
     };
+    // An implementation's failure at input x (answer y): counted, or, when it answered x
+    // differently twice, its own finding. False when it answered (status ok).
+    auto failure = [&](Partial& part, ImplStatus st, const double* x, const double* y, std::uint64_t index,
+                       const Implementation& im) {
+        switch (st) {
+        case ImplStatus::ok: return false;
+        case ImplStatus::crashed: ++part.sum.crashed; break;
+        case ImplStatus::hung: ++part.sum.hung; break;
+        case ImplStatus::malformed: ++part.sum.malformed; break;
+        case ImplStatus::refused: ++part.sum.refused; break;
+        case ImplStatus::skipped: break;
+        case ImplStatus::nondeterministic: {
+            Finding f = checker.nondeterministic(x, y, im.repeated_answer());
+            f.index = index;
+            f.replay = twice(f);
+            note(part, std::move(f));
+            break;
+        }
+        }
+        return true;
+    };
     const unsigned jobs = std::max(1u, o.jobs);
     const std::size_t block = std::max<std::size_t>(1, impl.batch_samples());
     // (samples + block - 1) / block would wrap for samples near 2^64 (reliability round four, 5)
@@ -642,25 +663,11 @@ ConsistencySummary run_consistency(const Mechanics& m, const ConsistencyOptions&
         ImplStatus st = ImplStatus::ok;
         impls[0]->eval(zero.data(), y.data(), nullptr, 1, &st);
         Partial& part = partials[0];
-        switch (st) {
-        case ImplStatus::ok:
+        if (!failure(part, st, zero.data(), y.data(), 0, *impls[0]))
             if (auto f = checker.at_rest(y.data())) {
                 f->replay = replay_text(o.replay_prefix, *f);
                 note(part, std::move(*f));
             }
-            break;
-        case ImplStatus::crashed: ++part.sum.crashed; break;
-        case ImplStatus::hung: ++part.sum.hung; break;
-        case ImplStatus::malformed: ++part.sum.malformed; break;
-        case ImplStatus::refused: ++part.sum.refused; break;
-        case ImplStatus::skipped: break;
-        case ImplStatus::nondeterministic: {
-            Finding f = checker.nondeterministic(zero.data(), y.data(), impls[0]->repeated_answer());
-            f.replay = twice(f);
-            note(part, std::move(f));
-            break;
-        }
-        }
     }
     const auto start = std::chrono::steady_clock::now();
     auto worker = [&](unsigned j) {
@@ -702,22 +709,7 @@ ConsistencySummary run_consistency(const Mechanics& m, const ConsistencyOptions&
                 const std::size_t pa_i = p++;
                 const std::size_t pb_i = has_pair[s] ? p++ : pa_i;
                 auto failed = [&](std::size_t q) {
-                    switch (status[q]) {
-                    case ImplStatus::ok: return false;
-                    case ImplStatus::crashed: ++part.sum.crashed; break;
-                    case ImplStatus::hung: ++part.sum.hung; break;
-                    case ImplStatus::malformed: ++part.sum.malformed; break;
-                    case ImplStatus::refused: ++part.sum.refused; break;
-                    case ImplStatus::skipped: break;
-                    case ImplStatus::nondeterministic: {
-                        Finding f = checker.nondeterministic(&in[q * d], &out[q * d], impls[j]->repeated_answer());
-                        f.index = indices[s];
-                        f.replay = twice(f);
-                        note(part, std::move(f));
-                        break;
-                    }
-                    }
-                    return true;
+                    return failure(part, status[q], &in[q * d], &out[q * d], indices[s], *impls[j]);
                 };
                 if (status[pa_i] == ImplStatus::skipped)
                     continue;

@@ -264,15 +264,6 @@ struct StderrLog {
     }
 };
 
-// Two answers are the same when every component is equal as a number (0 and -0 alike) or both
-// are NaN: what matters for the same input is the value, not its last bits of text.
-static bool same_values(const double* a, const double* b, std::size_t n) {
-    for (std::size_t i = 0; i < n; ++i)
-        if (!(a[i] == b[i] || (std::isnan(a[i]) && std::isnan(b[i]))))
-            return false;
-    return true;
-}
-
 class CommandImpl final : public Implementation {
   public:
     static constexpr double kStartupGrace = 2.0; // seconds
@@ -715,6 +706,13 @@ std::unique_ptr<Implementation> command(const std::string& cmd, std::size_t in_d
         throw InputError("--impl-cmd " + cmd + ": its answer to the first input line is not " +
                          std::to_string(out_dim) + " numbers");
     return impl->clone(); // the probe (stderr silenced) ends here; the run gets fresh processes
+}
+
+bool same_values(const double* a, const double* b, std::size_t n) {
+    for (std::size_t i = 0; i < n; ++i)
+        if (!(a[i] == b[i] || (std::isnan(a[i]) && std::isnan(b[i]))))
+            return false;
+    return true;
 }
 
 } // namespace impactcert::fuzz

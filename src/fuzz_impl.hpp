@@ -81,6 +81,10 @@ std::unique_ptr<Implementation> command(const std::string& cmd, std::size_t in_d
 
 // Single-quotes `s` for a POSIX shell.
 std::string shell_quote(const std::string& s);
+// Two answers are the same when every component is equal as a number (0 and -0 alike) or both are
+// NaN: what matters for one input is the value, not its last bits of text.
+bool same_values(const double* a, const double* b, std::size_t n);
+
 // "%a"-style hex text of a double, fast (parseable by strtod and Python's float.fromhex).
 std::string hex(double x);
 char* hex_to(double x, char* out); // writes at out, returns the end (no terminator)

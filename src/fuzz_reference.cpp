@@ -4,6 +4,7 @@
 #include "exact_double.hpp"
 
 #include "float_eval.hpp" // nearest_double
+#include "fuzz_impl.hpp"   // same_values
 
 #include <gmp.h>
 
@@ -71,16 +72,10 @@ std::vector<double> to_doubles(const Vector& v) {
     return out;
 }
 
-inline bool same_value(const double* a, const double* b, std::size_t m) {
-    for (std::size_t i = 0; i < m; ++i)
-        if (!(a[i] == b[i] || (std::isnan(a[i]) && std::isnan(b[i]))))
-            return false;
-    return true;
-}
 
 inline void keep_value(RefPoint& out, std::size_t piece, const double* y, const bool* exact, std::size_t m) {
     for (std::size_t v = 0; v < out.values; ++v)
-        if (same_value(out.value[v], y, m))
+        if (same_values(out.value[v], y, m))
             return;
     if (out.values == kMaxValues)
         return;

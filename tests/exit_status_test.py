@@ -12,6 +12,8 @@ import shlex
 import subprocess
 import sys
 
+from testkit import finish
+
 BIN, SRC = os.path.abspath(sys.argv[1]), os.path.abspath(sys.argv[2])
 text = open(os.path.join(SRC, "docs", "exit-status.md")).read()
 block = text.split("<!-- exit-examples -->")[1].split("<!-- /exit-examples -->")[0]
@@ -33,7 +35,4 @@ for cmd, want in rows:
             failures.append(f"{cmd}: exit {p.returncode} with {len(lines)} lines on stderr: {p.stderr[:300]!r}")
     else:
         print(f"exit {p.returncode}: {cmd}")
-for f in failures:
-    print("FAIL:", f)
-print("ok" if not failures else f"{len(failures)} failure(s)")
-sys.exit(1 if failures else 0)
+finish(failures)

@@ -14,6 +14,8 @@ import sys
 import tempfile
 import time
 
+from testkit import finish
+
 CLI = sys.argv[1]
 tmp = tempfile.mkdtemp(prefix="impactcert-kill-")
 failures = []
@@ -75,7 +77,4 @@ try:
     run_and_kill(signal.SIGTERM, "SIGTERM")
 finally:
     shutil.rmtree(tmp, ignore_errors=True)
-for f in failures:
-    print("FAIL:", f)
-print("ok" if not failures else f"{len(failures)} failure(s)")
-sys.exit(1 if failures else 0)
+finish(failures)

@@ -13,6 +13,8 @@ import subprocess
 import sys
 import tempfile
 
+from testkit import finish
+
 BIN, SRC = os.path.abspath(sys.argv[1]), os.path.abspath(sys.argv[2])
 LIGHT = "--light" in sys.argv[3:]
 CLI = os.path.join(BIN, "impactcert")
@@ -65,7 +67,4 @@ try:
             failures.append(f"impactcert-check {args[0]}: exit {r.returncode}")
 finally:
     shutil.rmtree(tmp, ignore_errors=True)
-for f in failures:
-    print("FAIL:", f)
-print("ok" if not failures else f"{len(failures)} failure(s)")
-sys.exit(1 if failures else 0)
+finish(failures)

@@ -11,6 +11,8 @@ import subprocess
 import sys
 import tempfile
 
+from testkit import finish
+
 CLI = sys.argv[1]
 tmp = tempfile.mkdtemp(prefix="impactcert-symlink-")
 failures = []
@@ -40,7 +42,4 @@ try:
                 os.unlink(os.path.join(tmp, n))
 finally:
     shutil.rmtree(tmp, ignore_errors=True)
-for f in failures:
-    print("FAIL:", f)
-print("ok" if not failures else f"{len(failures)} failure(s)")
-sys.exit(1 if failures else 0)
+finish(failures)

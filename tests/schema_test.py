@@ -14,6 +14,8 @@ import subprocess
 import sys
 import tempfile
 
+from testkit import finish
+
 try:
     import jsonschema
 except ImportError:  # a Python of its own on PATH (pyenv): Debian's python3 has the package
@@ -172,7 +174,4 @@ try:
 finally:
     shutil.rmtree(tmp, ignore_errors=True)
 print("validated: " + ", ".join(f"{n} {k}" for k, n in sorted(((k, n) for k, n in validated.items()))))
-for f in failures:
-    print("FAIL:", f)
-print("ok" if not failures else f"{len(failures)} failure(s)")
-sys.exit(1 if failures else 0)
+finish(failures)

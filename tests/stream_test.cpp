@@ -10,6 +10,7 @@
 
 #include <catch2/catch.hpp>
 
+#include <filesystem>
 #include <fstream>
 
 using namespace impactcert;
@@ -60,7 +61,8 @@ Agreement require_agreement(const Law& law, const Limits& limits = {}) {
 }
 
 std::string temp_law(const std::string& name, const Law& law) {
-    const std::string path = "stream_test_" + name + ".json";
+    // In the temporary directory, never the directory the tests were started from.
+    const std::string path = (std::filesystem::temp_directory_path() / ("impactcert-stream-test-" + name + ".json")).string();
     std::ofstream(path) << law_to_json(law).dump(2);
     return path;
 }

@@ -443,13 +443,8 @@ int run_consistency_eval(const FuzzArgs& a, const std::vector<std::vector<std::s
         }
         // The same input given again, answered otherwise (the replay of a nondeterministic finding).
         // (Inputs compared bit for bit, so that 0 and -0 are two inputs; answers as numbers.)
-        bool same_answer = true;
-        for (std::size_t k = 0; k < d && i > 0; ++k) {
-            const double p = out[(i - 1) * d + k], q = out[i * d + k];
-            same_answer = same_answer && (p == q || (std::isnan(p) && std::isnan(q)));
-        }
         if (i > 0 && std::memcmp(xs[i].data(), xs[i - 1].data(), d * sizeof(double)) == 0 &&
-            status[i - 1] == fuzz::ImplStatus::ok && !same_answer) {
+            status[i - 1] == fuzz::ImplStatus::ok && !fuzz::same_values(&out[(i - 1) * d], &out[i * d], d)) {
             const std::vector<double> again(out.begin() + static_cast<std::ptrdiff_t>(i * d),
                                             out.begin() + static_cast<std::ptrdiff_t>((i + 1) * d));
             const auto f = checker.nondeterministic(&in[(i - 1) * d], &out[(i - 1) * d], again);
