@@ -267,7 +267,7 @@ int main(int argc, char** argv) {
     fuzz_cmd->add_option("--require", fuzz_args.require, "consistency: also check nonexpansive and/or continuity on close pairs (comma-separated)");
     fuzz_cmd->add_option("--reference", fuzz_args.reference, "consistency: the exact law the implementation means to compute, a law file of the system or by name (approaching: the Newton law with restitution on approaching contacts, what sequential-impulse engines converge to; newton; poisson; with --restitution): each finding is then law-level or solver-level");
     fuzz_cmd->add_option("--restitution", fuzz_args.restitution, "consistency, frictionless: the restitution the implementation is meant to apply (E, or one per contact); checks the restitution property where one contact alone approaches");
-    fuzz_cmd->add_option("--range", fuzz_args.range, "consistency: input components 0 or of magnitude in LO..HI (default 1e-3..1e3)");
+    fuzz_cmd->add_option("--range", fuzz_args.range, "input components 0 or of magnitude in LO..HI (consistency: default 1e-3..1e3; law mode: default the whole double range, each sample scaled by a power of two into the range)");
     fuzz_cmd->add_flag("--json", fuzz_args.json, "print the summary as impactcert-fuzz/1 JSON");
     fuzz_cmd->add_option("--junit", fuzz_args.junit, "also write a JUnit XML report to this file");
 

@@ -130,15 +130,9 @@ double ratio(const Rational& a, const Rational& b) {
     return approx(a / b);
 }
 
-// Short text of an exact value: the rational when short, else a decimal approximation marked ~.
-std::string exact_text(const Rational& x) {
-    std::string s = to_string(x);
-    if (s.size() <= 40)
-        return s;
-    char buf[48];
-    std::snprintf(buf, sizeof buf, "~%.17g", approx(x));
-    return buf;
-}
+// Text of an exact value: a decimal of 17 significant digits, "~" in front when rounded (the exact
+// rationals are in --json).
+std::string exact_text(const Rational& x) { return readable_text(x); }
 
 std::string percent(double f) {
     char buf[48];
@@ -209,11 +203,14 @@ std::vector<Finding> ConsistencyChecker::check(const double* xd, const double* y
 std::vector<Finding> ConsistencyChecker::check_exact(const Vector& x, const Vector& y, bool no_tolerance) const {
     const std::size_t d = dim(), c = m_.normals;
     std::vector<Finding> out;
-    auto finding = [&](Property p, double score, std::string detail) {
+    using Figures = std::initializer_list<std::pair<std::string, Rational>>;
+    auto finding = [&](Property p, double score, std::string detail, Figures figures) {
         Finding f;
         f.property = p;
         f.score = score;
         f.detail = std::move(detail);
+        for (const auto& [name, value] : figures)
+            f.exact.emplace_back(name, to_string(value));
         out.push_back(std::move(f));
     };
     const Matrix& X = velocities_ ? m_.M : m_.H;
@@ -242,7 +239,8 @@ std::vector<Finding> ConsistencyChecker::check_exact(const Vector& x, const Vect
         if (worst)
             finding(Property::kinematic, std::sqrt(worst_score),
                     "gamma+_" + std::to_string(*worst + 1) + " = " + exact_text(gp[*worst]) + " < 0 (gamma-_" +
-                        std::to_string(*worst + 1) + " = " + exact_text(gm[*worst]) + ")");
+                        std::to_string(*worst + 1) + " = " + exact_text(gm[*worst]) + ")",
+                    {{"gamma+_" + std::to_string(*worst + 1), gp[*worst]}, {"gamma-_" + std::to_string(*worst + 1), gm[*worst]}});
     }
     // restitution: exactly one normal contact k approaches, and the single impact at k leaves every
     // other normal contact not approaching; then every law gives gamma+_k = -e_k gamma-_k.
@@ -265,7 +263,8 @@ std::vector<Finding> ConsistencyChecker::check_exact(const Vector& x, const Vect
                 finding(Property::restitution, std::sqrt(ratio(dev * dev, m_.G(k, k) * s2)),
                         "gamma+_" + std::to_string(k + 1) + " = " + exact_text(gp[k]) + ", not -e gamma-_" +
                             std::to_string(k + 1) + " = " + exact_text(-(e_[k] * gm[k])) + " (e = " + to_string(e_[k]) +
-                            "; contact " + std::to_string(k + 1) + " alone approaches, gamma- = " + exact_text(gm[k]) + ")");
+                            "; contact " + std::to_string(k + 1) + " alone approaches, gamma- = " + exact_text(gm[k]) + ")",
+                        {{"gamma+_" + std::to_string(k + 1), gp[k]}, {"gamma-_" + std::to_string(k + 1), gm[k]}, {"e", e_[k]}});
         }
     }
     // kinetic
@@ -284,7 +283,8 @@ std::vector<Finding> ConsistencyChecker::check_exact(const Vector& x, const Vect
         if (worst)
             finding(Property::kinetic, std::sqrt(worst_score),
                     "Lambda_" + std::to_string(*worst + 1) + " = " + exact_text(lambda[*worst]) +
-                        " < 0: the contact pulls (Lambda = H (gamma+ - gamma-))");
+                        " < 0: the contact pulls (Lambda = H (gamma+ - gamma-))",
+                    {{"Lambda_" + std::to_string(*worst + 1), lambda[*worst]}});
     }
     // Friction (SPEC section 9), per tangent j of contact k, with the tolerances of proofs/README.md
     // ("Consistency with friction"): the friction cone, then Coulomb's law.
@@ -330,9 +330,9 @@ std::vector<Finding> ConsistencyChecker::check_exact(const Vector& x, const Vect
             }
         }
         if (worst_cone)
-            finding(Property::friction_cone, std::sqrt(cone_score), cone_detail);
+            finding(Property::friction_cone, std::sqrt(cone_score), cone_detail, {});
         if (worst_slip)
-            finding(Property::coulomb, std::sqrt(slip_score), slip_detail);
+            finding(Property::coulomb, std::sqrt(slip_score), slip_detail, {});
     }
     // momentum: the part of the velocity change outside the range of M^-1 W
     if (velocities_) {
@@ -349,7 +349,7 @@ std::vector<Finding> ConsistencyChecker::check_exact(const Vector& x, const Vect
                 }
                 detail += "; total momentum p- = " + exact_text(pm) + ", p+ = " + exact_text(pp);
             }
-            finding(Property::momentum, std::sqrt(ratio(r2, s2)), detail);
+            finding(Property::momentum, std::sqrt(ratio(r2, s2)), detail, {{"|r|_M^2", r2}, {"|u-|_M^2", s2}});
         }
     }
     // energy
@@ -362,7 +362,8 @@ std::vector<Finding> ConsistencyChecker::check_exact(const Vector& x, const Vect
             const std::string what = velocities_ ? "T" : "T (contact part)";
             finding(Property::energy, ratio(t2 - s2, s2),
                     percent(ratio(t2 - s2, s2)) + ": " + what + "- = " + exact_text(half * s2) + ", " + what +
-                        "+ = " + exact_text(half * t2));
+                        "+ = " + exact_text(half * t2),
+                    {{what + "-", half * s2}, {what + "+", half * t2}});
         }
     }
     return out;
@@ -411,6 +412,7 @@ std::optional<Finding> ConsistencyChecker::at_rest(const double* yd) const {
     f.score = ratio(e2, Rational(1));
     f.detail = std::string("the input at rest is answered with motion: ") + (velocities_ ? "T+" : "T+ (contact part)") +
                " = " + exact_text(Rational(1, 2) * e2) + " from T- = 0 (energy from nothing)";
+    f.exact.emplace_back(velocities_ ? "T+" : "T+ (contact part)", to_string(Rational(1, 2) * e2));
     return f;
 }
 

@@ -80,7 +80,9 @@ struct Finding {
     Property property = Property::energy;
     std::uint64_t index = 0;
     double score = 0;           // the violation relative to the scale (for ordering)
-    std::string detail;         // exact figures: "T- = 1, T+ = 4/3 (+33.3%)"
+    std::string detail;         // the figures as decimals: "T- = 1, T+ = ~1.3333333333333333 (+33.3%)"
+    // The same figures exactly (rational text), for --json: {"T-", "1"}, {"T+", "4/3"}.
+    std::vector<std::pair<std::string, std::string>> exact;
     std::vector<double> input, input_b, output, output_b;
     std::string replay;
     // With a reference law (--reference; SPEC section 8, "Diagnosis"): 1 law-level (the exact law

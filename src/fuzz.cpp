@@ -233,6 +233,49 @@ void Generator::make(std::uint64_t seed, std::uint64_t index, Sample& s) const {
                 s.b[j] = s.a[j];
 }
 
+void fit_range(Sample& s, std::size_t dim, double lo, double hi) {
+    if (!(hi > 0))
+        return;
+    double top = 0;
+    for (std::size_t j = 0; j < dim; ++j) {
+        top = std::max(top, std::fabs(s.a[j]));
+        if (s.pair)
+            top = std::max(top, std::fabs(s.b[j]));
+    }
+    if (!(top > 0) || !std::isfinite(top))
+        return; // at rest (or not finite: the generators never make such a sample)
+    // The largest power of two 2^k with top 2^k <= hi; then one step up if that leaves top below
+    // lo and the step still fits (it cannot when hi < 2 lo and top falls between).
+    int e_top = 0, e_hi = 0;
+    std::frexp(top, &e_top); // top in [2^(e_top-1), 2^e_top)
+    std::frexp(hi, &e_hi);
+    int k = e_hi - e_top;
+    while (std::ldexp(top, k) > hi)
+        --k;
+    while (std::ldexp(top, k + 1) <= hi && std::ldexp(top, k) < lo)
+        ++k;
+    // No power of two fits (hi < 2 lo): a rounded scale into the middle of the range instead,
+    // the largest component kept at least lo (the sample is then not an exact multiple).
+    const bool power = std::ldexp(top, k) >= lo;
+    const double mid = lo / 2 + hi / 2;
+    auto fit = [&](double* v) {
+        for (std::size_t j = 0; j < dim; ++j) {
+            double x = power ? std::ldexp(std::ldexp(v[j], k / 2), k - k / 2) // two steps: no overflow on the way
+                             : v[j] / top * mid; // |v[j] / top| <= 1: no overflow
+            if (!power && std::fabs(v[j]) == top)
+                x = std::copysign(std::clamp(std::fabs(x), lo, hi), x);
+            if (std::fabs(x) < lo)
+                x = 0.0;
+            else if (std::fabs(x) > hi)
+                x = std::copysign(hi, x);
+            v[j] = x;
+        }
+    };
+    fit(s.a);
+    if (s.pair)
+        fit(s.b);
+}
+
 Sample make_paper_sample(std::uint64_t seed, std::uint64_t index) {
     static const Model paper(paper_law());
     static const LawReference reference(paper, false, true);
@@ -733,6 +776,7 @@ struct Worker {
         std::size_t points = 0;
         for (std::size_t i = 0; i < count; ++i) {
             gen.make(opt.seed, begin + i, samples[i]);
+            fit_range(samples[i], m, opt.range_lo, opt.range_hi);
             copy_small(samples[i].a, &in[points * m], m);
             ++points;
             if (samples[i].pair) {

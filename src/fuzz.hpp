@@ -98,7 +98,15 @@ struct Options {
     double max_rel_error = 0;
     std::size_t keep = 10;     // violations kept as examples
     std::string replay_prefix = "impactcert eval --float"; // + law and space options
+    // --range LO..HI (0 < LO <= HI; both 0: the whole double range): every sample, a pair's two
+    // points alike, is scaled by a power of two so that its largest component is at most HI (and at
+    // least LO where a power of two fits), then components below LO become 0 (fit_range).
+    double range_lo = 0, range_hi = 0;
 };
+
+// The sample moved into the run's --range (Options::range_lo/hi), as described there. A scale by
+// a power of two is exact, so points on facets stay on them (the law is positively homogeneous).
+void fit_range(Sample& s, std::size_t dim, double lo, double hi);
 
 struct Violation {
     std::uint64_t index = 0;

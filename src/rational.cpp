@@ -180,4 +180,78 @@ std::string to_string(const Rational& x) {
     return out;
 }
 
+std::string readable_text(const Rational& x, int digits) {
+    if (digits < 1)
+        digits = 1;
+    if (mpq_sgn(x.mpq()) == 0)
+        return "0";
+    mpz_t p, q, n, r, ten, lo, hi;
+    mpz_inits(p, q, n, r, ten, lo, hi, nullptr);
+    mpz_abs(p, mpq_numref(x.mpq()));
+    mpz_set(q, mpq_denref(x.mpq()));
+    mpz_ui_pow_ui(lo, 10, static_cast<unsigned long>(digits - 1));
+    mpz_ui_pow_ui(hi, 10, static_cast<unsigned long>(digits));
+    // k such that 10^(digits-1) <= floor(|x| 10^k) < 10^digits; the estimate from the lengths is
+    // off by at most one either way.
+    long k = static_cast<long>(digits) - 1 -
+             (static_cast<long>(mpz_sizeinbase(p, 10)) - static_cast<long>(mpz_sizeinbase(q, 10)));
+    auto scaled = [&](long kk) { // n = floor(p 10^kk / q), r = the remainder (times the scale)
+        mpz_t a, b;
+        mpz_inits(a, b, nullptr);
+        mpz_set(a, p);
+        mpz_set(b, q);
+        mpz_ui_pow_ui(ten, 10, static_cast<unsigned long>(kk >= 0 ? kk : -kk));
+        mpz_mul(kk >= 0 ? a : b, kk >= 0 ? a : b, ten);
+        mpz_fdiv_qr(n, r, a, b);
+        mpz_set(q, b); // the divisor r is measured against, restored below
+        mpz_clears(a, b, nullptr);
+    };
+    const mpz_srcptr den = mpq_denref(x.mpq());
+    for (int guard = 0; guard < 8; ++guard) {
+        mpz_set(q, den);
+        scaled(k);
+        if (mpz_cmp(n, hi) >= 0)
+            --k;
+        else if (mpz_cmp(n, lo) < 0)
+            ++k;
+        else
+            break;
+    }
+    // Round to nearest, ties away from zero: 2r >= divisor.
+    mpz_mul_2exp(r, r, 1);
+    const bool exact = mpz_sgn(r) == 0;
+    if (mpz_cmp(r, q) >= 0) {
+        mpz_add_ui(n, n, 1);
+        if (mpz_cmp(n, hi) == 0) { // 99..9 rounded up to 10..0
+            mpz_divexact_ui(n, n, 10);
+            --k;
+        }
+    }
+    char* raw = mpz_get_str(nullptr, 10, n);
+    std::string d(raw);
+    void (*free_fn)(void*, size_t);
+    mp_get_memory_functions(nullptr, nullptr, &free_fn);
+    free_fn(raw, d.size() + 1);
+    mpz_clears(p, q, n, r, ten, lo, hi, nullptr);
+    const long exp10 = static_cast<long>(digits) - 1 - k; // value = d[0].d[1..] 10^exp10
+    while (d.size() > 1 && d.back() == '0')
+        d.pop_back();
+    std::string out;
+    if (exp10 >= -5 && exp10 < digits) {
+        if (exp10 >= 0) {
+            const auto int_len = static_cast<std::size_t>(exp10 + 1);
+            if (d.size() <= int_len)
+                out = d + std::string(int_len - d.size(), '0');
+            else
+                out = d.substr(0, int_len) + "." + d.substr(int_len);
+        } else {
+            out = "0." + std::string(static_cast<std::size_t>(-exp10 - 1), '0') + d;
+        }
+    } else {
+        out = d.substr(0, 1) + (d.size() > 1 ? "." + d.substr(1) : "") + "e" + (exp10 < 0 ? "-" : "+") +
+              std::to_string(exp10 < 0 ? -exp10 : exp10);
+    }
+    return (exact ? "" : "~") + std::string(mpq_sgn(x.mpq()) < 0 ? "-" : "") + out;
+}
+
 } // namespace impactcert

@@ -38,4 +38,10 @@ std::optional<Rational> parse_cli_number(std::string_view text, std::string* why
 // Canonical text: "0", "-7", "3/4", "-7/12".
 std::string to_string(const Rational& x);
 
+// Readable text: the value rounded to `digits` significant decimal digits (to nearest, ties away
+// from zero), in fixed notation for exponents -5..digits-1 and "d.ddde+X" otherwise, trailing
+// zeros dropped; "~" in front when the rounding changed the value ("0.75", "~0.33333333333333333",
+// "1e+100000"). Computed in integers: no double, any exponent.
+std::string readable_text(const Rational& x, int digits = 17);
+
 } // namespace impactcert

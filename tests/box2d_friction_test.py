@@ -19,6 +19,9 @@ import random
 import shlex
 import subprocess
 import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import testkit  # noqa: E402
 from fractions import Fraction as F
 
 BUILD, SRC, DRIVER = sys.argv[1], sys.argv[2], sys.argv[3]
@@ -133,9 +136,7 @@ for scene in ("spinning-disk", "two-disks"):
             w = j["worst"][prop]
             if not recompute(S, w, prop):
                 fail(f"{scene} {args}: the worst {prop} case does not recompute as a violation: {w}")
-            replay = shlex.split(w["replay"])
-            replay[0] = CLI
-            r = subprocess.run(replay, capture_output=True, text=True)
+            r = testkit.run_replay(w["replay"], CLI)
             if r.returncode != 1 or TITLES[prop] not in r.stdout:
                 fail(f"{scene} {args}: replay of {prop}: exit {r.returncode}: {r.stdout[-300:]}")
         if expected.get(scene):

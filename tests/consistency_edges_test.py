@@ -17,6 +17,9 @@ import os
 import shutil
 import subprocess
 import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import testkit  # noqa: E402
 import tempfile
 
 CLI, SRC = sys.argv[1], sys.argv[2]
@@ -97,9 +100,7 @@ try:
         if j["violations"]["at-rest"] != expect or p.returncode != expect:
             fail(f"at-rest ({mode}): {j['violations']['at-rest']} findings, exit {p.returncode}")
         elif expect:
-            replay = j["worst"]["at-rest"]["replay"].split()
-            replay[0] = CLI
-            r = subprocess.run(" ".join(replay), shell=True, capture_output=True, text=True)
+            r = testkit.run_replay(j["worst"]["at-rest"]["replay"], CLI)
             if r.returncode != 1 or "(at-rest)" not in r.stdout:
                 fail(f"at-rest replay: exit {r.returncode}: {r.stdout[-200:]}")
             else:

@@ -22,6 +22,9 @@ import json
 import os
 import subprocess
 import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import testkit  # noqa: E402
 from fractions import Fraction as F
 
 BIN, SRC = os.path.abspath(sys.argv[1]), os.path.abspath(sys.argv[2])
@@ -46,9 +49,7 @@ def fuzz(impl, *extra):
 
 
 def replay(cmd):
-    words = cmd.split()
-    words[0] = CLI
-    return subprocess.run(" ".join(words), shell=True, capture_output=True, text=True, cwd=SRC)
+    return testkit.run_replay(cmd, CLI)
 
 
 def fx(h):

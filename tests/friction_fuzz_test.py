@@ -17,6 +17,9 @@ import shutil
 import shlex
 import subprocess
 import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import testkit  # noqa: E402
 import tempfile
 from fractions import Fraction as F
 
@@ -121,9 +124,7 @@ try:
                 opposing = lam[-1] == -mu * lam[0] if gp_t > 0 else lam[-1] == mu * lam[0]
                 if not slipping or opposing:
                     fail(f"{name}/reversed: the worst case obeys Coulomb: xi_T = {gp_t}, Lambda = {lam}")
-            replay = shlex.split(w["replay"])
-            replay[0] = CLI
-            r = subprocess.run(replay, capture_output=True, text=True)
+            r = testkit.run_replay(w["replay"], CLI)
             title = "(coulomb)" if wanted == "coulomb" else "(friction cone)"
             if r.returncode != 1 or title not in r.stdout + r.stderr:
                 fail(f"{name}/{mode}: replay exit {r.returncode}: {(r.stdout + r.stderr)[:300]}")

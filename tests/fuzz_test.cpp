@@ -46,11 +46,13 @@ TEST_CASE("fuzz: a deliberately wrong implementation is caught within a second, 
     INFO(run.out << run.err);
     CHECK(run.status == 1);
     CHECK(run.out.find("verdict: violations found") != std::string::npos);
-    const auto at = run.out.find("replay: impactcert eval --float --impl ");
+    const auto at = run.out.find(std::string(IMPACTCERT_CLI) + " eval --float --impl ");
     REQUIRE(at != std::string::npos);
-    std::string replay = run.out.substr(at + std::string("replay: impactcert ").size());
+    const auto from = run.out.rfind("replay: ", at);
+    REQUIRE(from != std::string::npos);
+    std::string replay = run.out.substr(from + std::string("replay: ").size());
     replay = replay.substr(0, replay.find('\n'));
-    const auto again = test::run_cli(replay);
+    const auto again = test::run_replay(replay);
     INFO(replay << "\n" << again.out << again.err);
     CHECK(again.status == 1); // the replay of a violation exits 1, as the fuzzer did (issue 32: it exited 0)
     CHECK(again.out.find("not within 0 ulp of the correctly rounded value (--max-ulps)") != std::string::npos);
@@ -60,7 +62,7 @@ TEST_CASE("fuzz: a deliberately wrong implementation is caught within a second, 
     // Negative control: the same point with every error allowed exits 0.
     std::string lenient = replay;
     lenient.replace(lenient.find(" -- "), 4, " --max-ulps 18446744073709551615 -- ");
-    const auto allowed = test::run_cli(lenient);
+    const auto allowed = test::run_replay(lenient);
     INFO(lenient << "\n" << allowed.out << allowed.err);
     CHECK(allowed.status == 0);
 }
@@ -305,6 +307,83 @@ TEST_CASE("fuzz generators: reproducible, every kind, exact facet points, the wh
     CHECK(fuzz::hex(fuzz::make_paper_sample(1, 5).a[0]) != fuzz::hex(fuzz::make_paper_sample(2, 5).a[0]));
 }
 
+TEST_CASE("fuzz --range in law mode: samples scaled by powers of two into LO..HI, small components zeroed",
+          "[fuzz]") {
+    const Model model = law_file("proofs/newton4/law.json");
+    const fuzz::LawReference ref(model, false, true);
+    const fuzz::Generator gen(ref);
+    const std::size_t m = ref.in_dim();
+    for (const auto& [lo, hi] : std::vector<std::pair<double, double>>{{1e-3, 1e3}, {1, 1}, {0.75, 1.25}, {1e-300, 1e300}}) {
+        std::uint64_t zeroed = 0, kept = 0, facet_kept = 0, facet = 0, top_in = 0, moving = 0;
+        for (std::uint64_t i = 0; i < 40000; ++i) {
+            fuzz::Sample s;
+            gen.make(5, i, s);
+            const fuzz::Sample before = s;
+            fuzz::fit_range(s, m, lo, hi);
+            double top = 0, top_before = 0;
+            for (std::size_t j = 0; j < m; ++j) {
+                for (const double* v : {s.a, s.b}) {
+                    if (v == s.b && !s.pair)
+                        continue;
+                    INFO("sample " << i << " component " << j << " = " << v[j]);
+                    REQUIRE((v[j] == 0 || (std::fabs(v[j]) >= lo && std::fabs(v[j]) <= hi)));
+                    top = std::max(top, std::fabs(v[j]));
+                }
+                top_before = std::max(top_before, std::fabs(before.a[j]));
+                if (before.pair)
+                    top_before = std::max(top_before, std::fabs(before.b[j]));
+            }
+            if (top_before == 0)
+                continue;
+            // One power of two for the whole sample: the ratio of every kept component to the
+            // largest one is unchanged (exact, so a facet point stays on its facet).
+            std::size_t big = 0;
+            for (std::size_t j = 0; j < m; ++j)
+                if (std::fabs(before.a[j]) > std::fabs(before.a[big]))
+                    big = j;
+            for (std::size_t j = 0; j < m && s.a[big] != 0; ++j) {
+                if (s.a[j] == 0) {
+                    zeroed += before.a[j] != 0;
+                    continue;
+                }
+                ++kept;
+                if (hi >= 2 * lo) // a power of two always fits
+                    REQUIRE(s.a[j] / s.a[big] == before.a[j] / before.a[big]);
+            }
+            ++moving;
+            top_in += top >= lo;
+            if (std::string(s.kind) == "facet") {
+                ++facet;
+                Vector x;
+                for (std::size_t j = 0; j < m; ++j)
+                    x.push_back(Rational(s.a[j]));
+                for (const auto& piece : model.pieces()) {
+                    const Vector coords = piece.R_inv * x;
+                    bool inside = true, some_zero = false;
+                    for (const auto& c : coords) {
+                        inside = inside && sign_of(c) != Sign::negative;
+                        some_zero = some_zero || sign_of(c) == Sign::zero;
+                    }
+                    if (inside && some_zero) {
+                        ++facet_kept;
+                        break;
+                    }
+                }
+            }
+        }
+        INFO("range " << lo << ".." << hi);
+        CHECK(kept > 40000);
+        CHECK(moving > 35000);
+        CHECK(top_in == moving); // the largest component reaches LO
+        if (hi >= 2 * lo)
+            CHECK(facet_kept * 10 > facet * 8); // facet points mostly stay on facets (zeroed ones may leave)
+        if (hi / lo > 1e100)
+            CHECK(zeroed < kept);           // a wide range zeroes little
+        else
+            CHECK(zeroed > 0);              // a narrow one zeroes the tiny components
+    }
+}
+
 TEST_CASE("fuzz: hex text round-trips through strtod and matches printf's %a", "[fuzz]") {
     std::mt19937_64 rng(3);
     for (int i = 0; i < 100000; ++i) {
@@ -391,11 +470,11 @@ TEST_CASE("fuzz: wrong implementations of the kinds simulators ship are found in
         CHECK(run.status == 1);
         const auto at = run.out.find(c.finding);
         REQUIRE(at != std::string::npos);
-        const auto r = run.out.find("replay: impactcert ", at);
+        const auto r = run.out.find("replay: ", at);
         REQUIRE(r != std::string::npos);
-        std::string replay = run.out.substr(r + std::string("replay: impactcert ").size());
+        std::string replay = run.out.substr(r + std::string("replay: ").size());
         replay = replay.substr(0, replay.find('\n'));
-        const auto again = test::run_cli(replay);
+        const auto again = test::run_replay(replay);
         INFO(replay << "\n" << again.out << again.err);
         CHECK(again.status == 1);
         CHECK(again.out.rfind("impl ", 0) == 0);
@@ -412,7 +491,7 @@ TEST_CASE("fuzz --impl-cmd: any language through a pipe, failures reported and s
     CHECK(nlohmann::json::parse(run.out)["verdict"] == "no violation");
     run = test::run_cli("fuzz --law '" + law + "' --impl-cmd '" + py + " tolerance' --max-rel-error 1e-12 --samples 20000");
     CHECK(run.status == 1);
-    CHECK(run.out.find("replay: impactcert eval --float --law") != std::string::npos);
+    CHECK(run.out.find(" && " + std::string(IMPACTCERT_CLI) + " eval --float --law") != std::string::npos);
     CHECK(run.out.find("--impl-cmd") != std::string::npos);
     // A crash, a hang and a short answer: each point is reported, the run goes on to the end.
     const std::string bad = "python3 " + source_path("tests/impls/misbehaving_impl.py");
@@ -487,7 +566,8 @@ TEST_CASE("fuzz: results do not depend on --jobs - JUnit and JSON reports", "[fu
     CHECK(run.status == 1);
     const auto j = nlohmann::json::parse(run.out);
     CHECK(j["violations"]["classification"].get<long>() > 0);
-    CHECK(j["examples"][0]["replay"].get<std::string>().rfind("impactcert eval --float --law", 0) == 0);
+    CHECK(j["examples"][0]["replay"].get<std::string>().find(" && " + std::string(IMPACTCERT_CLI) + " eval --float --law") !=
+          std::string::npos);
     std::ifstream f(junit);
     const std::string xml((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
     CHECK(xml.find("<testcase classname=\"impactcert.fuzz\" name=\"classification\">") != std::string::npos);

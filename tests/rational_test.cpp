@@ -107,3 +107,24 @@ TEST_CASE("matrices: a ray's primitive representative identifies its direction",
     CHECK(primitive_ray(vec({"-6", "4"})) != primitive_ray(vec({"6", "-4"})));
     CHECK(primitive_ray(vec({"10000000000000000000000000000000", "0", "0"})) == vec({"1", "0", "0"}));
 }
+
+TEST_CASE("rationals: readable decimal text, exact where it can be and marked ~ where rounded", "[rational]") {
+    auto r = [](const char* t) { return *parse_cli_number(t); };
+    CHECK(readable_text(r("0")) == "0");
+    CHECK(readable_text(r("3/4")) == "0.75");
+    CHECK(readable_text(r("-7")) == "-7");
+    CHECK(readable_text(r("959/4")) == "239.75");
+    CHECK(readable_text(r("1/3")) == "~0.33333333333333333");
+    CHECK(readable_text(r("-2/3")) == "~-0.66666666666666667");
+    CHECK(readable_text(r("2290675898897905/8796093022208")) == "~260.41969919082305");
+    CHECK(readable_text(r("1/100000")) == "0.00001");
+    CHECK(readable_text(r("1/1000000")) == "1e-6");
+    CHECK(readable_text(r("123456789012345678")) == "~1.2345678901234568e+17");
+    CHECK(readable_text(r("12345678901234567")) == "12345678901234567");
+    CHECK(readable_text(r("99999999999999999999/1000")) == "~1e+17"); // rounded up past a power of ten
+    CHECK(readable_text(r("1e100000")) == "1e+100000");
+    CHECK(readable_text(r("-3e-100000")) == "-3e-100000");
+    CHECK(readable_text(r("1/3"), 3) == "~0.333");
+    CHECK(readable_text(r("2/3"), 1) == "~0.7");
+    CHECK(readable_text(r("5/2"), 1) == "~3"); // ties away from zero
+}

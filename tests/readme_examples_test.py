@@ -7,7 +7,8 @@ An example is a fenced code block whose first line starts with `$ `: those lines
 output. A line `...` (alone, any indentation) stands for any number of lines. The commands run in
 a scratch directory where proofs/, examples/, tests/, docs/ and scripts/ are the source tree's and
 build/ is the build directory; /tmp/ is a scratch directory too. Times and rates are masked
-(`0.035 ms`, `in 0.20 s, 9958 samples/s`, `2 jobs`, the fuzzer's `time` line), nothing else. Blocks
+(`0.035 ms`, `in 0.20 s, 9958 samples/s`, `2 jobs`, the fuzzer's `time` line), and a replay's
+`cd` into the scratch directory reads `cd ~/impactcert` (a checkout), nothing else. Blocks
 marked `<!-- heavy: REASON -->` are left out of the sanitizer build's run (--light), and said so. A block may be excluded only by
 a `<!-- not-run: REASON -->` line right before it, and the reason is printed.
 Usage: readme_examples_test.py BUILD_DIR SOURCE_DIR [--light]"""
@@ -112,7 +113,8 @@ try:
                 real = cmd.replace("/tmp/", scratch + "/")
                 p = subprocess.run(["bash", "-c", "{ " + real + "\n} 2>&1"], capture_output=True, text=True, cwd=work,
                                    timeout=900)
-                got = [mask(x.replace(scratch + "/", "/tmp/")) for x in p.stdout.splitlines()]
+                got = [mask(x.replace(scratch + "/", "/tmp/").replace("cd " + work + " && ", "cd ~/impactcert && "))
+                       for x in p.stdout.splitlines()]
                 want = [mask(x) for x in want]
                 commands_run += 1
                 if not matches(got, want):

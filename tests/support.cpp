@@ -334,6 +334,16 @@ void require_sound(const Model& m, const VerifyReport& r) {
 
 CliRun run_cli(const std::string& args, const std::string& stdin_text) { return run_program(IMPACTCERT_CLI, args, stdin_text); }
 
+CliRun run_replay(const std::string& replay) {
+    INFO("replay: " << replay);
+    REQUIRE(replay.rfind("cd ", 0) == 0);
+    REQUIRE(replay.find(" && " + std::string(IMPACTCERT_CLI) + " eval ") != std::string::npos);
+    std::string quoted = "'";
+    for (char ch : "cd / && " + replay)
+        quoted += ch == '\'' ? std::string("'\\''") : std::string(1, ch);
+    return run_program("/bin/sh", "-c " + quoted + "'");
+}
+
 CliRun run_program(const std::string& program, const std::string& args, const std::string& stdin_text) {
     char in_name[] = "/tmp/impactcert-test-in-XXXXXX";
     char err_name[] = "/tmp/impactcert-test-err-XXXXXX";

@@ -67,6 +67,10 @@ struct CliRun {
     std::string err; // stderr
 };
 CliRun run_cli(const std::string& args, const std::string& stdin_text = "");
+// A replay command as the fuzzer prints it ("cd DIR && PROGRAM eval ..."), run by the shell from
+// the root directory (a replay must run from any directory). Fails the test unless it has that
+// shape and names the built impactcert.
+CliRun run_replay(const std::string& replay);
 // The same for another built program (IMPACTCERT_VERIFY_CLI, IMPACTCERT_CHECKER, ...).
 CliRun run_program(const std::string& program, const std::string& args, const std::string& stdin_text = "");
 

@@ -61,6 +61,41 @@ std::string& name_storage() {
 } // namespace
 
 void set_program_name(const std::string& name) { name_storage() = name; }
+
+namespace {
+std::string& argv0_storage() {
+    static std::string argv0;
+    return argv0;
+}
+} // namespace
+
+void set_invocation(const char* argv0) { argv0_storage() = argv0 ? argv0 : ""; }
+
+namespace {
+// A word the shell reads as itself stays bare; anything else is quoted.
+std::string shell_word(const std::string& s) {
+    const bool plain = !s.empty() && s.find_first_not_of("ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz"
+                                                         "0123456789_./,:=+-") == std::string::npos;
+    if (plain)
+        return s;
+    std::string q = "'";
+    for (char ch : s)
+        q += ch == '\'' ? std::string("'\\''") : std::string(1, ch);
+    return q + "'";
+}
+} // namespace
+
+std::string replay_command(const std::string& subcommand) {
+    std::string program = argv0_storage();
+    if (program.empty())
+        program = program_name();
+    std::string prefix;
+    std::vector<char> buf(4096);
+    // A working directory too long for the buffer (or removed) leaves the replay relative.
+    if (::getcwd(buf.data(), buf.size()) != nullptr)
+        prefix = "cd " + shell_word(buf.data()) + " && ";
+    return prefix + shell_word(program) + " " + subcommand;
+}
 const std::string& program_name() { return name_storage(); }
 
 Model load_model(const std::string& law_path, std::size_t max_pieces, std::size_t max_memory_mb) {

@@ -36,6 +36,11 @@ std::string one_line_text(const std::string& text);
 // run_program.
 void set_program_name(const std::string& name);
 const std::string& program_name();
+// The start of a replay command that runs from any directory: `cd '<the working directory>' && `
+// and the program as it was invoked (argv[0]; a bare name is looked up on PATH again). Relative
+// paths of the run (law, system, library, --impl-cmd) stay valid after the cd.
+void set_invocation(const char* argv0);
+std::string replay_command(const std::string& subcommand);
 
 Model load_model(const std::string& law_path, std::size_t max_pieces = Limits{}.max_pieces,
                  std::size_t max_memory_mb = Limits{}.max_memory_mb);

@@ -166,6 +166,12 @@ Json finding_json(const fuzz::Finding& f) {
         return j;
     };
     Json e = {{"index", f.index}, {"what", fuzz::property_id(f.property)}, {"detail", f.detail}, {"input", hexes(f.input)}};
+    if (!f.exact.empty()) {
+        Json x = Json::object();
+        for (const auto& [name, value] : f.exact)
+            x[name] = value;
+        e["exact"] = x;
+    }
     if (f.level)
         e["level"] = f.level == 1 ? "law" : "solver";
     if (f.level == 2)
@@ -241,7 +247,7 @@ int run_consistency_fuzz(const FuzzArgs& a) {
     o.restitution = s.restitution;
     o.reference = s.reference.get();
     const std::string rbuf = shortest(s.R);
-    o.replay_prefix = "impactcert eval --float " + system_flags(a.system) + (a.velocities ? " --velocities " : " ") +
+    o.replay_prefix = replay_command("eval --float ") + system_flags(a.system) + (a.velocities ? " --velocities " : " ") +
                       (s.law ? "--float-law " + fuzz::shell_quote(a.float_law) : s.impl->replay_flags()) +
                       " --max-rel-error " + rbuf +
                       (a.restitution.empty() ? "" : " --restitution " + fuzz::shell_quote(a.restitution)) + " --";

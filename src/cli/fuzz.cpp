@@ -3,6 +3,7 @@
 // consistency of a black-box map against a system alone).
 #include "cli/tools.hpp"
 
+#include "consistency.hpp"
 #include "float_eval.hpp"
 #include "json.hpp"
 #include "verdict_output.hpp"
@@ -213,9 +214,8 @@ int run_fuzz(FuzzArgs a) {
     if (a.system.given())
         throw InputError("--law and --masses/--system: a law names its own system (without --law the implementation "
                          "is checked for consistency with the system alone)");
-    if (!a.range.empty() || !a.require.empty() || a.restitution_given || a.reference_given)
-        throw InputError(std::string(!a.range.empty() ? "--range" : !a.require.empty() ? "--require"
-                                     : a.restitution_given ? "--restitution" : "--reference") +
+    if (!a.require.empty() || a.restitution_given || a.reference_given)
+        throw InputError(std::string(!a.require.empty() ? "--require" : a.restitution_given ? "--restitution" : "--reference") +
                          ": consistency fuzzing only (give --masses or --system, no --law)");
     if (!a.junit.empty() && !std::ofstream(a.junit)) // before the run, not after it
         throw InputError("--junit " + a.junit + ": cannot write");
@@ -237,7 +237,9 @@ int run_fuzz(FuzzArgs a) {
     } else {
         options.tolerance = impl->states_bound() ? fuzz::Tolerance::stated_bound : fuzz::Tolerance::ulps;
     }
-    options.replay_prefix = "impactcert eval --float";
+    if (!a.range.empty())
+        std::tie(options.range_lo, options.range_hi) = fuzz::parse_range(a.range);
+    options.replay_prefix = replay_command("eval --float");
     if (options.tolerance == fuzz::Tolerance::ulps && options.max_ulps > 0)
         options.replay_prefix += " --max-ulps " + std::to_string(options.max_ulps);
     if (!a.law_path.empty())
@@ -295,6 +297,11 @@ int run_fuzz(FuzzArgs a) {
         j["pairs"] = sum.pairs;
         j["seconds"] = sum.seconds;
         j["samples_per_second"] = rate;
+        if (options.range_hi > 0) {
+            char range[96];
+            std::snprintf(range, sizeof range, "%.6g..%.6g", options.range_lo, options.range_hi);
+            j["range"] = range;
+        }
         j["reference_through_gmp"] = sum.slow;
         j["outside_every_cone"] = sum.outside;
         j["max_error_ulps"] = sum.max_ulps;
@@ -329,6 +336,9 @@ int run_fuzz(FuzzArgs a) {
         std::printf("impactcert fuzz: %s vs the exact law %s, in %s (seed %llu, %u job%s)\n", target.c_str(),
                     model.law().name.c_str(), space.c_str(), u(options.seed), options.jobs, options.jobs == 1 ? "" : "s");
         std::printf("  tolerance                      %s\n", tolerance.c_str());
+        if (options.range_hi > 0)
+            std::printf("  inputs                         components 0 or of magnitude in %.6g..%.6g (--range)\n",
+                        options.range_lo, options.range_hi);
         std::printf("  samples                        %llu (%llu close pairs; %llu reference points through GMP)\n",
                     u(sum.samples), u(sum.pairs), u(sum.slow));
         std::printf("  time                           %.2f s (%.2f M samples/s, %.2f M/s per job)\n", sum.seconds,

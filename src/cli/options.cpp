@@ -74,6 +74,8 @@ void add_verify_options(CLI::App* cmd, VerifyArgs& args, ProofOptions& proof) {
 
 int run_program(CLI::App& app, int argc, char** argv, const std::function<int()>& run) {
     set_program_name(app.get_name());
+    if (argc > 0)
+        set_invocation(argv[0]);
     try {
         app.parse(argc, argv);
     } catch (const CLI::Success& e) {
