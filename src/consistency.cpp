@@ -463,12 +463,93 @@ std::vector<Finding> ConsistencyChecker::check_pair(const double* ad, const doub
     return out;
 }
 
+namespace {
+// The families of structured_input, in order; each is a count and a maker of its j-th member.
+struct Family {
+    std::size_t (*count)(std::size_t d);
+    void (*make)(std::size_t d, std::size_t j, std::vector<int>& v);
+};
+const Family kFamilies[] = {
+    {[](std::size_t d) { return 2 * d; }, // one moving component
+     [](std::size_t, std::size_t j, std::vector<int>& v) { v[j / 2] = j % 2 ? -1 : 1; }},
+    {[](std::size_t d) { return 16 * (d * (d - 1) / 2); }, // two: every pair, values +-1, +-2
+     [](std::size_t d, std::size_t j, std::vector<int>& v) {
+         static const int values[] = {1, -1, 2, -2};
+         std::size_t p = j / 16, a = 0;
+         while (p >= d - 1 - a) { // the p-th pair (a, b), a < b, in lexicographic order
+             p -= d - 1 - a;
+             ++a;
+         }
+         v[a] = values[(j % 16) / 4];
+         v[a + 1 + p] = values[j % 4];
+     }},
+    {[](std::size_t d) { return d * (d + 1) / 2 * d; }, // ties: a run [i, i + len) at 1, one other at -1
+     [](std::size_t d, std::size_t j, std::vector<int>& v) {
+         std::size_t run = j / d, other = j % d, i = 0;
+         while (run >= d - i) { // the run-th (start, length) pair
+             run -= d - i;
+             ++i;
+         }
+         for (std::size_t t = i; t <= i + run; ++t)
+             v[t] = 1;
+         if (other < i || other > i + run)
+             v[other] = -1;
+     }},
+    {[](std::size_t) -> std::size_t { return 3; }, // everything approaching (a chain's contacts close)
+     [](std::size_t d, std::size_t j, std::vector<int>& v) {
+         for (std::size_t t = 0; t < d; ++t) {
+             const int ramp = static_cast<int>(d - 1 - t);
+             v[t] = j == 0 ? ramp : j == 1 ? 2 * ramp - static_cast<int>(d - 1) : -static_cast<int>(t);
+         }
+     }},
+    {[](std::size_t d) -> std::size_t { return d >= 3 ? (d - 2) * 343 : 0; }, // small integers on three neighbours
+     [](std::size_t, std::size_t j, std::vector<int>& v) {
+         const std::size_t at = j / 343, code = j % 343;
+         v[at] = static_cast<int>(code / 49) - 3;
+         v[at + 1] = static_cast<int>(code / 7 % 7) - 3;
+         v[at + 2] = static_cast<int>(code % 7) - 3;
+     }},
+};
+} // namespace
+
+std::size_t structured_count(std::size_t d) {
+    std::size_t n = 0;
+    for (const Family& f : kFamilies)
+        n += d ? f.count(d) : 0;
+    return n;
+}
+
+void structured_input(std::size_t d, std::size_t k, std::vector<int>& out) {
+    out.assign(d, 0);
+    for (const Family& f : kFamilies) {
+        const std::size_t n = d ? f.count(d) : 0;
+        if (k < n) {
+            f.make(d, k, out);
+            return;
+        }
+        k -= n;
+    }
+}
+
 void consistency_sample(const Mechanics& m, const ConsistencyOptions& o, std::uint64_t index, double* a, double* b,
                         bool& pair, bool& close) {
     const std::size_t d = o.velocities ? m.balls() : m.contacts();
     const ConsistencyChecker checker(m, o.velocities, 0);
     std::uint64_t st = o.seed * 0x9E3779B97F4A7C15ULL ^ (index + 0x632BE59BD9B4E019ULL);
-    for (int attempt = 0;; ++attempt) {
+    bool structured = false;
+    if (index % 2 == 0 && index / 2 < structured_count(d)) {
+        // The unit: the power of two nearest the range's geometric middle, lowered until 3 units
+        // fit under HI and raised to at least LO (entries beyond the range are clamped below).
+        double unit_s = std::ldexp(1.0, static_cast<int>(std::lround(std::log2(std::sqrt(o.range_lo) * std::sqrt(o.range_hi)))));
+        while (3 * unit_s > o.range_hi && unit_s / 2 >= o.range_lo)
+            unit_s /= 2;
+        std::vector<int> v;
+        structured_input(d, static_cast<std::size_t>(index / 2), v);
+        for (std::size_t i = 0; i < d; ++i)
+            a[i] = std::clamp(v[i] * unit_s, -o.range_hi, o.range_hi);
+        structured = checker.approaching(a); // one that approaches nowhere: a random sample instead
+    }
+    for (int attempt = 0; !structured; ++attempt) {
         const std::uint64_t kind = below(st, 4);
         const double scale = magnitude(st, o.range_lo, o.range_hi);
         for (std::size_t i = 0; i < d; ++i) {

@@ -143,9 +143,20 @@ class ConsistencyChecker {
 ConsistencySummary run_consistency(const Mechanics& m, const ConsistencyOptions& options, const Implementation& impl,
                                    const std::function<void(std::uint64_t)>& progress);
 
-// The sample of (seed, index): a point, and for pairs its partner (options say which).
+// The sample of (seed, index): a point, and for pairs its partner (options say which). Even
+// indices 2k take the k-th member of the structured families while they last (structured_input),
+// the others are random.
 void consistency_sample(const Mechanics& m, const ConsistencyOptions& options, std::uint64_t index, double* a,
                         double* b, bool& pair, bool& close);
+
+// The k-th structured input of dimension d (k < structured_count(d)), in units s (a power of two
+// in the run's --range): in order, one moving component (+-1), two (every pair, values +-1, +-2),
+// ties (a run of consecutive components at 1, one other at -1), everything approaching (the
+// decreasing ramps d-1..0 times 1 and 2, and 0..d-1 negated), then small integers (every vector
+// of -3..3 on three consecutive components, the rest 0). Entries are small integers: the caller
+// scales them (entries within -3..3 except the ramps). Proofs/README.md, "Consistency of black-box impact maps", says why these first.
+std::size_t structured_count(std::size_t d);
+void structured_input(std::size_t d, std::size_t k, std::vector<int>& out);
 
 // A finite double as an exact rational; nothing for NaN or an infinity.
 std::optional<Rational> exact_of(double x);
