@@ -203,6 +203,13 @@ void CertificateWriter::add(ObligationResult& o) {
     print(obligation_item(o, std::move(o.data)), 2, sink);
 }
 
-void CertificateWriter::finish() { out_ << "\n  ]\n}\n"; }
+void CertificateWriter::add_worst_case(const Json& worst_case) {
+    StreamSink sink{out_};
+    out_ << "\n  ],\n  \"worst_case\": ";
+    print(worst_case, 1, sink);
+    closed_ = true;
+}
+
+void CertificateWriter::finish() { out_ << (closed_ ? "\n}\n" : "\n  ]\n}\n"); }
 
 } // namespace impactcert

@@ -36,11 +36,15 @@ class CertificateWriter {
   public:
     CertificateWriter(std::ostream& out, const Model& model, const std::string& verdict);
     void add(ObligationResult& o); // moves o.data out
+    // After the obligations: the certificate's "worst_case" (worst_case.hpp), checked by
+    // impactcert-check when present.
+    void add_worst_case(const Json& worst_case);
     void finish();
 
   private:
     std::ostream& out_;
     bool first_ = true;
+    bool closed_ = false; // the obligations' array is closed (a worst case follows it)
 };
 std::string sha256_hex(const std::string& bytes);
 const char* statement_of(const std::string& obligation_id, bool friction = false);

@@ -150,6 +150,8 @@ int main(int argc, char** argv) {
     std::string shard_text;
     certify_cmd->add_option("--shard", shard_text, "K/N: write the part of slice K of N (impactcert-certificate-part/1); impactcert-check PART... merges and checks the parts")->check(cli::shard_text);
     add_shard_block_option(certify_cmd, proof);
+    bool certify_worst = false;
+    certify_cmd->add_flag("--worst-case", certify_worst, "also certify the law's exact worst case (sup T+/T-, Lipschitz constant): impactcert-check checks it");
 
     auto* report_cmd = app.add_subcommand("report", "write report.md (CI job summary) and a self-contained report.html with a picture of the cones");
     report_cmd->add_option("--law", law_path, "law file (impactcert-law/1); default: the paper's 3-ball law");
@@ -307,9 +309,12 @@ int main(int argc, char** argv) {
         try {
             if (verify_cmd->parsed())
                 return run_verify_command(verify_args, limits);
-            if (certify_cmd->parsed())
-                return shard_text.empty() ? run_certify(law_path, out_path, limits)
+            if (certify_cmd->parsed()) {
+                if (certify_worst && !shard_text.empty())
+                    throw InputError("--worst-case: not with --shard (the worst case is certified over every piece in one process)");
+                return shard_text.empty() ? run_certify(law_path, out_path, certify_worst, limits)
                                           : run_certify_shard(law_path, parse_shard(shard_text), out_path, limits);
+            }
             if (report_cmd->parsed())
                 return run_report(law_path, out_path, limits);
             if (smt_cmd->parsed())

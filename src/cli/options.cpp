@@ -66,6 +66,9 @@ void add_verify_options(CLI::App* cmd, VerifyArgs& args, ProofOptions& proof) {
     cmd->add_option("--junit", args.junit_path, "also write a JUnit XML report to this file");
     cmd->add_flag("--stream", args.stream, "keep only the ids of each piece's rays and images (a law given by orbit representatives, "
                                            "larger than memory as matrices); same verdicts, streamed checks (proofs/README.md, \"Streamed laws\")");
+    cmd->add_flag("--worst-case", args.worst_case, "also the law's exact worst case: sup T+/T- over its cones and, for a continuous law that "
+                                                   "tiles the space, its Lipschitz constant in H (algebraic numbers with certified enclosures; "
+                                                   "proofs/README.md, \"The exact worst case of a law\")");
     cmd->add_option("--shard", args.shard_text, "K/N: decide slice K of N only (obligation i when i mod N = K-1, and nonexpansive's pair blocks b mod N = K-1)")->check(shard_text);
     add_shard_block_option(cmd, proof);
     add_limit_options(cmd, proof);

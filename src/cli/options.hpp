@@ -6,6 +6,8 @@
 // exit statuses, without derive, sweep, fuzz or report (half the code to compile).
 #pragma once
 
+#include "worst_case.hpp"
+
 #include "cli/common.hpp"
 
 #include <CLI/CLI.hpp>
@@ -41,11 +43,16 @@ void add_shard_block_option(CLI::App* cmd, ProofOptions& proof);
 struct VerifyArgs {
     std::string law_path, junit_path, shard_text;
     bool json = false, stream = false;
+    bool worst_case = false; // --worst-case: the law's exact sup T+/T- (and Lipschitz constant)
 };
 void add_verify_options(CLI::App* cmd, VerifyArgs& args, ProofOptions& proof);
 VerifyReport verify_with_progress(const Model& model, const Limits& limits); // with TerminalProgress
+// --worst-case (cli/verify.cpp): the exact worst case of the law; the Lipschitz constant when the
+// report proves fan and P1 (a continuous tiling).
+WorstCase worst_case_of(const Model& model, const VerifyReport& report, const Limits& limits);
+std::string worst_case_lines(const WorstCase& w, const Model& model);
 int run_verify_command(const VerifyArgs& args, const Limits& limits); // cli/verify.cpp
-int run_certify(const std::string& law_path, const std::string& out_path, const Limits& limits);
+int run_certify(const std::string& law_path, const std::string& out_path, bool worst_case, const Limits& limits);
 
 // A command's own "undecided" (a limit of derive or sweep): run_program prints
 // "<program>: undecided: <what>" and exits 3, like every other limit.
