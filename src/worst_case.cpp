@@ -303,9 +303,7 @@ std::string value_text(const AlgebraicValue& v) {
     return value_decimal(v) + " (a root of " + poly + ")";
 }
 
-namespace {
-
-Json value_json(const AlgebraicValue& v) {
+Json to_json(const AlgebraicValue& v) {
     Json j;
     if (v.exact)
         j["exact"] = to_json(*v.exact);
@@ -315,6 +313,8 @@ Json value_json(const AlgebraicValue& v) {
     return j;
 }
 
+namespace {
+
 Json bound_json(const LawBound& b, const Model& model, bool energy) {
     Json j;
     if (!b.decided) {
@@ -323,7 +323,7 @@ Json bound_json(const LawBound& b, const Model& model, bool energy) {
         return j;
     }
     j["status"] = "decided";
-    j["value"] = value_json(b.value);
+    j["value"] = to_json(b.value);
     j["piece"] = model.pieces()[b.pieces[b.top].piece].name;
     j[energy ? "point" : "direction"] = to_json(b.pieces[b.top].point);
     Json pieces = Json::array();

@@ -76,5 +76,6 @@ std::string value_text(const AlgebraicValue& v);
 std::string value_decimal(const AlgebraicValue& v);
 
 Json to_json(const WorstCase& w, const Model& model);
+Json to_json(const AlgebraicValue& v); // exact (when rational), polynomial, interval, decimal
 
 } // namespace impactcert

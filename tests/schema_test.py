@@ -101,7 +101,18 @@ try:
             check("verdict.schema.json", doc, " ".join(args))
             if undecided and not any(o["verdict"] == "undecided" for o in doc["obligations"]):
                 failures.append("the undecided run has no undecided obligation")
+    # --worst-case in the verdict and the certificate (a rational and an irrational value)
+    for args in (["verify", "--json", "--worst-case", "--law", os.path.join(SRC, "proofs", "classical3", "newton-approaching", "law.json")],
+                 ["verify", "--json", "--worst-case"]):
+        doc = run(args, 1 if "--law" in args else 0)
+        if doc is not None:
+            check("verdict.schema.json", doc, " ".join(args))
+            if "worst_case" not in doc:
+                failures.append("verify --worst-case --json has no worst_case")
     cert = os.path.join(tmp, "cert.json")
+    if run(["certify", "--worst-case", "--law", os.path.join(SRC, "proofs", "classical3", "newton-approaching", "law.json"),
+            "-o", cert], 1, stdout=False):
+        check("certificate.schema.json", json.load(open(cert)), "certify --worst-case")
     for lawfile in ("proofs/classical3/newton-approaching/law.json", "proofs/kane/gains/law.json"):
         if run(["certify", "--law", os.path.join(SRC, lawfile), "-o", cert], 1, stdout=False):
             check("certificate.schema.json", json.load(open(cert)), "certify " + lawfile)

@@ -22,7 +22,7 @@ namespace detail {
 int check(const Json& cert, const Limits& limits, const std::vector<ExtraBlock>& extra) {
     if (!cert.is_object() || !cert.contains("format") || cert.at("format") != "impactcert-certificate/1")
         malformed("$.format", "not an impactcert-certificate/1 document");
-    expect_keys(cert, "$", {"format", "tool", "law_sha256", "law", "verdict", "system", "obligations"});
+    expect_keys(cert, "$", {"format", "tool", "law_sha256", "law", "verdict", "system", "obligations"}, {"worst_case"});
     str(field(cert, "$", "tool"), "$.tool");
     const Json& law_json = field(cert, "$", "law");
     const std::string hash = str(field(cert, "$", "law_sha256"), "$.law_sha256");
@@ -39,6 +39,7 @@ int check(const Json& cert, const Limits& limits, const std::vector<ExtraBlock>&
         malformed("$.obligations", "expected the " + std::to_string(ids_of(law).size()) + " obligations");
     Checker checker(law, obligations, limits, extra);
     bool any_claimed_refuted = false, any_claimed_undecided = false;
+    bool fan_holds = false, p1_holds = false; // a continuous tiling: the worst case's Lipschitz bound
     // Progress on a terminal for long checks: the obligation being checked, rewritten in place.
     const bool terminal = limits.progress && isatty(2) != 0;
     const auto start = std::chrono::steady_clock::now();
@@ -84,12 +85,18 @@ int check(const Json& cert, const Limits& limits, const std::vector<ExtraBlock>&
         require((verdict == "refuted") == o.contains("counterexample"), path,
                 "a counterexample goes with a refutation, and only with one");
         const auto truth = checker.holds(k);
+        if (ids_of(law)[k] == "fan")
+            fan_holds = truth == Checker::Truth::proved;
+        if (ids_of(law)[k] == "P1")
+            p1_holds = truth == Checker::Truth::proved;
         if (claimed && truth == Checker::Truth::refuted)
             any_claimed_refuted = true;
         if (claimed && truth == Checker::Truth::undecided)
             any_claimed_undecided = true;
     }
     checker.check_extra_blocks();
+    if (cert.contains("worst_case"))
+        check_worst_case(law, cert.at("worst_case"), fan_holds && p1_holds, limits);
     const std::string top = str(field(cert, "$", "verdict"), "$.verdict");
     const char* follows = any_claimed_refuted ? "refuted" : any_claimed_undecided ? "undecided" : "proved";
     require(top == follows, "$.verdict", "does not follow from the claimed obligations");

@@ -20,6 +20,7 @@
 #pragma once
 
 #include "checked_law.hpp"
+#include "copositivity_evidence.hpp"
 #include "impactcert_check.hpp"
 #include "linalg.hpp"
 #include "reading.hpp"
@@ -227,6 +228,10 @@ class Checker {
 
 // The whole document (check.cpp): 0, or throws Malformed, Rejected, Undecided or a JSON error.
 int check(const Json& cert, const Limits& limits, const std::vector<ExtraBlock>& extra = {});
+
+// The certificate's "worst_case" (worst_case.cpp), when present; the Lipschitz bound is there
+// exactly when the law is a continuous tiling (fan and P1 hold).
+void check_worst_case(const Law& law, const Json& worst_case, bool continuous_tiling, const Limits& limits);
 
 // One line: control characters and backslashes escaped (check.cpp).
 std::string one_line(const std::string& text);

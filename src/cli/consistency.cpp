@@ -4,6 +4,7 @@
 #include "cli/tools.hpp"
 
 #include "consistency.hpp"
+#include "worst_case.hpp"
 #include "json.hpp"
 #include "verdict_output.hpp"
 
@@ -283,6 +284,11 @@ int run_consistency_fuzz(const FuzzArgs& a) {
     std::snprintf(range, sizeof range, "%.6g..%.6g", o.range_lo, o.range_hi);
     if (!a.junit.empty())
         write_file(a.junit, junit(sum, target, checked));
+    // With a reference law, its exact sup T+/T- beside the worst energy gain found (proofs/README.md,
+    // "The exact worst case of a law"); laws of more than six contacts are left out (2^c faces).
+    std::optional<LawBound> reference_sup;
+    if (s.reference && s.reference->contacts() <= 6 && !s.reference->has_friction())
+        reference_sup = energy_supremum(*s.reference, WorstCaseOptions{});
     if (a.json) {
         Json j;
         j["format"] = "impactcert-fuzz/1";
@@ -327,6 +333,8 @@ int run_consistency_fuzz(const FuzzArgs& a) {
                     worst_solver[id] = finding_json(*slot.worst_solver);
             }
             j["reference"] = s.reference_name;
+            if (reference_sup && reference_sup->decided)
+                j["reference_sup_energy_ratio"] = to_json(reference_sup->value);
             j["levels"] = levels;
             j["worst_solver"] = worst_solver;
         }
@@ -382,6 +390,17 @@ int run_consistency_fuzz(const FuzzArgs& a) {
                  " law-level (the exact law breaks it there too: more iterations will not help), " +
                  std::to_string(slot.solver) + " solver-level (the exact law does not)" +
                  (other ? ", " + std::to_string(other) + " not classified" : std::string()));
+            if (prop == fuzz::Property::energy && reference_sup && reference_sup->decided) {
+                const AlgebraicValue& v = reference_sup->value;
+                const std::string sup = v.exact ? to_string(*v.exact) : value_decimal(v);
+                const Rational gain = Rational(100) * ((v.exact ? *v.exact : v.lo) - Rational(1));
+                std::string pct = readable_text(gain, 3);
+                if (pct[0] == '~')
+                    pct.erase(0, 1);
+                line("      the reference law's exact sup T+/T- (contact part) is " + sup + " (" +
+                     (sign_of(gain) == Sign::negative ? "" : "+") + pct + "%)" +
+                     (v.exact ? "" : ", a root of its polynomial (--json)") + ": no input gains more under the law");
+            }
             if (slot.worst_solver) {
                 char off[48];
                 std::snprintf(off, sizeof off, "%.3g", slot.worst_solver->off);
