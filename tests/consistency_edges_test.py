@@ -86,7 +86,10 @@ try:
         j = json.loads(p.stdout)
         v = j["violations"]
         others = {k: x for k, x in v.items() if x and k != "malformed"}
-        if not (1 <= v["malformed"] <= 2) or others or j["samples"] != 1000:
+        # One bad input per process (two jobs), answered badly each time it comes: the structured
+        # inputs meet a few vectors twice (a unit vector is also a small-integer vector), so up to
+        # two more.
+        if not (1 <= v["malformed"] <= 4) or others or j["samples"] != 1000:
             fail(f"one bad answer ({mode}): malformed {v['malformed']}, others {others}, samples {j['samples']}")
         else:
             print(f"one bad answer ({mode}): {v['malformed']} malformed (one per process), the rest checked")

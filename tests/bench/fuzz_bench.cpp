@@ -6,7 +6,9 @@
 //     of a naive cross-check of the same samples and implementation (every point converted to
 //     GMP rationals, classified and evaluated exactly, rounded to nearest, compared in ulps);
 //   - the --impl-cmd protocol with the cheapest program (tests/impls/echo_impl.cpp), all cores;
-//   - consistency fuzzing (no law, 3 balls in ball velocities) through the same program.
+//   - consistency fuzzing (no law, 3 balls in ball velocities) through the same program;
+//   - consistency fuzzing of 4 balls: the protocol alone, an in-process C ABI implementation,
+//     and the same with the exact reference law (--reference).
 // Usage: impactcert_fuzz_bench SOURCE_DIR NEWTON4_IMPLS.so ECHO_PROGRAM
 #include "consistency.hpp"
 #include "fuzz.hpp"
@@ -121,6 +123,41 @@ int main(int argc, char** argv) {
                 "consistency --impl-cmd echo", static_cast<double>(csum.samples) / ct / 1e6, cores,
                 static_cast<unsigned long long>(csum.samples), ct,
                 static_cast<unsigned long long>(csum.properties[static_cast<std::size_t>(fuzz::Property::kinematic)].count));
+    // Consistency fuzzing of a 4-ball chain in contact velocities (proofs/newton4: the elastic law,
+    // S = sort): the protocol alone (the echo program through --impl-cmd, the baseline of this
+    // run), a trivial in-process implementation through the C ABI (newton4_sorted, consistent:
+    // every sample checked, nothing found), and the same with the exact reference law
+    // (--reference proofs/newton4/law.json: each sample also evaluated exactly by the law).
+    {
+        const Mechanics four = make_mechanics(newton4.system());
+        fuzz::ConsistencyOptions f;
+        f.seed = 7;
+        f.samples = 200000;
+        f.jobs = cores;
+        f.keep = 1;
+        f.max_rel_error = 1e-9; // the CLI's default tolerance
+        f.velocities = false;   // contact velocities: the law's and the symbol's space
+        const auto sorted = fuzz::load_symbol(std::string(argv[2]) + ":newton4_sorted", 3, 3);
+        struct Row {
+            const char* name;
+            const fuzz::Implementation* impl;
+            const Model* reference;
+        };
+        double baseline = 0;
+        for (const Row& row : {Row{"consistency 4 balls: echo", echo.get(), nullptr},
+                               Row{"  in-process C ABI (sorted)", sorted.get(), nullptr},
+                               Row{"  + exact reference law", sorted.get(), &newton4}}) {
+            f.reference = row.reference;
+            const auto t0 = std::chrono::steady_clock::now();
+            const auto r = fuzz::run_consistency(four, f, *row.impl, nullptr);
+            const double rate = static_cast<double>(r.samples) / seconds_since(t0);
+            if (baseline == 0)
+                baseline = rate;
+            std::printf("%-28s %8.3f M samples/s with %u jobs (%llu samples, %llu findings)%s%.2fx the protocol-only baseline\n",
+                        row.name, rate / 1e6, cores, static_cast<unsigned long long>(r.samples),
+                        static_cast<unsigned long long>(r.violations()), "; ", rate / baseline);
+        }
+    }
     // With friction (SPEC section 9): a spinning disk on rough ground (x, y, theta; one rough
     // contact), the same echo program, against the same disk without friction (baseline, this run).
     auto disk = [](bool rough) {
