@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "verdict_output.hpp"
 
+#include "junit.hpp"
+
 #include <cstdio>
 
 namespace impactcert {
@@ -37,12 +39,6 @@ std::string milliseconds(std::chrono::nanoseconds t) {
     return buf;
 }
 
-std::string seconds_text(std::chrono::nanoseconds t) {
-    const long long us = std::chrono::duration_cast<std::chrono::microseconds>(t).count();
-    char buf[32];
-    std::snprintf(buf, sizeof buf, "%lld.%06lld", us / 1000000, us % 1000000);
-    return buf;
-}
 
 std::string pad(std::string s, std::size_t width) {
     if (s.size() < width)
@@ -120,50 +116,30 @@ std::string verdict_table(const VerifyReport& report, std::size_t balls, std::si
 }
 
 std::string verdict_junit(const VerifyReport& report) {
-    std::size_t failures = 0, skipped = 0;
-    std::chrono::nanoseconds total{0};
+    JunitSuite suite{"impactcert verify " + report.law, {}};
     for (const auto& o : report.obligations) {
-        total += o.elapsed;
-        if (o.claimed && o.verdict != Verdict::proved)
-            ++failures;
-        else if (!o.claimed || o.verdict == Verdict::skipped)
-            ++skipped;
-    }
-    const std::string counts = " tests=\"" + std::to_string(report.obligations.size()) +
-                               "\" failures=\"" + std::to_string(failures) + "\" errors=\"0\" skipped=\"" +
-                               std::to_string(skipped) + "\" time=\"" + seconds_text(total) + "\"";
-    std::string out = "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n";
-    out += "<testsuites name=\"impactcert\"" + counts + ">\n";
-    out += "  <testsuite name=\"impactcert verify " + xml_escape(report.law) + "\"" + counts + ">\n";
-    for (const auto& o : report.obligations) {
-        out += "    <testcase classname=\"impactcert." + xml_escape(report.law) + "\" name=\"" +
-               xml_escape(o.id) + "\" time=\"" + seconds_text(o.elapsed) + "\"";
+        JunitCase c;
+        c.classname = "impactcert." + report.law;
+        c.name = o.id;
+        c.time = o.elapsed;
         const bool failed = o.claimed && o.verdict != Verdict::proved;
-        const bool skip = !failed && (!o.claimed || o.verdict == Verdict::skipped);
-        if (!failed && !skip) {
-            out += "/>\n";
-            continue;
-        }
-        out += ">\n";
         if (failed) {
-            const std::string witness =
-                o.verdict == Verdict::undecided ? o.limit : o.counterexample.dump();
-            out += "      <failure type=\"" + std::string(to_string(o.verdict)) + "\" message=\"" +
-                   xml_escape(o.id + " " + to_string(o.verdict) + ": " + witness) + "\">" +
-                   xml_escape(witness) + "</failure>\n";
-        } else {
-            const std::string why = o.verdict == Verdict::skipped
-                                        ? "nothing declared to check"
-                                        : std::string("not claimed; ") + to_string(o.verdict) +
-                                              (o.verdict == Verdict::refuted     ? ": " + o.counterexample.dump()
-                                               : o.verdict == Verdict::undecided ? ": " + o.limit
-                                                                                 : std::string());
-            out += "      <skipped message=\"" + xml_escape(why) + "\"/>\n";
+            const std::string witness = o.verdict == Verdict::undecided ? o.limit : o.counterexample.dump();
+            c.kind = JunitCase::Kind::failed;
+            c.type = to_string(o.verdict);
+            c.message = o.id + " " + to_string(o.verdict) + ": " + witness;
+            c.text = witness;
+        } else if (!o.claimed || o.verdict == Verdict::skipped) {
+            c.kind = JunitCase::Kind::skipped;
+            c.message = o.verdict == Verdict::skipped ? "nothing declared to check"
+                                                      : std::string("not claimed; ") + to_string(o.verdict) +
+                                                            (o.verdict == Verdict::refuted     ? ": " + o.counterexample.dump()
+                                                             : o.verdict == Verdict::undecided ? ": " + o.limit
+                                                                                               : std::string());
         }
-        out += "    </testcase>\n";
+        suite.cases.push_back(std::move(c));
     }
-    out += "  </testsuite>\n</testsuites>\n";
-    return out;
+    return junit_xml(suite);
 }
 
 } // namespace impactcert

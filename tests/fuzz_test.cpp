@@ -570,8 +570,8 @@ TEST_CASE("fuzz: results do not depend on --jobs - JUnit and JSON reports", "[fu
           std::string::npos);
     std::ifstream f(junit);
     const std::string xml((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
-    CHECK(xml.find("<testcase classname=\"impactcert.fuzz\" name=\"classification\">") != std::string::npos);
-    CHECK(xml.find("<failure message=") != std::string::npos);
+    CHECK(xml.find("<testcase classname=\"impactcert.fuzz\" name=\"classification\" time=") != std::string::npos);
+    CHECK(xml.find("<failure type=\"violations\" message=") != std::string::npos);
     CHECK(test::run_cli("fuzz --max-ulps 1 --max-rel-error 1e-9 --samples 10").status == 2);
     CHECK(test::run_cli("fuzz --max-rel-error -1 --samples 10").status == 2);
 }

@@ -122,6 +122,35 @@ try:
             part = os.path.join(tmp, f"part{k}.json")
             if run(["certify", "--law", os.path.join(SRC, lawfile), "--shard", f"{k}/2", "-o", part], 0, stdout=False):
                 check("certificate-part.schema.json", json.load(open(part)), f"certify --shard {k}/2 " + lawfile)
+    # One JUnit shape for verify, fuzz (law mode) and fuzz (consistency): the same elements and
+    # attributes, counts that agree with the cases.
+    import xml.etree.ElementTree as ET
+    junit_runs = [(["verify", "--law", os.path.join(SRC, "proofs", "classical3", "newton-approaching", "law.json")], 1),
+                  (["fuzz", "--law", os.path.join(SRC, "proofs", "newton4", "law.json"), "--impl-cmd",
+                    "python3 " + os.path.join(SRC, "tests", "impls", "newton4_impl.py") + " sorted", "--samples", "200", "--max-rel-error", "1e-12"], 0),
+                  (["fuzz", "--masses", "1,1,1", "--velocities", "--impl-cmd",
+                    "python3 " + os.path.join(SRC, "tests", "impls", "cradle_controls.py") + " stuck", "--samples", "200"], 1)]
+    for args, expect in junit_runs:
+        xml_path = os.path.join(tmp, "junit.xml")
+        if os.path.exists(xml_path):
+            os.remove(xml_path)
+        p = subprocess.run([CLI] + args + ["--junit", xml_path], capture_output=True, text=True)
+        if p.returncode != expect or not os.path.exists(xml_path):
+            failures.append(f"{' '.join(args[:2])} --junit: exit {p.returncode}")
+            continue
+        root = ET.parse(xml_path).getroot()
+        suites = list(root)
+        want = {"name", "tests", "failures", "errors", "skipped", "time"}
+        if root.tag != "testsuites" or set(root.attrib) != want or len(suites) != 1 or set(suites[0].attrib) != want:
+            failures.append(f"{' '.join(args[:2])} --junit: not the one shape: {root.tag} {root.attrib}")
+            continue
+        cases = list(suites[0])
+        failed = sum(1 for c in cases if c.find("failure") is not None)
+        skipped = sum(1 for c in cases if c.find("skipped") is not None)
+        if any(c.tag != "testcase" or set(c.attrib) != {"classname", "name", "time"} for c in cases) or \
+                int(root.attrib["tests"]) != len(cases) or int(root.attrib["failures"]) != failed or \
+                int(root.attrib["skipped"]) != skipped or (failed > 0) != (expect == 1):
+            failures.append(f"{' '.join(args[:2])} --junit: counts or cases disagree: {root.attrib}")
     # derive's witnesses
     doc = run(["derive", "sequential", "--masses", "1,2,1", "--rule", "any", "--json"], 1)
     if doc:

@@ -6,6 +6,7 @@
 #include "consistency.hpp"
 #include "worst_case.hpp"
 #include "json.hpp"
+#include "junit.hpp"
 #include "verdict_output.hpp"
 
 #include <unistd.h>
@@ -187,18 +188,18 @@ Json finding_json(const fuzz::Finding& f) {
 }
 
 std::string junit(const fuzz::ConsistencySummary& sum, const std::string& target, const bool* checked) {
-    std::size_t failures = 0, cases = 0;
-    std::string body;
+    JunitSuite suite{"impactcert fuzz (consistency): " + target, {}};
     auto add = [&](const std::string& name, std::uint64_t count, const std::string& message) {
-        ++cases;
-        body += "    <testcase classname=\"impactcert.consistency\" name=\"" + xml_escape(name) + "\"";
-        if (!count) {
-            body += "/>\n";
-            return;
+        JunitCase t;
+        t.classname = "impactcert.consistency";
+        t.name = name;
+        if (count) {
+            t.kind = JunitCase::Kind::failed;
+            t.type = "violations";
+            t.message = std::to_string(count) + " violation(s) in " + std::to_string(sum.samples) + " samples";
+            t.text = message;
         }
-        ++failures;
-        body += ">\n      <failure message=\"" + std::to_string(count) + " violation(s) in " + std::to_string(sum.samples) +
-                " samples\">" + xml_escape(message) + "</failure>\n    </testcase>\n";
+        suite.cases.push_back(std::move(t));
     };
     for (std::size_t p = 0; p < fuzz::kProperties; ++p) {
         if (!checked[p])
@@ -208,9 +209,7 @@ std::string junit(const fuzz::ConsistencySummary& sum, const std::string& target
             slot.worst ? slot.worst->detail + "; replay: " + slot.worst->replay : "");
     }
     add("implementation failures", sum.crashed + sum.hung + sum.malformed + sum.refused, "");
-    return "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<testsuites>\n  <testsuite name=\"impactcert fuzz (consistency): " +
-           xml_escape(target) + "\" tests=\"" + std::to_string(cases) + "\" failures=\"" + std::to_string(failures) +
-           "\">\n" + body + "  </testsuite>\n</testsuites>\n";
+    return junit_xml(suite);
 }
 
 } // namespace

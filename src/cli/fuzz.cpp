@@ -6,6 +6,7 @@
 #include "consistency.hpp"
 #include "float_eval.hpp"
 #include "json.hpp"
+#include "junit.hpp"
 #include "verdict_output.hpp"
 
 #include <impactcert/float_law.hpp>
@@ -182,26 +183,24 @@ std::string fuzz_junit(const fuzz::Summary& sum, const std::string& target) {
                           {"energy", sum.energy},
                           {"non-expansivity", sum.nonexpansive},
                           {"implementation failures", sum.crashed + sum.hung + sum.malformed + sum.refused}};
-    std::size_t failures = 0;
-    for (const auto& c : cases)
-        failures += c.count ? 1 : 0;
-    std::string x = "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<testsuites>\n";
-    x += "  <testsuite name=\"impactcert fuzz: " + xml_escape(target) + "\" tests=\"" + std::to_string(std::size(cases)) +
-         "\" failures=\"" + std::to_string(failures) + "\">\n";
+    std::string first;
+    for (const auto& v : sum.examples)
+        if (first.empty())
+            first = v.what + "; replay: " + v.replay;
+    JunitSuite suite{"impactcert fuzz: " + target, {}};
     for (const auto& c : cases) {
-        x += "    <testcase classname=\"impactcert.fuzz\" name=\"" + std::string(c.name) + "\"";
-        if (!c.count) {
-            x += "/>\n";
-            continue;
+        JunitCase t;
+        t.classname = "impactcert.fuzz";
+        t.name = c.name;
+        if (c.count) {
+            t.kind = JunitCase::Kind::failed;
+            t.type = "violations";
+            t.message = std::to_string(c.count) + " violation(s) in " + std::to_string(sum.samples) + " samples";
+            t.text = first;
         }
-        std::string first;
-        for (const auto& v : sum.examples)
-            if (first.empty())
-                first = v.what + "; replay: " + v.replay;
-        x += ">\n      <failure message=\"" + std::to_string(c.count) + " violation(s) in " + std::to_string(sum.samples) +
-             " samples\">" + xml_escape(first) + "</failure>\n    </testcase>\n";
+        suite.cases.push_back(std::move(t));
     }
-    return x + "  </testsuite>\n</testsuites>\n";
+    return junit_xml(suite);
 }
 
 } // namespace
