@@ -241,7 +241,8 @@ template <class PieceFn> LawBound bound_law(const Model& model, PieceFn piece_fn
             return out;
     }
     out.pieces.clear();
-    out.limit = "the values were not separated with " + std::to_string(kLastBits) + " bits";
+    out.limit = "the pieces' values were not separated with intervals of " + std::to_string(kLastBits) +
+                " bits (a bound of the prover, no option raises it)";
     return out;
 }
 
@@ -252,7 +253,7 @@ LawBound energy_supremum(const Model& model, const WorstCaseOptions& options) {
         return bound_law(model, [&](std::size_t p, std::size_t bits) { return energy_piece(model, p, bits, options); });
     } catch (const LimitExceeded& e) {
         LawBound out;
-        out.limit = e.option;
+        out.limit = e.what(); // names the option
         return out;
     }
 }

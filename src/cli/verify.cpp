@@ -58,9 +58,14 @@ std::string worst_case_lines(const WorstCase& w, const Model& model) {
 
 namespace {
 
+// A worst case stopped by a limit is undecided: exit 3 (unless a claim is refuted), one line on
+// stderr naming the limit.
 int worst_case_status(int status, const WorstCase& w) {
-    const bool undecided = !w.energy.decided || (w.lipschitz && !w.lipschitz->decided);
-    return status == 0 && undecided ? kExitUndecided : status;
+    const LawBound* stopped = !w.energy.decided ? &w.energy : w.lipschitz && !w.lipschitz->decided ? &*w.lipschitz : nullptr;
+    if (!stopped)
+        return status;
+    std::cerr << program_name() << ": worst case undecided: " << stopped->limit << "\n";
+    return status == 0 ? kExitUndecided : status;
 }
 
 int run_verify(const std::string& law_path, bool json, const std::string& junit_path, bool worst, const Limits& limits) {
