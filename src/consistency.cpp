@@ -358,11 +358,11 @@ std::vector<Finding> ConsistencyChecker::check_exact(const Vector& x, const Vect
         // |y| > (1 + R) s + A, squared with s_up >= s on the cross term
         if (t2 > one_r * one_r * s2 + allow * (Rational(2) * one_r * s_up + allow)) {
             const Rational half(1, 2);
-            const std::string what = velocities_ ? "T" : "T (contact part)";
+            const std::string part = velocities_ ? "" : " (contact part)";
             finding(Property::energy, ratio(t2 - s2, s2),
-                    percent(ratio(t2 - s2, s2)) + ": " + what + "- = " + exact_text(half * s2) + ", " + what +
-                        "+ = " + exact_text(half * t2),
-                    {{what + "-", half * s2}, {what + "+", half * t2}});
+                    percent(ratio(t2 - s2, s2)) + ": T-" + part + " = " + exact_text(half * s2) + ", T+" + part + " = " +
+                        exact_text(half * t2),
+                    {{"T-" + part, half * s2}, {"T+" + part, half * t2}});
         }
     }
     return out;
@@ -542,6 +542,8 @@ void consistency_sample(const Mechanics& m, const ConsistencyOptions& o, std::ui
         double unit_s = std::ldexp(1.0, static_cast<int>(std::lround(std::log2(std::sqrt(o.range_lo) * std::sqrt(o.range_hi)))));
         while (3 * unit_s > o.range_hi && unit_s / 2 >= o.range_lo)
             unit_s /= 2;
+        while (unit_s < o.range_lo) // every non-zero entry at least LO (those above HI are clamped)
+            unit_s *= 2;
         std::vector<int> v;
         structured_input(d, static_cast<std::size_t>(index / 2), v);
         for (std::size_t i = 0; i < d; ++i)

@@ -29,12 +29,14 @@ Rational pow2(long e) {
     return r;
 }
 
-// A vector of the (approximate) eigenspace of the pencil (A, B) at the root isolated in iv, with
-// every entry > 0 after a sign change; nothing when none of the tries gives one. A rational root:
-// the exact null space of A - root B (its basis vectors and their sum). Otherwise inverse
-// iteration from B times a start vector at the interval's upper end (not a root): the root's
-// eigenvector dominates by the ratio of its distance to the others over the interval's width.
-std::optional<Vector> positive_eigenvector(const Matrix& A, const Matrix& B, const RootInterval& iv) {
+// Vectors of the (approximate) eigenspace of the pencil (A, B) at the root isolated in iv, each
+// with every entry > 0 after a sign change (possibly none). A rational root: the exact null space
+// of A - root B (its basis vectors and their sum). Otherwise one inverse iteration step from B s
+// at the interval's upper end (not a root), for several starts s (1, each unit vector, 1..k): the
+// root's eigenvector dominates by the ratio of its distance to the others over the interval's
+// width, unless s has no component along it (1 may be exactly another root's eigenvector), so the
+// caller keeps the try of the largest ratio.
+std::vector<Vector> positive_eigenvectors(const Matrix& A, const Matrix& B, const RootInterval& iv, bool any_sign = false) {
     const std::size_t k = A.rows();
     std::vector<Vector> tries;
     if (iv.lo == iv.hi) {
@@ -48,28 +50,34 @@ std::optional<Vector> positive_eigenvector(const Matrix& A, const Matrix& B, con
             tries.push_back(v);
             sum = sum + v;
         }
-        tries.push_back(sum);
+        if (!basis.empty())
+            tries.push_back(sum);
     } else {
         const Matrix K = A - iv.hi * B;
         std::vector<Vector> starts{Vector(k, Rational(1))};
         for (std::size_t i = 0; i < k && k > 1; ++i)
             starts.push_back(unit_vector(k, i));
-        for (const auto& s : starts) {
-            auto y = solve(K, B * s);
-            if (y)
+        Vector ramp(k);
+        for (std::size_t i = 0; i < k; ++i)
+            ramp[i] = Rational(static_cast<long>(i + 1));
+        starts.push_back(ramp);
+        for (const auto& s : starts)
+            if (auto y = solve(K, B * s))
                 tries.push_back(*y);
-        }
     }
+    std::vector<Vector> out;
     for (Vector v : tries) {
+        if (is_zero(v))
+            continue;
         Rational total(0);
         for (const auto& x : v)
             total += x;
         if (sign_of(total) == Sign::negative)
             v = Rational(-1) * v;
-        if (std::all_of(v.begin(), v.end(), [](const Rational& x) { return sign_of(x) == Sign::positive; }))
-            return v;
+        if (any_sign || std::all_of(v.begin(), v.end(), [](const Rational& x) { return sign_of(x) == Sign::positive; }))
+            out.push_back(std::move(v));
     }
-    return std::nullopt;
+    return out;
 }
 
 Rational width_at(std::size_t bits, const RootInterval& iv) {
@@ -147,13 +155,24 @@ std::optional<PieceBound> energy_piece(const Model& model, std::size_t p, std::s
     });
     for (Candidate cand : candidates) {
         const auto& idx = faces[cand.face];
-        const auto y = positive_eigenvector(sub_matrix(P, idx), sub_matrix(N, idx), cand.iv);
-        if (!y)
-            continue; // not attained inside this face (the face's boundary has its own candidates)
-        Vector z(c, Rational(0));
-        for (std::size_t i = 0; i < idx.size(); ++i)
-            z[idx[i]] = (*y)[i];
-        const Rational lower = bilinear(z, P, z) / bilinear(z, N, z);
+        // The try of the largest ratio; none reaching the interval: not attained inside this face
+        // (its boundary has its own candidates) or not found from these starts.
+        std::optional<Vector> z;
+        Rational lower;
+        for (const auto& y : positive_eigenvectors(sub_matrix(P, idx), sub_matrix(N, idx), cand.iv)) {
+            Vector x(c, Rational(0));
+            for (std::size_t i = 0; i < idx.size(); ++i)
+                x[idx[i]] = y[i];
+            const Rational r = bilinear(x, P, x) / bilinear(x, N, x);
+            if (!z || r > lower) {
+                z = std::move(x);
+                lower = r;
+            }
+        }
+        // A try far below the root (by more than the interval's width; an approximate eigenvector
+        // is off by the square of it) is another root's eigenvector.
+        if (!z || lower < cand.iv.lo - (cand.iv.hi - cand.iv.lo))
+            continue;
         const Rational upper = cand.iv.hi;
         if (upper < lower)
             return std::nullopt; // this root is below a value attained: a larger one was missed
@@ -174,7 +193,7 @@ std::optional<PieceBound> energy_piece(const Model& model, std::size_t p, std::s
         b.poly = polys[cand.face];
         b.lower = lower;
         b.upper = upper;
-        b.point = primitive_ray(pc.R * z); // the same ratio: it is a positive multiple
+        b.point = primitive_ray(pc.R * *z); // the same ratio: it is a positive multiple
         b.upper_evidence = std::move(cop);
         return b;
     }
@@ -192,24 +211,17 @@ std::optional<PieceBound> lipschitz_piece(const Model& model, std::size_t p, std
     RootInterval iv = refine(q, roots.back(), width_at(bits, roots.back()));
     if (const auto r = rational_root(q, iv, 64))
         iv = {*r, *r};
-    const auto y = [&]() -> std::optional<Vector> {
-        // Any eigenvector will do (a direction, not a point of a cone): try the positive search
-        // first, then an unsigned one.
-        if (auto v = positive_eigenvector(K, H, iv))
-            return v;
-        if (iv.lo == iv.hi) {
-            std::vector<Vector> rows;
-            const Matrix A = K - iv.lo * H;
-            for (std::size_t i = 0; i < A.rows(); ++i)
-                rows.push_back(A.row(i));
-            const auto basis = null_space(rows, A.rows());
-            if (!basis.empty())
-                return basis.front();
-            return std::nullopt;
+    // Any eigenvector will do (a direction, not a point of a cone): the try of the largest ratio.
+    std::optional<Vector> y;
+    Rational best;
+    for (const auto& v : positive_eigenvectors(K, H, iv, true)) {
+        const Rational r = bilinear(v, K, v) / bilinear(v, H, v);
+        if (!y || r > best) {
+            y = v;
+            best = r;
         }
-        return solve(K - iv.hi * H, H * Vector(K.rows(), Rational(1)));
-    }();
-    if (!y || is_zero(*y))
+    }
+    if (!y)
         return std::nullopt;
     PieceBound b;
     b.piece = p;
@@ -287,8 +299,8 @@ std::string value_decimal(const AlgebraicValue& v) {
 }
 
 std::string value_text(const AlgebraicValue& v) {
-    if (v.exact)
-        return to_string(*v.exact);
+    if (v.exact) // exact; a decimal instead when the rational is long (the exact one is in --json)
+        return to_string(*v.exact).size() <= 40 ? to_string(*v.exact) : readable_text(*v.exact);
     std::string poly;
     for (std::size_t i = v.poly.c.size(); i-- > 0;) {
         const Rational& a = v.poly.c[i];
@@ -301,6 +313,8 @@ std::string value_text(const AlgebraicValue& v) {
             term += (term.empty() ? "" : " ") + std::string("x") + (i > 1 ? "^" + std::to_string(i) : "");
         poly += poly.empty() ? (neg ? "-" : "") + term : (neg ? " - " : " + ") + term;
     }
+    if (poly.size() > 120)
+        poly = "a polynomial of degree " + std::to_string(v.poly.degree()) + " (--json)";
     return value_decimal(v) + " (a root of " + poly + ")";
 }
 

@@ -335,6 +335,21 @@ TEST_CASE("consistency inputs: structured families first (one body, pairs, ties,
     bool pair = false, close = false;
     fuzz::consistency_sample(m5, o, 2 * at, a, b, pair, close);
     CHECK(std::vector<double>(a, a + 5) == std::vector<double>{3, -2, -3, 0, 0}); // unit 1 in 1e-3..1e3
+    // Structured inputs stay in --range: a non-zero entry is at least LO (the unit is raised to it)
+    // and at most HI (clamped), also for ranges no power of two fits (review of issue 31).
+    for (const auto& [lo, hi] : std::vector<std::pair<double, double>>{{5, 6}, {1.2, 1.4}, {0.0012, 0.0014}, {1e-3, 1e3}, {3, 3}}) {
+        fuzz::ConsistencyOptions r;
+        r.velocities = true;
+        r.range_lo = lo;
+        r.range_hi = hi;
+        for (std::uint64_t i = 0; i < 2 * fuzz::structured_count(5); i += 2) {
+            fuzz::consistency_sample(m5, r, i, a, b, pair, close);
+            for (int j = 0; j < 5; ++j) {
+                INFO("range " << lo << ".." << hi << " sample " << i << " entry " << a[j]);
+                REQUIRE((a[j] == 0 || (std::fabs(a[j]) >= lo && std::fabs(a[j]) <= hi)));
+            }
+        }
+    }
     // Odd indices stay random: not small integers.
     std::size_t integral = 0;
     for (std::uint64_t i = 1; i < 400; i += 2) {
