@@ -9,6 +9,7 @@
 #include <array>
 #include <climits>
 #include <cmath>
+#include <map>
 #include <cstdio>
 #include <string_view>
 
@@ -16,8 +17,10 @@ namespace impactcert {
 
 namespace {
 
-const char* const kPalette[] = {"#4e79a7", "#f28e2b", "#59a14f", "#e15759", "#b07aa1",
-                                "#76b7b2", "#edc948", "#9c755f", "#ff9da7", "#bab0ac"};
+// Okabe & Ito's colour-blind-safe palette (without black and vermillion, kept for the marks);
+// grey as an eighth. Counterexamples are black on a white outline.
+const char* const kPalette[] = {"#E69F00", "#56B4E9", "#009E73", "#F0E442", "#0072B2", "#CC79A7", "#999999",
+                                "#E69F00", "#56B4E9", "#009E73"};
 
 std::string fmt(double x) {
     char buf[32];
@@ -176,17 +179,23 @@ std::string md_json(const Json& j) {
 namespace {
 
 // Counterexample marks at picture coordinates: the points, joined when there are two.
-std::string marks_svg(const std::vector<std::pair<double, double>>& shown, const std::string& id) {
+// `labels` counts the labels already written at each (rounded) place: the next one there goes a
+// line lower, so that several counterexamples at one point do not overwrite each other's names.
+std::string marks_svg(const std::vector<std::pair<double, double>>& shown, const std::string& id,
+                      std::map<std::pair<long, long>, int>& labels) {
     std::string s;
     if (shown.size() == 2)
         s += "<line x1=\"" + fmt(shown[0].first) + "\" y1=\"" + fmt(shown[0].second) + "\" x2=\"" +
-             fmt(shown[1].first) + "\" y2=\"" + fmt(shown[1].second) + "\" stroke=\"#d00\" stroke-width=\"2\"/>\n";
+             fmt(shown[1].first) + "\" y2=\"" + fmt(shown[1].second) + "\" stroke=\"#000\" stroke-width=\"2\"/>\n";
     for (const auto& [px, py] : shown)
-        s += "<circle cx=\"" + fmt(px) + "\" cy=\"" + fmt(py) + "\" r=\"4\" fill=\"#d00\" class=\"counterexample\"><title>" +
+        s += "<circle cx=\"" + fmt(px) + "\" cy=\"" + fmt(py) + "\" r=\"4\" fill=\"#000\" stroke=\"#fff\" class=\"counterexample\"><title>" +
              xml_escape(id + " counterexample") + "</title></circle>\n";
-    if (!shown.empty())
-        s += "<text x=\"" + fmt(shown[0].first + 6) + "\" y=\"" + fmt(shown[0].second + 12) +
-             "\" font-size=\"10\" fill=\"#d00\">" + xml_escape(id) + "</text>\n";
+    if (!shown.empty()) {
+        int& line = labels[{std::lround(shown[0].first / 4), std::lround(shown[0].second / 4)}];
+        s += "<text x=\"" + fmt(shown[0].first + 6) + "\" y=\"" + fmt(shown[0].second + 12 + 11 * line) +
+             "\" font-size=\"10\" fill=\"#000\">" + xml_escape(id) + "</text>\n";
+        ++line;
+    }
     return s;
 }
 
@@ -297,6 +306,7 @@ std::string sphere_svg(const Model& model, const VerifyReport* report) {
                  "\" y=\"" + fmt(py - 4) + "\" font-size=\"11\">&#947;" + std::to_string(k + 1) + "-</text>\n";
         }
         // Counterexamples: their directions on the sphere (a pair joined by its chord).
+        std::map<std::pair<long, long>, int> labels;
         for (const auto& mk : marked_points(report, 3)) {
             std::vector<std::pair<double, double>> shown;
             for (const auto& pt : mk.points) {
@@ -304,7 +314,7 @@ std::string sphere_svg(const Model& model, const VerifyReport* report) {
                 if (dot3(x, n) > 0)
                     shown.push_back(project(x));
             }
-            s += marks_svg(shown, mk.id);
+            s += marks_svg(shown, mk.id, labels);
         }
     }
     return s + "</svg>\n";
@@ -512,6 +522,7 @@ std::string cones_svg(const Model& model, const VerifyReport* report) {
     // Counterexamples: a point in its direction, a pair as a segment at a common scale, both in
     // the metric H: each point at its H-angle and at its H-length relative to the longest
     // (sqrt of an exact ratio of quadratic forms), so any scale stays finite.
+    std::map<std::pair<long, long>, int> labels;
     for (const auto& mk : marked_points(report, 2)) {
         std::vector<Rational> norms;
         Rational longest(0);
@@ -526,7 +537,7 @@ std::string cones_svg(const Model& model, const VerifyReport* report) {
             const double a = h_angle(H, mk.exact[i]), len = std::sqrt(display_double(norms[i] / longest));
             shown.push_back({cx + std::cos(a) * len * r * 0.85, cy - std::sin(a) * len * r * 0.85});
         }
-        s += marks_svg(shown, mk.id);
+        s += marks_svg(shown, mk.id, labels);
     }
 
     // The images.
@@ -612,9 +623,20 @@ std::string report_markdown(const Model& model, const VerifyReport& report) {
     for (const auto& o : report.obligations)
         if (o.verdict == Verdict::undecided)
             s += "\n`" + o.id + "` is undecided: " + md_escape(o.limit) + "\n";
-    s += "\n## The law\n\n| piece | rays | Q |\n|---|---|---|\n";
-    for (const auto& p : model.pieces())
-        s += "| " + md_escape(p.name) + " | " + rays_text(p) + " | `" + matrix_text(p.Q) + "` |\n";
+    // A law of more than 100 pieces: the summary only (GitHub's job summary stops at 1 MiB; a
+    // 1,775-piece law made 791 KB); every piece is in report.html.
+    constexpr std::size_t kPiecesInMarkdown = 100;
+    if (model.pieces().size() > kPiecesInMarkdown) {
+        s += "\n## The law\n\n" + std::to_string(model.pieces().size()) + " pieces: too many for a job summary; every "
+             "piece, its rays and its matrix are in report.html (with a filter).\n";
+    } else {
+        s += "\n## The law\n\n| piece | rays | Q |\n|---|---|---|\n";
+        for (const auto& p : model.pieces())
+            s += "| " + md_escape(p.name) + " | " + rays_text(p) + " | `" + matrix_text(p.Q) + "` |\n";
+    }
+    if (model.contacts() >= 4)
+        s += "\nNo picture in report.html: " + std::to_string(model.contacts()) + " contacts are " +
+             std::to_string(model.contacts()) + " dimensions (pictures are drawn for 2 and 3).\n";
     s += "\nH = G^-1 = `" + matrix_text(model.H()) + "`. Every check is exact (GMP rationals); the reductions "
          "are argued in proofs/README.md.\n";
     return s;
@@ -622,12 +644,12 @@ std::string report_markdown(const Model& model, const VerifyReport& report) {
 
 std::string report_html(const Model& model, const VerifyReport& report) {
     const std::string verdict = report.verdict();
-    const char* colour = verdict == "proved" ? "#1a7f37" : verdict == "refuted" ? "#cf222e" : "#9a6700";
+    const char* colour = verdict == "proved" ? "#007a5a" : verdict == "refuted" ? "#b34700" : "#8a5a00"; // Okabe-Ito hues, darkened for white text
     std::string s = "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>impactcert: " +
                     xml_escape(report.law) + "</title>\n<style>\n"
                     "body{font-family:sans-serif;max-width:1100px;margin:2em auto;padding:0 1em;color:#222}\n"
                     "table{border-collapse:collapse;margin:1em 0}td,th{border:1px solid #ccc;padding:4px 8px;text-align:left}\n"
-                    "th{background:#f0f0f0}.proved{color:#1a7f37;font-weight:bold}.refuted{color:#cf222e;font-weight:bold}\n"
+                    "th{background:#f0f0f0}.proved{color:#007a5a;font-weight:bold}.refuted{color:#b34700;font-weight:bold}\n"
                     ".skipped{color:#777}.badge{display:inline-block;padding:4px 12px;border-radius:4px;color:#fff}\n"
                     "pre{background:#f6f8fa;padding:8px;overflow-x:auto}code{font-size:90%}\n"
                     "</style>\n</head>\n<body>\n";
@@ -641,14 +663,19 @@ std::string report_html(const Model& model, const VerifyReport& report) {
              "<figcaption>Left: the cones of the law in the plane of pre-impact contact velocities (compare "
              "Leine &amp; Winandy, Fig. 1(b)), drawn in the kinetic-energy metric H = G<sup>-1</sup>, where an elastic "
              "impact is a reflection and thin cones open up (dashed: the coordinate axes); black lines are the "
-             "boundary rays; red: counterexamples (a point in its direction, a pair joined at a common scale). "
+             "boundary rays; black dots: counterexamples (a point in its direction, a pair joined at a common scale). "
              "Right: each cone's image under its matrix. Below: the cones unrolled by angle. Names are written "
              "where they fit; hover any cone for its word, rays and matrix.</figcaption>\n</figure>\n";
     if (model.contacts() == 3)
         s += "<figure>\n" + cones_svg(model, &report) +
              "<figcaption>The cones of the law on the unit sphere of pre-impact contact velocities, in two "
              "orthographic hemispheres (seen from (1,1,1) and from (-1,-1,-1)), each labelled at its centre; "
-             "red: counterexamples.</figcaption>\n</figure>\n";
+             "black dots: counterexamples.</figcaption>\n</figure>\n";
+    if (model.contacts() >= 4)
+        s += "<p>No picture: the cones of a law with " + std::to_string(model.contacts()) +
+             " contacts live in a space of " + std::to_string(model.contacts()) +
+             " dimensions; pictures are drawn for 2 contacts (a plane) and 3 (a sphere). The table of pieces below "
+             "can be filtered.</p>\n";
     s += "<h2>Obligations</h2>\n<table>\n<tr><th>obligation</th><th>claimed</th><th>verdict</th><th>exact "
          "checks</th><th>method</th></tr>\n";
     for (const auto& o : report.obligations)

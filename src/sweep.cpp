@@ -44,7 +44,9 @@ Rational number(const std::string& text, const std::string& where) {
     return *x;
 }
 
-const char* kColour[] = {"#2da44e", "#cf222e", "#8c959f", "#bf8700"}; // proved, refuted, skipped, undecided
+// Okabe & Ito (colour-blind safe): bluish green, vermillion, grey, orange; proved, refuted,
+// skipped, undecided.
+const char* kColour[] = {"#009E73", "#D55E00", "#BBBBBB", "#E69F00"};
 
 std::string colour_of(const std::string& verdict) {
     if (verdict == "proved")
@@ -331,7 +333,7 @@ std::string svg_map(const SweepSpec& spec, const std::vector<Json>& results, con
                     if (at.size() > 1)
                         py = Rational(10 + static_cast<int>(n1) * cell) - map_position(spec.parameters[1].values, at[1], cell);
                     s += "<circle cx=\"" + decimal_text(px, 1) + "\" cy=\"" + decimal_text(py, 1) +
-                         "\" r=\"3\" fill=\"#0969da\"><title>" +
+                         "\" r=\"3\" fill=\"#000000\"><title>" +
                          xml_escape("after the tie: " + curve.word_a + " / " + curve.word_b +
                                     ": an isolated point where the jump vanishes") + "</title></circle>\n";
                 }
@@ -339,7 +341,7 @@ std::string svg_map(const SweepSpec& spec, const std::vector<Json>& results, con
             }
             if (curve.whole_cell)
                 continue;
-            s += "<g fill=\"#0969da\"><title>" + xml_escape(curve_label(curve)) + "</title>\n";
+            s += "<g fill=\"#000000\"><title>" + xml_escape(curve_label(curve)) + "</title>\n";
             std::optional<std::pair<Rational, Rational>> label_at;
             for (const auto& x : curve.crossings) {
                 const Rational mid = (x.lo + x.hi) / Rational(2);
@@ -366,7 +368,7 @@ std::string svg_map(const SweepSpec& spec, const std::vector<Json>& results, con
             if (room) {
                 labels.push_back(*label_at);
                 s += "<text x=\"" + decimal_text(label_at->first + Rational(4), 1) + "\" y=\"" +
-                     decimal_text(label_at->second - Rational(2), 1) + "\" font-size=\"10\" fill=\"#0969da\" class=\"curve-label\">" +
+                     decimal_text(label_at->second - Rational(2), 1) + "\" font-size=\"10\" fill=\"#000000\" class=\"curve-label\">" +
                      std::to_string(curve.word_a.size()) + "</text>\n";
             }
         }
@@ -945,8 +947,8 @@ void write_sweep_outputs(const SweepSpec& spec, const std::vector<Json>& results
                        "margin:0 4px 0 12px;vertical-align:middle}\n</style>\n</head>\n<body>\n<h1>" +
                        xml_escape(title) + "</h1>\n<p>One phase map per obligation; every cell is a derived law at an "
                        "exact grid point (hover for the point and the witness).</p>\n<p class=\"key\">"
-                       "<span style=\"background:#2da44e\"></span>proved<span style=\"background:#cf222e\"></span>refuted"
-                       "<span style=\"background:#bf8700\"></span>undecided<span style=\"background:#8c959f\"></span>skipped"
+                       "<span style=\"background:#009E73\"></span>proved<span style=\"background:#D55E00\"></span>refuted"
+                       "<span style=\"background:#E69F00\"></span>undecided<span style=\"background:#BBBBBB\"></span>skipped"
                        "<span style=\"background:#24292f\"></span>no finite law</p>\n<div class=\"maps\">\n";
     for (const char* id : kObligationIds) {
         const bool overlay = std::string(id) == "P1" || std::string(id) == "nonexpansive";

@@ -352,3 +352,32 @@ TEST_CASE("report: a law of many thin cones stays legible (metric H, labels wher
     CHECK(count(small, "class=\"cone-label\"") == 6);
     CHECK(count(small, "class=\"strip-label\"") == 6);
 }
+
+TEST_CASE("report: colour-blind-safe colours, a sentence for c >= 4, a summary-only markdown for large laws",
+          "[report]") {
+    // Okabe-Ito hues; none of the old red/green pair, counterexamples in black.
+    const Model missing(load_law_file(source_path("proofs/controls/missing-cone.json")));
+    const std::string html = report_html(missing, verify(missing));
+    for (const char* old : {"#d00", "#cf222e", "#2da44e", "#1a7f37", "#4e79a7", "#e15759", "#59a14f"})
+        CHECK(html.find(old) == std::string::npos);
+    CHECK(html.find("#E69F00") != std::string::npos);
+    CHECK(html.find("class=\"counterexample\"") != std::string::npos);
+    CHECK(html.find("fill=\"#000\" stroke=\"#fff\" class=\"counterexample\"") != std::string::npos);
+    // c = 4 (five balls, 120 pieces): no picture, and both files say why; the markdown lists no
+    // piece (more than 100) and stays small, the HTML lists them all.
+    const Model five(test::sorting_law(5));
+    const VerifyReport r5 = verify(five);
+    const std::string md = report_markdown(five, r5), html5 = report_html(five, r5);
+    CHECK(html5.find("No picture: the cones of a law with 4 contacts") != std::string::npos);
+    CHECK(md.find("No picture in report.html: 4 contacts") != std::string::npos);
+    CHECK(md.find("120 pieces: too many for a job summary") != std::string::npos);
+    CHECK(md.find("| piece | rays | Q |") == std::string::npos);
+    CHECK(md.size() < 8000);
+    CHECK(count(html5, "<tr class=\"piece\">") == 120);
+    // Negative control: a law of at most 100 pieces keeps its table in the markdown.
+    const Model paper(paper_law());
+    const std::string md3 = report_markdown(paper, verify(paper));
+    CHECK(md3.find("| piece | rays | Q |") != std::string::npos);
+    CHECK(md3.find("too many for a job summary") == std::string::npos);
+    CHECK(md3.find("No picture") == std::string::npos);
+}
