@@ -280,10 +280,12 @@ int main(int argc, char** argv) {
     const std::pair<CLI::App*, const char*> examples[] = {
         {verify_cmd, "Examples:\n  impactcert verify                                 # the paper's 3-ball law\n"
                      "  impactcert verify --law proofs/newton4/law.json --json\n"
-                     "  impactcert verify --law proofs/cradle4/law.json --shard 2/8 --json  # slice 2 of 8"},
+                     "  impactcert verify --law proofs/cradle4/law.json --shard 2/8 --json  # slice 2 of 8\n"
+                     "  impactcert verify --law proofs/classical3/newton-approaching/law.json --worst-case  # sup T+/T- = 4/3"},
         {certify_cmd, "Examples:\n  impactcert certify -o cert.json && impactcert-check cert.json\n"
                       "  for k in 1 2 3; do impactcert certify --law proofs/cradle4/law.json --shard $k/3 -o part$k.json; done\n"
-                      "  impactcert-check --merged cert.json part1.json part2.json part3.json"},
+                      "  impactcert-check --merged cert.json part1.json part2.json part3.json\n"
+                      "  impactcert certify --worst-case -o cert.json && impactcert-check cert.json  # with the exact worst case"},
         {report_cmd, "Examples:\n  impactcert report --law proofs/newton4/law.json -o report/"},
         {smt_cmd, "Examples:\n  impactcert smt -o smt/ && z3 smt/nonexpansive.smt2   # unsat: the claim holds"},
         {eval_cmd, "Examples:\n  impactcert eval -- -1 0                  # gamma+ of the paper's law at gamma- = (-1, 0)\n"

@@ -333,7 +333,7 @@ std::string svg_map(const SweepSpec& spec, const std::vector<Json>& results, con
                     if (at.size() > 1)
                         py = Rational(10 + static_cast<int>(n1) * cell) - map_position(spec.parameters[1].values, at[1], cell);
                     s += "<circle cx=\"" + decimal_text(px, 1) + "\" cy=\"" + decimal_text(py, 1) +
-                         "\" r=\"3\" fill=\"#000000\"><title>" +
+                         "\" r=\"3\" fill=\"#ffffff\" stroke=\"#000000\"><title>" +
                          xml_escape("after the tie: " + curve.word_a + " / " + curve.word_b +
                                     ": an isolated point where the jump vanishes") + "</title></circle>\n";
                 }
@@ -341,7 +341,8 @@ std::string svg_map(const SweepSpec& spec, const std::vector<Json>& results, con
             }
             if (curve.whole_cell)
                 continue;
-            s += "<g fill=\"#000000\"><title>" + xml_escape(curve_label(curve)) + "</title>\n";
+            // White dots with a black rim: seen on every cell colour, the dark "no finite law" too.
+            s += "<g fill=\"#ffffff\" stroke=\"#000000\" stroke-width=\"0.7\"><title>" + xml_escape(curve_label(curve)) + "</title>\n";
             std::optional<std::pair<Rational, Rational>> label_at;
             for (const auto& x : curve.crossings) {
                 const Rational mid = (x.lo + x.hi) / Rational(2);
@@ -368,7 +369,7 @@ std::string svg_map(const SweepSpec& spec, const std::vector<Json>& results, con
             if (room) {
                 labels.push_back(*label_at);
                 s += "<text x=\"" + decimal_text(label_at->first + Rational(4), 1) + "\" y=\"" +
-                     decimal_text(label_at->second - Rational(2), 1) + "\" font-size=\"10\" fill=\"#000000\" class=\"curve-label\">" +
+                     decimal_text(label_at->second - Rational(2), 1) + "\" font-size=\"10\" fill=\"#000000\" stroke=\"#ffffff\" stroke-width=\"2.5\" paint-order=\"stroke\" class=\"curve-label\">" +
                      std::to_string(curve.word_a.size()) + "</text>\n";
             }
         }
@@ -952,7 +953,7 @@ void write_sweep_outputs(const SweepSpec& spec, const std::vector<Json>& results
                        "<span style=\"background:#24292f\"></span>no finite law</p>\n<div class=\"maps\">\n";
     for (const char* id : kObligationIds) {
         const bool overlay = std::string(id) == "P1" || std::string(id) == "nonexpansive";
-        html += "<div class=\"map\"><h3>" + std::string(id) + (overlay && conditions.result.computed ? " (blue: where P1 holds exactly)" : "") +
+        html += "<div class=\"map\"><h3>" + std::string(id) + (overlay && conditions.result.computed ? " (white dots: where P1 holds exactly)" : "") +
                 "</h3>\n" + svg_map(spec, results, id, overlay ? &conditions : nullptr) + "</div>\n";
     }
     html += "<div class=\"map\"><h3>" + std::string(kOrderColumn) +
@@ -960,7 +961,7 @@ void write_sweep_outputs(const SweepSpec& spec, const std::vector<Json>& results
     html += "</div>\n";
     if (conditions.result.computed) {
         html += "<h2>Where P1 holds exactly</h2>\n<p>Continuity holds where the jump at the tie gamma- = (-1, -1) "
-                "vanishes: on each cell of fixed words after the tie, the zero set of the polynomial below (blue dots: "
+                "vanishes: on each cell of fixed words after the tie, the zero set of the polynomial below (white dots: "
                 "certified crossings of the grid lines and of " + std::to_string(conditions.result.subdivisions - 1) +
                 " lines between them; large dots: rational points on grid lines, derived and verified; numbers: "
                 "impacts after the tie). " +
