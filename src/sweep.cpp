@@ -282,6 +282,87 @@ Rational map_position(const std::vector<Rational>& values, const Rational& v, in
     return (Rational(static_cast<long>(i)) + t) * Rational(cell) + Rational(cell, 2);
 }
 
+// Round-number ticks for an axis over the grid's values: on a log grid 1, 2, 5 times powers of
+// ten (only the powers when that gives more than eight), on a linear one multiples of 1, 2, 2.5 or
+// 5 times a power of ten, the finest step with at most eight ticks; each placed where it falls
+// between the grid values (map_position). Fewer than two: the grid values themselves (as before).
+std::vector<Rational> round_ticks(const std::vector<Rational>& values, bool log) {
+    // The fallback: every k-th grid value and the last (at most about eight), as before.
+    auto grid_ticks = [&values]() {
+        std::vector<Rational> g;
+        const std::size_t k = std::max<std::size_t>(1, (values.size() + 7) / 8);
+        for (std::size_t i = 0; i < values.size(); ++i)
+            if (i % k == 0 || i + 1 == values.size())
+                g.push_back(values[i]);
+        return g;
+    };
+    std::vector<Rational> out;
+    if (values.size() < 2)
+        return grid_ticks();
+    const Rational lo = *std::min_element(values.begin(), values.end()), hi = *std::max_element(values.begin(), values.end());
+    if (!(lo < hi))
+        return grid_ticks();
+    const Rational ten(10);
+    // Grids of any scale are allowed (10^-100000..): beyond 60 decades from 1 or across the grid,
+    // the grid values themselves (no loop over the decades in between).
+    constexpr int kDecades = 60;
+    if (log && sign_of(lo) == Sign::positive) {
+        Rational t(1);
+        int steps = 0;
+        while (t > lo && ++steps < kDecades)
+            t /= ten;
+        while (t * ten <= lo && ++steps < kDecades)
+            t *= ten;
+        if (steps >= kDecades)
+            return grid_ticks();
+        for (const bool powers_only : {false, true}) {
+            out.clear();
+            int decades = 0;
+            for (Rational d = t; d <= hi && ++decades < kDecades; d *= ten)
+                for (const long c : {1L, 2L, 5L})
+                    if ((!powers_only || c == 1) && lo <= Rational(c) * d && Rational(c) * d <= hi)
+                        out.push_back(Rational(c) * d);
+            if (out.size() <= 8)
+                break;
+        }
+    } else {
+        Rational decade(1);
+        const Rational span = hi - lo;
+        int steps = 0;
+        while (decade > span && ++steps < kDecades)
+            decade /= ten;
+        while (decade * ten <= span && ++steps < kDecades)
+            decade *= ten;
+        if (steps >= kDecades)
+            return grid_ticks();
+        decade /= Rational(100); // start fine, grow until at most eight ticks
+        bool done = false;
+        for (int guard = 0; guard < 12 && !done; ++guard, decade *= ten)
+            for (const Rational& m : {Rational(1), Rational(2), Rational(5, 2), Rational(5)}) {
+                const Rational step = m * decade;
+                // the multiples of step in [lo, hi]
+                Rational first = lo / step;
+                mpz_t c;
+                mpz_init(c);
+                mpz_cdiv_q(c, mpq_numref(first.mpq()), mpq_denref(first.mpq()));
+                Rational k;
+                mpq_set_z(k.mpq(), c);
+                mpz_clear(c);
+                std::vector<Rational> ticks;
+                for (Rational v = k * step; v <= hi && ticks.size() <= 8; v += step)
+                    ticks.push_back(v);
+                if (ticks.size() <= 8) {
+                    out = std::move(ticks);
+                    done = true;
+                    break;
+                }
+            }
+    }
+    if (out.size() < 2 || out.size() > 8)
+        return grid_ticks();
+    return out;
+}
+
 std::string curve_label(const ConditionCurve& curve) {
     return "after the tie: " + curve.word_a + " / " + curve.word_b + " (" + std::to_string(curve.word_a.size()) + " and " +
            std::to_string(curve.word_b.size()) + " impacts): " + curve.polynomial + " = 0";
@@ -374,32 +455,27 @@ std::string svg_map(const SweepSpec& spec, const std::vector<Json>& results, con
             }
         }
     }
-    // Axes with ticks: every k-th grid value (at most about eight labels per axis), exact values on hover.
+    // Axes with round-number ticks (at most eight per axis), exact values on hover.
     const auto& p0 = spec.parameters[0];
     const int bottom = 10 + static_cast<int>(n1) * cell;
-    const std::size_t k0 = std::max<std::size_t>(1, (n0 + 7) / 8);
-    for (std::size_t i = 0; i < n0; ++i) {
-        if (i % k0 != 0 && i + 1 != n0)
-            continue;
-        const int x = margin + static_cast<int>(i) * cell + cell / 2;
-        s += "<line x1=\"" + std::to_string(x) + "\" y1=\"" + std::to_string(bottom) + "\" x2=\"" + std::to_string(x) +
-             "\" y2=\"" + std::to_string(bottom + 4) + "\" stroke=\"#444\"/><text x=\"" + std::to_string(x) + "\" y=\"" +
-             std::to_string(bottom + 14) + "\" text-anchor=\"middle\" font-size=\"9\"><title>" +
-             xml_escape(p0.name + " = " + to_string(p0.values[i])) + "</title>" + xml_escape(tick_text(p0.values[i])) + "</text>\n";
+    for (const Rational& v : round_ticks(p0.values, p0.log)) {
+        const std::string x = decimal_text(Rational(margin) + map_position(p0.values, v, cell), 1);
+        s += "<line x1=\"" + x + "\" y1=\"" + std::to_string(bottom) + "\" x2=\"" + x + "\" y2=\"" + std::to_string(bottom + 4) +
+             "\" stroke=\"#444\"/><text x=\"" + x + "\" y=\"" + std::to_string(bottom + 14) +
+             "\" text-anchor=\"middle\" font-size=\"9\"><title>" + xml_escape(p0.name + " = " + to_string(v)) + "</title>" +
+             xml_escape(tick_text(v)) + "</text>\n";
     }
     s += "<text x=\"" + std::to_string(margin + static_cast<int>(n0) * cell / 2) + "\" y=\"" +
          std::to_string(bottom + 28) + "\" text-anchor=\"middle\" font-weight=\"bold\">" + xml_escape(p0.name) + "</text>\n";
     if (spec.parameters.size() > 1) {
         const auto& p1 = spec.parameters[1];
-        const std::size_t k1 = std::max<std::size_t>(1, (n1 + 7) / 8);
-        for (std::size_t j = 0; j < n1; ++j) {
-            if (j % k1 != 0 && j + 1 != n1)
-                continue;
-            const int y = 10 + static_cast<int>(n1 - 1 - j) * cell + cell / 2;
-            s += "<line x1=\"" + std::to_string(margin - 4) + "\" y1=\"" + std::to_string(y) + "\" x2=\"" +
-                 std::to_string(margin) + "\" y2=\"" + std::to_string(y) + "\" stroke=\"#444\"/><text x=\"" +
-                 std::to_string(margin - 6) + "\" y=\"" + std::to_string(y + 3) + "\" text-anchor=\"end\" font-size=\"9\"><title>" +
-                 xml_escape(p1.name + " = " + to_string(p1.values[j])) + "</title>" + xml_escape(tick_text(p1.values[j])) + "</text>\n";
+        for (const Rational& v : round_ticks(p1.values, p1.log)) {
+            const Rational yr = Rational(10 + static_cast<int>(n1) * cell) - map_position(p1.values, v, cell);
+            const std::string y = decimal_text(yr, 1), y3 = decimal_text(yr + Rational(3), 1);
+            s += "<line x1=\"" + std::to_string(margin - 4) + "\" y1=\"" + y + "\" x2=\"" + std::to_string(margin) + "\" y2=\"" + y +
+                 "\" stroke=\"#444\"/><text x=\"" + std::to_string(margin - 6) + "\" y=\"" + y3 +
+                 "\" text-anchor=\"end\" font-size=\"9\"><title>" + xml_escape(p1.name + " = " + to_string(v)) + "</title>" +
+                 xml_escape(tick_text(v)) + "</text>\n";
         }
         s += "<text x=\"4\" y=\"" + std::to_string(10 + static_cast<int>(n1) * cell / 2) + "\" font-weight=\"bold\">" +
              xml_escape(p1.name) + "</text>\n";

@@ -314,6 +314,10 @@ TEST_CASE("sweep: the CSV holds the verdicts computed one by one, whatever the n
     CHECK(html.find("Where P1 holds exactly") != std::string::npos);
     CHECK(html.find("class=\"curve-label\"") != std::string::npos); // curves labelled by their impact count
     CHECK(html.find("<title>m = 1/2</title>") != std::string::npos);  // axis ticks, exact values on hover
+    // Round-number ticks, not grid values: e = 1/2..1 in 3 points is ticked 0.5, 0.6, ..., 1 (0.6 is
+    // no grid value), and the grid value 3/4 is no tick.
+    CHECK(html.find("<title>e = 3/5</title>") != std::string::npos);
+    CHECK(html.find("<title>e = 3/4</title>") == std::string::npos);
     std::filesystem::remove_all(dir);
     std::filesystem::remove_all(one);
 }
