@@ -306,15 +306,21 @@ std::vector<Rational> round_ticks(const std::vector<Rational>& values, bool log)
     // Grids of any scale are allowed (10^-100000..): beyond 60 decades from 1 or across the grid,
     // the grid values themselves (no loop over the decades in between).
     constexpr int kDecades = 60;
-    if (log && sign_of(lo) == Sign::positive) {
+    // The power of ten 10^k <= x < 10^(k+1) (x > 0), when |k| < kDecades.
+    auto decade_of = [&ten](const Rational& x) -> std::optional<Rational> {
         Rational t(1);
-        int steps = 0;
-        while (t > lo && ++steps < kDecades)
-            t /= ten;
-        while (t * ten <= lo && ++steps < kDecades)
-            t *= ten;
-        if (steps >= kDecades)
+        for (int steps = 0; t > x || t * ten <= x; ++steps) {
+            if (steps >= kDecades)
+                return std::nullopt;
+            t = t > x ? t / ten : t * ten;
+        }
+        return t;
+    };
+    if (log && sign_of(lo) == Sign::positive) {
+        const auto start = decade_of(lo);
+        if (!start)
             return grid_ticks();
+        const Rational& t = *start;
         for (const bool powers_only : {false, true}) {
             out.clear();
             int decades = 0;
@@ -326,16 +332,10 @@ std::vector<Rational> round_ticks(const std::vector<Rational>& values, bool log)
                 break;
         }
     } else {
-        Rational decade(1);
-        const Rational span = hi - lo;
-        int steps = 0;
-        while (decade > span && ++steps < kDecades)
-            decade /= ten;
-        while (decade * ten <= span && ++steps < kDecades)
-            decade *= ten;
-        if (steps >= kDecades)
+        const auto span_decade = decade_of(hi - lo);
+        if (!span_decade)
             return grid_ticks();
-        decade /= Rational(100); // start fine, grow until at most eight ticks
+        Rational decade = *span_decade / Rational(100); // start fine, grow until at most eight ticks
         bool done = false;
         for (int guard = 0; guard < 12 && !done; ++guard, decade *= ten)
             for (const Rational& m : {Rational(1), Rational(2), Rational(5, 2), Rational(5)}) {

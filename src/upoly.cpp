@@ -149,20 +149,26 @@ std::size_t variations_at_infinity(const std::vector<UPoly>& s, bool positive) {
 
 } // namespace
 
+namespace {
 // Sturm's theorem for the square-free part q (the same distinct roots): the number of distinct
-// roots in (a, b] is V(a) - V(b) when q(a) != 0; a root at lo is counted separately.
-std::size_t count_roots(const UPoly& p, const Rational& lo, const Rational& hi) {
-    if (p.zero())
-        throw std::logic_error("roots of the zero polynomial");
+// roots in (a, b] is V(a) - V(b) when q(a) != 0; a root at lo is counted separately. `s` is
+// sturm_sequence(p), built once by the callers that count many times (isolate).
+std::size_t count_with(const std::vector<UPoly>& s, const Rational& lo, const Rational& hi) {
     if (hi < lo)
         return 0;
-    const auto s = sturm_sequence(p);
     const bool at_lo = sign_of(evaluate(s[0], lo)) == Sign::zero;
     if (lo == hi)
         return at_lo ? 1 : 0;
     const std::size_t va = variations_at(s, lo), vb = variations_at(s, hi);
     // At a root a of q the sign of q is skipped: V(a) = V(a+), so V(a) - V(b) counts (a, b].
     return (va - vb) + (at_lo ? 1 : 0);
+}
+} // namespace
+
+std::size_t count_roots(const UPoly& p, const Rational& lo, const Rational& hi) {
+    if (p.zero())
+        throw std::logic_error("roots of the zero polynomial");
+    return count_with(sturm_sequence(p), lo, hi);
 }
 
 std::size_t count_roots_above(const UPoly& p, const Rational& lo) {
@@ -180,9 +186,10 @@ Rational cauchy_bound(const UPoly& p) {
     return b + Rational(1);
 }
 
-void isolate_in(const UPoly& q, const Rational& lo, const Rational& hi, std::size_t n,
+// q square-free, s its Sturm sequence; n = number of roots of q in [lo, hi]; lo and hi are not
+// roots unless lo == hi.
+void isolate_in(const UPoly& q, const std::vector<UPoly>& s, const Rational& lo, const Rational& hi, std::size_t n,
                 std::vector<RootInterval>& out) {
-    // n = number of roots of q in [lo, hi]; lo and hi are not roots unless lo == hi.
     if (n == 0)
         return;
     if (n == 1) {
@@ -193,17 +200,17 @@ void isolate_in(const UPoly& q, const Rational& lo, const Rational& hi, std::siz
     if (sign_of(evaluate(q, mid)) == Sign::zero) {
         // Keep the intervals open around the rational root: shrink both sides off it.
         Rational step = (hi - lo) / Rational(4);
-        while (count_roots(q, mid - step, mid + step) > 1)
+        while (count_with(s, mid - step, mid + step) > 1)
             step /= Rational(2);
         const Rational left_hi = mid - step, right_lo = mid + step;
-        isolate_in(q, lo, left_hi, count_roots(q, lo, left_hi), out);
+        isolate_in(q, s, lo, left_hi, count_with(s, lo, left_hi), out);
         out.push_back({mid, mid});
-        isolate_in(q, right_lo, hi, count_roots(q, right_lo, hi), out);
+        isolate_in(q, s, right_lo, hi, count_with(s, right_lo, hi), out);
         return;
     }
-    const std::size_t left = count_roots(q, lo, mid);
-    isolate_in(q, lo, mid, left, out);
-    isolate_in(q, mid, hi, n - left, out);
+    const std::size_t left = count_with(s, lo, mid);
+    isolate_in(q, s, lo, mid, left, out);
+    isolate_in(q, s, mid, hi, n - left, out);
 }
 
 } // namespace
@@ -213,8 +220,9 @@ std::vector<RootInterval> isolate(const UPoly& p) {
     if (p.degree() < 1)
         return out;
     const UPoly q = square_free(p);
+    const auto s = sturm_sequence(q);
     const Rational b = cauchy_bound(q);
-    isolate_in(q, -b, b, count_roots(q, -b, b), out);
+    isolate_in(q, s, -b, b, count_with(s, -b, b), out);
     // Roots at the ends of an interval shared by two neighbours cannot occur (an end that is a
     // root is split off at a midpoint above), so the intervals are disjoint but may touch at
     // ends that are not roots.

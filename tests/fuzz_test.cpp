@@ -23,6 +23,25 @@
 using namespace impactcert;
 using impactcert::test::source_path;
 
+namespace {
+// Exactly on some facet of some cone: inside a piece's closed cone with a cone coordinate zero.
+bool on_a_facet(const Model& model, const double* a, std::size_t dim) {
+    Vector x;
+    for (std::size_t j = 0; j < dim; ++j)
+        x.push_back(Rational(a[j]));
+    for (const auto& piece : model.pieces()) {
+        bool inside = true, some_zero = false;
+        for (const auto& c : piece.R_inv * x) {
+            inside = inside && sign_of(c) != Sign::negative;
+            some_zero = some_zero || sign_of(c) == Sign::zero;
+        }
+        if (inside && some_zero)
+            return true;
+    }
+    return false;
+}
+} // namespace
+
 TEST_CASE("fuzz: samples are a pure function of seed and index", "[fuzz]") {
     for (std::uint64_t i = 0; i < 1000; ++i) {
         const auto a = fuzz::make_paper_sample(42, i), b = fuzz::make_paper_sample(42, i);
@@ -279,21 +298,7 @@ TEST_CASE("fuzz generators: reproducible, every kind, exact facet points, the wh
             }
             if (std::string(s.kind) == "facet") {
                 ++facet;
-                // Exactly on some facet of some cone: a cone coordinate is exactly zero.
-                Vector x;
-                for (std::size_t j = 0; j < ref.in_dim(); ++j)
-                    x.push_back(Rational(s.a[j]));
-                bool hit = false;
-                for (const auto& piece : model.pieces()) {
-                    const Vector coords = piece.R_inv * x;
-                    bool inside = true, some_zero = false;
-                    for (const auto& c : coords) {
-                        inside = inside && sign_of(c) != Sign::negative;
-                        some_zero = some_zero || sign_of(c) == Sign::zero;
-                    }
-                    hit = hit || (inside && some_zero);
-                }
-                on_facet += hit;
+                on_facet += on_a_facet(model, s.a, ref.in_dim());
             }
         }
         INFO(path);
@@ -354,21 +359,7 @@ TEST_CASE("fuzz --range in law mode: samples scaled by powers of two into LO..HI
             top_in += top >= lo;
             if (std::string(s.kind) == "facet") {
                 ++facet;
-                Vector x;
-                for (std::size_t j = 0; j < m; ++j)
-                    x.push_back(Rational(s.a[j]));
-                for (const auto& piece : model.pieces()) {
-                    const Vector coords = piece.R_inv * x;
-                    bool inside = true, some_zero = false;
-                    for (const auto& c : coords) {
-                        inside = inside && sign_of(c) != Sign::negative;
-                        some_zero = some_zero || sign_of(c) == Sign::zero;
-                    }
-                    if (inside && some_zero) {
-                        ++facet_kept;
-                        break;
-                    }
-                }
+                facet_kept += on_a_facet(model, s.a, m);
             }
         }
         INFO("range " << lo << ".." << hi);
