@@ -6,6 +6,7 @@
 // run_program; impactcert-verify's lines start with its own name).
 #include "cli/options.hpp"
 #include "cli/tools.hpp"
+#include "figure.hpp"
 #include "report.hpp"
 #include "smt.hpp"
 #include "sweep.hpp"
@@ -26,6 +27,13 @@ namespace {
 
 using namespace cli;
 
+// A figure was written as SVG only: says once why there is no PDF.
+void note_without_pdf(bool figures) {
+    const std::string why = figures ? pdf_unavailable_reason() : "";
+    if (!why.empty())
+        std::cerr << "impactcert: note: " << why << "\n";
+}
+
 int run_report(const std::string& law_path, const std::string& dir, const Limits& limits) {
     const Model model = load_model(law_path, limits.max_pieces, limits.max_memory_mb);
     const VerifyReport report = verify_with_progress(model, limits);
@@ -33,9 +41,16 @@ int run_report(const std::string& law_path, const std::string& dir, const Limits
     std::filesystem::create_directories(dir, ec);
     if (ec)
         throw InputError(dir + ": cannot create directory: " + ec.message());
-    write_file(dir + "/report.md", report_markdown(model, report));
-    write_file(dir + "/report.html", report_html(model, report));
-    std::cout << dir << "/report.md\n" << dir << "/report.html\n";
+    std::vector<std::string> written = {dir + "/report.md", dir + "/report.html", dir + "/law.tex", dir + "/verdicts.tex"};
+    write_file(written[0], report_markdown(model, report));
+    write_file(written[1], report_html(model, report));
+    write_file(written[2], law_latex(model));
+    write_file(written[3], verdicts_latex(model, report));
+    for (const auto& path : write_report_figures(model, report, dir + "/figures"))
+        written.push_back(path);
+    for (const auto& path : written)
+        std::cout << path << "\n";
+    note_without_pdf(written.size() > 4);
     return kExitProved; // a report is written whatever the verdict
 }
 
@@ -65,7 +80,8 @@ int run_sweep_command(const SweepArgs& a, const Limits& limits) {
         } catch (const Json::exception& e) {
             throw InputError(std::string("--merge: a part is not an impactcert-sweep-part/1 document (") + e.what() + ")");
         }
-        std::cout << a.out << "/sweep.csv\n" << a.out << "/sweep.json\n" << a.out << "/sweep.html\n";
+        std::cout << a.out << "/sweep.csv\n" << a.out << "/sweep.json\n" << a.out << "/sweep.html\n" << a.out << "/figures/\n";
+        note_without_pdf(true);
         return kExitProved;
     }
     if (a.masses.empty())
@@ -96,7 +112,8 @@ int run_sweep_command(const SweepArgs& a, const Limits& limits) {
     if (spec.shard)
         std::cout << sweep_part_path(a.out, *spec.shard) << "\n";
     else
-        std::cout << a.out << "/sweep.csv\n" << a.out << "/sweep.json\n" << a.out << "/sweep.html\n";
+        std::cout << a.out << "/sweep.csv\n" << a.out << "/sweep.json\n" << a.out << "/sweep.html\n" << a.out << "/figures/\n";
+    note_without_pdf(!spec.shard);
     return kExitProved; // the verdicts are data
 }
 
@@ -153,9 +170,9 @@ int main(int argc, char** argv) {
     bool certify_worst = false;
     certify_cmd->add_flag("--worst-case", certify_worst, "also certify the law's exact worst case (sup T+/T-, Lipschitz constant): impactcert-check checks it");
 
-    auto* report_cmd = app.add_subcommand("report", "write report.md (CI job summary) and a self-contained report.html with a picture of the cones");
+    auto* report_cmd = app.add_subcommand("report", "write report.md (CI job summary), a self-contained report.html with pictures of the law, LaTeX tables (law.tex, verdicts.tex) and standalone figures (figures/*.svg, and *.pdf with rsvg-convert)");
     report_cmd->add_option("--law", law_path, "law file (impactcert-law/1); default: the paper's 3-ball law");
-    report_cmd->add_option("-o,--output", out_path, "directory to write report.md and report.html into")->required();
+    report_cmd->add_option("-o,--output", out_path, "directory to write the report into (created)")->required();
 
     auto* smt_cmd = app.add_subcommand("smt", "write one SMT-LIB2 file per universal claim (the claim negated: unsat = holds)");
     smt_cmd->add_option("--law", law_path, "law file (impactcert-law/1); default: the paper's 3-ball law");
@@ -220,7 +237,7 @@ int main(int argc, char** argv) {
     cradle_cmd->add_flag("--no-symmetries", cradle_args.no_symmetries, "declare no symmetries (needs --pieces all)");
     cradle_cmd->add_option("-o,--output", cradle_args.out, "law file to write (default: standard output)");
 
-    auto* sweep_cmd = app.add_subcommand("sweep", "derive + verify over a grid of parameters named in --masses/--restitution; writes DIR/sweep.csv, sweep.json, sweep.html; exit 0 when it ran (verdicts per point in the files), 2 on bad input, 3 beyond --max-points");
+    auto* sweep_cmd = app.add_subcommand("sweep", "derive + verify over a grid of parameters named in --masses/--restitution; writes DIR/sweep.csv, sweep.json, sweep.html and figures/ (one SVG and PDF per map); exit 0 when it ran (verdicts per point in the files), 2 on bad input, 3 beyond --max-points");
     sweep_cmd->add_option("--masses", sweep_args.masses, "ball masses, numbers or parameter names (1,m,1)");
     sweep_cmd->add_option("--restitution", sweep_args.restitution, "E or E1,...,E(n-1), numbers or parameter names")->capture_default_str();
     sweep_cmd->add_option("--rule", sweep_args.rule, "most-negative, left-first or right-first")->capture_default_str();
@@ -231,7 +248,7 @@ int main(int argc, char** argv) {
     sweep_cmd->add_option("--merge", sweep_args.merge, "PART...: merge the part files of one sharded run (each shard once, every point covered) into DIR");
     sweep_cmd->add_option("--max-points", sweep_args.max_points, "limit: grid points in all (undecided, exit 3, beyond it)")->check(natural_text)->capture_default_str();
     sweep_cmd->add_option("--jobs", sweep_args.jobs, "worker processes (default: all cores)")->check(natural_text)->check(CLI::Range(1u, 256u));
-    sweep_cmd->add_option("-o,--output", sweep_args.out, "directory to write sweep.csv, sweep.json and sweep.html into")->required();
+    sweep_cmd->add_option("-o,--output", sweep_args.out, "directory to write sweep.csv, sweep.json, sweep.html and figures/ into")->required();
     for (auto* cmd : {certify_cmd, report_cmd, sweep_cmd})
         add_limit_options(cmd, proof);
     for (auto* cmd : {certify_cmd, report_cmd})

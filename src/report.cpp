@@ -4,6 +4,7 @@
 #include "certificate.hpp"
 #include "law_json.hpp"
 #include "rational.hpp"
+#include "report_draw.hpp"
 #include "verdict_output.hpp"
 
 #include <array>
@@ -17,20 +18,10 @@ namespace impactcert {
 
 namespace {
 
-// Okabe & Ito's colour-blind-safe palette (without black and vermillion, kept for the marks);
-// grey as an eighth. Counterexamples are black on a white outline.
-const char* const kPalette[] = {"#E69F00", "#56B4E9", "#009E73", "#F0E442", "#0072B2", "#CC79A7", "#999999",
-                                "#E69F00", "#56B4E9", "#009E73"};
+using namespace draw;
 
-std::string fmt(double x) {
-    char buf[32];
-    std::snprintf(buf, sizeof buf, "%.2f", x);
-    return buf;
-}
 
-struct Dir {
-    double x, y; // unit vector
-};
+
 
 // A direction in double at any scale: the vector is first multiplied exactly by the power of two
 // that brings its largest component near 1 (the binary exponent from the bit lengths of numerator
@@ -324,73 +315,12 @@ std::string sphere_svg(const Model& model, const VerifyReport* report) {
 
 namespace {
 
-std::string matrix_text(const Matrix& m) {
-    std::string s = "[";
-    for (std::size_t i = 0; i < m.rows(); ++i) {
-        s += i ? ", [" : "[";
-        for (std::size_t j = 0; j < m.cols(); ++j)
-            s += (j ? ", " : "") + to_string(m(i, j));
-        s += "]";
-    }
-    return s + "]";
-}
 
-std::string rays_text(const Piece& p) {
-    std::string s;
-    for (std::size_t k = 0; k < p.R.cols(); ++k)
-        s += (k ? ", " : "") + to_string(p.R.column(k));
-    return s;
-}
 
-// A non-negative rational as a double for drawing: beyond 2^1000 it is 2^1000, below 2^-1000 zero.
-double display_double(const Rational& r) {
-    const long bits = static_cast<long>(mpz_sizeinbase(mpq_numref(r.mpq()), 2)) -
-                      static_cast<long>(mpz_sizeinbase(mpq_denref(r.mpq()), 2));
-    if (sign_of(r) == Sign::zero || bits < -1000)
-        return 0;
-    if (bits > 1000)
-        return std::ldexp(1.0, 1000);
-    return mpq_get_d(r.mpq());
-}
 
-// The angle of gamma in the metric of the kinetic energy H = G^-1 (in (-pi, pi]): the Euclidean
-// angle of L^T gamma, H = L L^T. With H = [[a, b], [b, c]], L^T gamma is proportional to
-// (a g1 + b g2, sqrt(det H) g2), so the angle is atan2(sqrt(det H) g2, u), u = a g1 + b g2, taken
-// from the exact ratio t = u / g2 as atan2(sign g2, sign(g2 t) sqrt(t^2 / det H)): no overflow at
-// any scale. In this metric an elastic impact is a reflection, and the cones of a derived law of a
-// heavy and a light ball, squeezed against one line in gamma coordinates, open up.
-double h_angle(const Matrix& H, const Vector& g) {
-    const double pi = std::acos(-1.0);
-    const Rational u = H(0, 0) * g[0] + H(0, 1) * g[1];
-    if (sign_of(g[1]) == Sign::zero)
-        return sign_of(u) == Sign::negative ? pi : 0.0;
-    const Rational det = H(0, 0) * H(1, 1) - H(0, 1) * H(0, 1);
-    const Rational t = u / g[1];
-    const double s = std::sqrt(display_double(t * t / det));
-    const bool g2_positive = sign_of(g[1]) == Sign::positive;
-    const bool x_positive = (sign_of(t) == Sign::positive) == g2_positive;
-    return std::atan2(g2_positive ? 1.0 : -1.0, sign_of(t) == Sign::zero ? 0.0 : (x_positive ? s : -s));
-}
 
-Dir h_direction(const Matrix& H, const Vector& g) {
-    const double a = h_angle(H, g);
-    return {std::cos(a), std::sin(a)};
-}
 
-// Counter-clockwise span from a to b in radians, in [0, 2 pi).
-double span(double a, double b) {
-    const double two_pi = 2 * std::acos(-1.0);
-    double d = b - a;
-    while (d < 0)
-        d += two_pi;
-    while (d >= two_pi)
-        d -= two_pi;
-    return d;
-}
 
-std::string piece_title(const Piece& p) {
-    return p.name + ": rays " + rays_text(p) + "; Q = " + matrix_text(p.Q);
-}
 
 // The cones unrolled on a strip: the H-angle from -pi to pi left to right, one band per cone with
 // its name where it fits and everything on hover; ticks at the axes and the tie.
@@ -634,9 +564,14 @@ std::string report_markdown(const Model& model, const VerifyReport& report) {
         for (const auto& p : model.pieces())
             s += "| " + md_escape(p.name) + " | " + rays_text(p) + " | `" + matrix_text(p.Q) + "` |\n";
     }
-    if (model.contacts() >= 4)
-        s += "\nNo picture in report.html: " + std::to_string(model.contacts()) + " contacts are " +
-             std::to_string(model.contacts()) + " dimensions (pictures are drawn for 2 and 3).\n";
+    if (model.contacts() >= 4) {
+        std::string why_not;
+        if (planes_svg_fits(model, &why_not))
+            s += "\nreport.html draws the " + std::to_string(model.contacts()) + "-dimensional law on each plane of two "
+                 "contacts (figures/planes.svg).\n";
+        else
+            s += "\nNo picture in report.html: " + md_escape(why_not) + ".\n";
+    }
     s += "\nH = G^-1 = `" + matrix_text(model.H()) + "`. Every check is exact (GMP rationals); the reductions "
          "are argued in proofs/README.md.\n";
     return s;
@@ -671,11 +606,16 @@ std::string report_html(const Model& model, const VerifyReport& report) {
              "<figcaption>The cones of the law on the unit sphere of pre-impact contact velocities, in two "
              "orthographic hemispheres (seen from (1,1,1) and from (-1,-1,-1)), each labelled at its centre; "
              "black dots: counterexamples.</figcaption>\n</figure>\n";
-    if (model.contacts() >= 4)
-        s += "<p>No picture: the cones of a law with " + std::to_string(model.contacts()) +
-             " contacts live in a space of " + std::to_string(model.contacts()) +
-             " dimensions; pictures are drawn for 2 contacts (a plane) and 3 (a sphere). The table of pieces below "
-             "can be filtered.</p>\n";
+    if (model.contacts() == 2)
+        s += "<figure>\n" + unit_circle_svg(model) + "<figcaption>" + kUnitCircleCaption + "</figcaption>\n</figure>\n";
+    if (model.contacts() >= 3) {
+        std::string why_not;
+        const std::string planes = planes_svg(model, &why_not);
+        if (!planes.empty())
+            s += "<figure>\n" + planes + "<figcaption>" + kPlanesCaption + "</figcaption>\n</figure>\n";
+        else
+            s += "<p>" + xml_escape("No plane view: " + why_not) + ". The table of pieces below can be filtered.</p>\n";
+    }
     s += "<h2>Obligations</h2>\n<table>\n<tr><th>obligation</th><th>claimed</th><th>verdict</th><th>exact "
          "checks</th><th>method</th></tr>\n";
     for (const auto& o : report.obligations)

@@ -21,10 +21,54 @@
 #include "obligations.hpp"
 
 #include <string>
+#include <vector>
 
 namespace impactcert {
 
 std::string cones_svg(const Model& model, const VerifyReport* report = nullptr);
+
+// S along the unit circle of the metric H (report_planes.cpp), drawn so that this circle is round:
+//   - unit_circle_svg (c = 2): the cones as light sectors, the circle |gamma-|_H = 1 dashed and its
+//     image S(gamma-) as a curve coloured by cone (outside the circle T+ > T-). Empty otherwise.
+//   - planes_svg (c >= 3): small multiples, one panel per plane of two contacts i < j (the other
+//     components 0): a ring of the cones met in each direction of the plane, found exactly from
+//     R^-1 (grey where no cone meets it in a sector), and the curve |S(gamma-)|_H / |gamma-|_H
+//     along the unit circle of H restricted to the plane (dashed: 1). Empty beyond 10 contacts or
+//     2 * 10^7 sign tests, with the reason in *why_not.
+std::string unit_circle_svg(const Model& model);
+std::string planes_svg(const Model& model, std::string* why_not = nullptr);
+bool planes_svg_fits(const Model& model, std::string* why_not = nullptr); // planes_svg draws
+
+inline constexpr const char* kUnitCircleCaption =
+    "S along the unit circle of the metric H (dashed: ‖γ⁻‖_H = 1, unit pre-impact kinetic energy of the "
+    "contacts). Left: the image S(γ⁻), coloured by the cone of γ⁻. Right: the ratio ‖S(γ⁻)‖_H / ‖γ⁻‖_H in the "
+    "direction of γ⁻; outside the dashed circle T⁺ > T⁻. Shaded: the cones; grey lines: the contact axes, all "
+    "drawn in the metric H.";
+inline constexpr const char* kPlanesCaption =
+    "The law on each plane of two contacts (the other components 0), drawn in the metric H restricted to the "
+    "plane. Ring: the cone met in each direction (grey: no cone meets the plane there in a sector). Curve: "
+    "‖S(γ⁻)‖_H / ‖γ⁻‖_H along the unit circle; dashed: 1, outside it T⁺ > T⁻.";
+
+// LaTeX tables for papers (report_tex.cpp): the pieces (rays and Q, exact fractions; longtable
+// beyond 40 pieces) and the obligations with their verdicts. Names are escaped for \texttt.
+std::string law_latex(const Model& model);
+std::string verdicts_latex(const Model& model, const VerifyReport& report);
+
+// Standalone figures into dir (created; figure.hpp): cones (c = 2, 3), unit-circle (c = 2) and
+// planes (when planes_svg draws), each STEM.svg and, with rsvg-convert, STEM.pdf, with a title,
+// a caption and a legend. Returns the paths written; none when there is no picture.
+std::vector<std::string> write_report_figures(const Model& model, const VerifyReport& report, const std::string& dir);
+
+// The colour of piece p in every picture (Okabe-Ito, report_draw.hpp).
+std::string draw_palette(std::size_t p);
+
+inline constexpr const char* kConesCaption2 =
+    "The cones in the plane of pre-impact contact velocities (compare Leine & Winandy, Fig. 1(b)), drawn in the "
+    "metric H = G^-1, where an elastic impact is a reflection; black lines: boundary rays; black dots: "
+    "counterexamples. Right: each cone's image under its matrix. Below: the cones unrolled by angle.";
+inline constexpr const char* kConesCaption3 =
+    "The cones on the unit sphere of pre-impact contact velocities, in two orthographic hemispheres (seen from "
+    "(1,1,1) and from (-1,-1,-1)), each labelled at its centre; black dots: counterexamples.";
 std::string report_markdown(const Model& model, const VerifyReport& report);
 std::string report_html(const Model& model, const VerifyReport& report);
 

@@ -1,5 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "sweep.hpp"
+
+#include "figure.hpp"
 #include "exact_conditions.hpp"
 
 #include "errors.hpp"
@@ -1064,6 +1066,30 @@ void write_sweep_outputs(const SweepSpec& spec, const std::vector<Json>& results
     }
     html += "</body>\n</html>\n";
     write(dir + "/sweep.html", html);
+
+    // figures/: one standalone figure per map (SVG, and PDF with rsvg-convert), for papers.
+    std::error_code ec;
+    std::filesystem::create_directories(dir + "/figures", ec);
+    if (ec)
+        throw InputError(dir + "/figures: cannot create directory: " + ec.message());
+    std::vector<LegendItem> legend = {{colour_of("proved"), "proved", LegendItem::Shape::square},
+                                      {colour_of("refuted"), "refuted", LegendItem::Shape::square},
+                                      {colour_of("undecided"), "undecided", LegendItem::Shape::square},
+                                      {colour_of("skipped"), "skipped", LegendItem::Shape::square},
+                                      {colour_of(""), "no finite law", LegendItem::Shape::square}};
+    std::vector<std::string> maps(kObligationIds.begin(), kObligationIds.end());
+    maps.push_back(kOrderColumn);
+    for (const auto& id : maps) {
+        const bool overlay = (id == "P1" || id == "nonexpansive") && conditions.result.computed;
+        std::vector<LegendItem> items = legend;
+        if (overlay)
+            items.push_back({"#ffffff", "P1 holds exactly (certified crossings)", LegendItem::Shape::dot});
+        const std::string caption = id == kOrderColumn
+                                        ? "Whether every admissible order of the impacts gives the same law, at each grid point."
+                                        : "The obligation " + id + " (SPEC section 3) of the law derived at each grid point.";
+        write_figure(dir + "/figures/" + id, standalone_figure(id + ": " + title, caption,
+                                                              svg_map(spec, results, id, overlay ? &conditions : nullptr), items));
+    }
 }
 
 } // namespace impactcert

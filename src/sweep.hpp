@@ -59,7 +59,8 @@ SweepParameter parse_vary(const std::string& text);
 // (time linear in the digits of LO and HI, positive at any scale); the ends exact.
 std::vector<Rational> grid_values(const SweepParameter& p);
 
-// Writes the three files into dir; `progress(done, total)` now and then. With a shard: only the
+// Writes the three files and figures/ (one standalone figure per map, SVG and PDF: figure.hpp)
+// into dir; `progress(done, total)` now and then. With a shard: only the
 // shard's points, into its part file (sweep_part_path), nothing else.
 void run_sweep(SweepSpec spec, const std::string& dir,
                const std::function<void(std::size_t, std::size_t)>& progress);

@@ -363,13 +363,14 @@ TEST_CASE("report: colour-blind-safe colours, a sentence for c >= 4, a summary-o
     CHECK(html.find("#E69F00") != std::string::npos);
     CHECK(html.find("class=\"counterexample\"") != std::string::npos);
     CHECK(html.find("fill=\"#000\" stroke=\"#fff\" class=\"counterexample\"") != std::string::npos);
-    // c = 4 (five balls, 120 pieces): no picture, and both files say why; the markdown lists no
-    // piece (more than 100) and stays small, the HTML lists them all.
+    // c = 4 (five balls, 120 pieces): the plane view (six planes), which the markdown points to;
+    // the markdown lists no piece (more than 100) and stays small, the HTML lists them all.
     const Model five(test::sorting_law(5));
     const VerifyReport r5 = verify(five);
     const std::string md = report_markdown(five, r5), html5 = report_html(five, r5);
-    CHECK(html5.find("No picture: the cones of a law with 4 contacts") != std::string::npos);
-    CHECK(md.find("No picture in report.html: 4 contacts") != std::string::npos);
+    CHECK(count(html5, "<g class=\"plane\">") == 6);
+    CHECK(html5.find("No plane view") == std::string::npos);
+    CHECK(md.find("on each plane of two contacts (figures/planes.svg)") != std::string::npos);
     CHECK(md.find("120 pieces: too many for a job summary") != std::string::npos);
     CHECK(md.find("| piece | rays | Q |") == std::string::npos);
     CHECK(md.size() < 8000);

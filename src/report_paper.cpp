@@ -1,0 +1,151 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// report_paper.cpp -- what a report gives a paper: LaTeX tables of a law and of its verdicts, and
+// standalone figures (SVG and PDF).
+#include "report.hpp"
+
+#include "figure.hpp"
+#include "rational.hpp"
+
+#include <filesystem>
+
+namespace impactcert {
+namespace {
+
+constexpr std::size_t kTabularRows = 40; // more pieces: longtable, which breaks across pages
+
+// Text for \texttt{} and comments: LaTeX's special characters escaped, control characters '?'.
+std::string tex_escape(const std::string& s) {
+    std::string out;
+    for (const char ch : s) {
+        const auto u = static_cast<unsigned char>(ch);
+        switch (ch) {
+        case '\\': out += "\\textbackslash{}"; break;
+        case '{': out += "\\{"; break;
+        case '}': out += "\\}"; break;
+        case '$': out += "\\$"; break;
+        case '&': out += "\\&"; break;
+        case '#': out += "\\#"; break;
+        case '_': out += "\\_"; break;
+        case '%': out += "\\%"; break;
+        case '^': out += "\\textasciicircum{}"; break;
+        case '~': out += "\\textasciitilde{}"; break;
+        default: out += (u < 0x20 || u == 0x7f) ? '?' : ch;
+        }
+    }
+    return out;
+}
+
+std::string tex_number(const Rational& q) {
+    const std::string text = to_string(q);
+    const auto slash = text.find('/');
+    if (slash == std::string::npos)
+        return text;
+    const bool negative = text[0] == '-';
+    return std::string(negative ? "-" : "") + "\\frac{" + text.substr(negative ? 1 : 0, slash - (negative ? 1 : 0)) + "}{" +
+           text.substr(slash + 1) + "}";
+}
+
+std::string tex_matrix(const Matrix& m) {
+    std::string s = "\\begin{pmatrix}";
+    for (std::size_t i = 0; i < m.rows(); ++i) {
+        for (std::size_t j = 0; j < m.cols(); ++j)
+            s += (j ? " & " : "") + tex_number(m(i, j));
+        s += i + 1 < m.rows() ? " \\\\ " : "";
+    }
+    return s + "\\end{pmatrix}";
+}
+
+std::string tex_column(const Vector& v) {
+    std::string s = "\\begin{pmatrix}";
+    for (std::size_t i = 0; i < v.size(); ++i)
+        s += (i ? " \\\\ " : "") + tex_number(v[i]);
+    return s + "\\end{pmatrix}";
+}
+
+std::string header(const Model& model, const std::string& what, const std::string& packages) {
+    std::string s = "% SPDX-License-Identifier: MIT\n% " + what + " of the law \"" + tex_escape(model.law().name) +
+                    "\", written by impactcert " + IMPACTCERT_VERSION + " (report).\n% Needs \\usepackage{" + packages + "}";
+    if (model.contacts() > 10)
+        s += "; matrices wider than 10 columns need \\setcounter{MaxMatrixCols}{" + std::to_string(model.contacts()) + "}";
+    return s + ".\n";
+}
+
+} // namespace
+
+std::string law_latex(const Model& model) {
+    const auto& pieces = model.pieces();
+    const bool long_table = pieces.size() > kTabularRows;
+    std::string s = header(model, "The pieces", long_table ? "amsmath,booktabs,longtable" : "amsmath,booktabs");
+    s += "% One row per piece: the cone C_i spanned by its rays, and Q_i with gamma+ = Q_i gamma- on C_i.\n";
+    const std::string env = long_table ? "longtable" : "tabular";
+    s += "\\begin{" + env + "}{lcc}\n\\toprule\nPiece & Rays of $C_i$ & $Q_i$ \\\\\n\\midrule\n";
+    if (long_table)
+        s += "\\endhead\n";
+    for (const auto& p : pieces) {
+        std::string rays;
+        for (std::size_t k = 0; k < p.R.cols(); ++k)
+            rays += (k ? ",\\ " : "") + tex_column(p.R.column(k));
+        s += "\\texttt{" + tex_escape(p.name) + "} & $" + rays + "$ & $" + tex_matrix(p.Q) + "$ \\\\\n";
+    }
+    return s + "\\bottomrule\n\\end{" + env + "}\n";
+}
+
+std::string verdicts_latex(const Model& model, const VerifyReport& report) {
+    std::string s = header(model, "The obligations and their verdicts", "booktabs");
+    s += "\\begin{tabular}{llrl}\n\\toprule\nObligation & Claimed & Exact checks & Verdict \\\\\n\\midrule\n";
+    for (const auto& o : report.obligations)
+        s += "\\texttt{" + tex_escape(o.id) + "} & " + (o.claimed ? "yes" : "no") + " & " + std::to_string(o.checks) + " & " +
+             to_string(o.verdict) + " \\\\\n";
+    return s + "\\midrule\n\\multicolumn{4}{l}{Gate: " + report.verdict() + "} \\\\\n\\bottomrule\n\\end{tabular}\n";
+}
+
+std::vector<std::string> write_report_figures(const Model& model, const VerifyReport& report, const std::string& dir) {
+    const std::size_t c = model.contacts();
+    std::string why_not;
+    const bool planes = planes_svg_fits(model, &why_not);
+    if (c != 2 && c != 3 && !planes)
+        return {};
+    std::error_code ec;
+    std::filesystem::create_directories(dir, ec);
+    if (ec)
+        throw InputError(dir + ": cannot create directory: " + ec.message());
+    bool refuted = false;
+    for (const auto& o : report.obligations)
+        refuted = refuted || o.verdict == Verdict::refuted;
+    const std::string name = model.law().name;
+    // A legend of the cones' colours where each colour names one cone (the palette has 7 hues).
+    std::vector<LegendItem> cones;
+    if (model.pieces().size() <= 7)
+        for (std::size_t p = 0; p < model.pieces().size(); ++p)
+            cones.push_back({draw_palette(p), model.pieces()[p].name, LegendItem::Shape::square});
+    std::vector<std::string> written;
+    auto add = [&](const std::string& stem, const std::string& svg) {
+        for (auto& path : write_figure(dir + "/" + stem, svg))
+            written.push_back(std::move(path));
+    };
+    if (c == 2 || c == 3) {
+        std::vector<LegendItem> legend = cones;
+        if (refuted)
+            legend.push_back({"#000000", "counterexample", LegendItem::Shape::dot});
+        add("cones", standalone_figure(name + ": the cones of the law", c == 2 ? kConesCaption2 : kConesCaption3,
+                                       cones_svg(model, &report), legend));
+    }
+    if (c == 2) {
+        std::vector<LegendItem> legend = {{"#000000", "‖γ⁻‖_H = 1", LegendItem::Shape::dashed},
+                                          {"#000000", "S(γ⁻) and the ratio, coloured by cone", LegendItem::Shape::line}};
+        legend.insert(legend.end(), cones.begin(), cones.end());
+        add("unit-circle", standalone_figure(name + ": S along the unit circle of the metric H", kUnitCircleCaption,
+                                             unit_circle_svg(model), legend));
+    }
+    if (planes) {
+        std::vector<LegendItem> legend = {{"#000000", "‖γ⁻‖_H = 1", LegendItem::Shape::dashed},
+                                          {"#000000", "‖S(γ⁻)‖_H / ‖γ⁻‖_H", LegendItem::Shape::line},
+                                          {"#dddddd", "no cone in a sector", LegendItem::Shape::square}};
+        legend.insert(legend.end(), cones.begin(), cones.end());
+        add("planes", standalone_figure(name + ": the law on the planes of two contacts", kPlanesCaption,
+                                        planes_svg(model), legend));
+    }
+    return written;
+}
+
+} // namespace impactcert
