@@ -6,6 +6,7 @@
 #include "verdict_output.hpp"
 
 #include <fcntl.h>
+#include <poll.h>
 #include <signal.h>
 #include <spawn.h>
 #include <sys/stat.h>
@@ -13,6 +14,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cerrno>
 #include <cstdlib>
 #include <cstring>
@@ -61,7 +63,8 @@ std::string on_path(const std::string& name) {
 }
 
 // rsvg-convert -f pdf SVG, its standard output into pdf_path (whole or absent).
-void convert_to_pdf(const std::string& converter, const std::string& svg_path, const std::string& pdf_path) {
+void convert_to_pdf(const std::string& converter, const std::string& svg_path, const std::string& pdf_path,
+                    int seconds) {
     int pipe_fds[2];
     if (::pipe2(pipe_fds, O_CLOEXEC) != 0)
         throw InputError(pdf_path + ": cannot start " + converter + ": " + std::strerror(errno));
@@ -85,7 +88,18 @@ void convert_to_pdf(const std::string& converter, const std::string& svg_path, c
         OutputFile out(pdf_path);
         std::size_t total = 0;
         char buffer[1 << 16];
+        const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(seconds);
         for (;;) {
+            const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
+            pollfd wait_for{pipe_fds[0], POLLIN, 0};
+            const int ready = left.count() > 0 ? ::poll(&wait_for, 1, static_cast<int>(left.count())) : 0;
+            if (ready < 0 && errno == EINTR)
+                continue;
+            if (ready == 0) {
+                ::kill(pid, SIGKILL);
+                failure = "the converter did not finish in " + std::to_string(seconds) + " s";
+                break;
+            }
             const ssize_t got = ::read(pipe_fds[0], buffer, sizeof buffer);
             if (got < 0 && errno == EINTR)
                 continue;
@@ -201,12 +215,12 @@ std::string pdf_unavailable_reason() {
     return "";
 }
 
-std::vector<std::string> write_figure(const std::string& stem, const std::string& svg) {
+std::vector<std::string> write_figure(const std::string& stem, const std::string& svg, int converter_seconds) {
     std::vector<std::string> written = {stem + ".svg"};
     write_file(written[0], svg);
     const std::string converter = on_path("rsvg-convert");
     if (!converter.empty()) {
-        convert_to_pdf(converter, written[0], stem + ".pdf");
+        convert_to_pdf(converter, written[0], stem + ".pdf", converter_seconds);
         written.push_back(stem + ".pdf");
     }
     return written;

@@ -11,8 +11,8 @@
 //   - write_figure(stem, svg): writes STEM.svg and, when `rsvg-convert` (Debian: librsvg2-bin) is
 //     found on PATH, STEM.pdf converted from it (vector, one page of the figure's size). Both are
 //     whole or absent (output_file.hpp): the PDF is read from the converter's standard output
-//     into a temporary file renamed at the end, and is not written when the converter fails or
-//     writes more than 256 MiB. Returns the paths written. Without the converter it returns the
+//     into a temporary file renamed at the end, and is not written when the converter fails,
+//     writes more than 256 MiB or runs for more than converter_seconds (it is then killed). Returns the paths written. Without the converter it returns the
 //     SVG alone and pdf_unavailable_reason() says why (the caller prints it once, as a note).
 //     A converter that fails is an InputError naming the figure.
 #pragma once
@@ -32,7 +32,7 @@ struct LegendItem {
 std::string standalone_figure(const std::string& title, const std::string& caption, const std::string& drawing,
                               const std::vector<LegendItem>& legend);
 
-std::vector<std::string> write_figure(const std::string& stem, const std::string& svg);
+std::vector<std::string> write_figure(const std::string& stem, const std::string& svg, int converter_seconds = 120);
 
 // Empty when PDFs can be written; else one sentence for a note on stderr.
 std::string pdf_unavailable_reason();

@@ -195,8 +195,13 @@ std::string decimal_text(const Rational& x, int digits) {
     return (negative ? "-" : "") + t;
 }
 
-// A grid value for an axis tick: an integer as it is, else three decimals without trailing zeros.
+// A grid value for an axis tick: an integer as it is, else three decimals without trailing zeros;
+// beyond 10^6 or below 10^-3, four significant digits with an exponent ("1e+50000": a tick of a
+// grid up to 10^100000 was a label of 50,001 digits, which a PDF converter took minutes to lay out).
 std::string tick_text(const Rational& v) {
+    const Rational a = abs_of(v);
+    if (sign_of(v) != Sign::zero && (a >= Rational(1000000) || a < Rational(1, 1000)))
+        return readable_text(v, 4);
     if (v.denominator() == CGAL::Gmpz(1))
         return to_string(v);
     std::string t = decimal_text(v, 3);
@@ -1086,7 +1091,7 @@ void write_sweep_outputs(const SweepSpec& spec, const std::vector<Json>& results
             items.push_back({"#ffffff", "P1 holds exactly (certified crossings)", LegendItem::Shape::dot});
         const std::string caption = id == kOrderColumn
                                         ? "Whether every admissible order of the impacts gives the same law, at each grid point."
-                                        : "The obligation " + id + " (SPEC section 3) of the law derived at each grid point.";
+                                        : "The obligation " + id + " of the law derived at each grid point (proofs/README.md).";
         write_figure(dir + "/figures/" + id, standalone_figure(id + ": " + title, caption,
                                                               svg_map(spec, results, id, overlay ? &conditions : nullptr), items));
     }

@@ -240,6 +240,10 @@ TEST_CASE("defect 18.3 fail: sweep validates before work, grids at any scale, bo
     csv = test::read_file(dir + "/sweep.csv");
     REQUIRE(csv.find(",undecided\n") != std::string::npos);
     REQUIRE(csv.find("\n1,proved,") != std::string::npos);
+    // Ticks at any scale are short (a 50,001-digit label held a PDF converter for minutes).
+    const std::string fan = test::read_file(dir + "/figures/fan.svg");
+    CHECK(fan.find("</title>1e+100000</text>") != std::string::npos);
+    CHECK(fan.find("</title>1e+50000</text>") != std::string::npos);
     // A log grid keeps distinct points at any count: 3,000 between 1/4 and 4 (needs 5 digits).
     SweepParameter p = parse_vary("m=1/4..4:3000:log");
     const auto values = grid_values(p);

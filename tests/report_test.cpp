@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "law_json.hpp"
 #include "paper_law.hpp"
+#include "errors.hpp"
+#include "figure.hpp"
 #include "report.hpp"
 #include "verdict_output.hpp"
 #include "support.hpp"
@@ -8,6 +10,10 @@
 #include <catch2/catch.hpp>
 
 #include <algorithm>
+#include <chrono>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
 #include <cctype>
 #include <cstdio>
 #include <vector>
@@ -381,4 +387,33 @@ TEST_CASE("report: colour-blind-safe colours, a sentence for c >= 4, a summary-o
     CHECK(md3.find("| piece | rays | Q |") != std::string::npos);
     CHECK(md3.find("too many for a job summary") == std::string::npos);
     CHECK(md3.find("No picture") == std::string::npos);
+}
+
+TEST_CASE("figures: a converter that hangs is killed at its deadline, and no PDF is left", "[report][figures]") {
+    const std::string dir = "/tmp/impactcert-figure-deadline";
+    std::filesystem::remove_all(dir);
+    std::filesystem::create_directories(dir + "/bin");
+    {
+        std::ofstream fake(dir + "/bin/rsvg-convert");
+        fake << "#!/bin/sh\nexec sleep 30\n";
+    }
+    std::filesystem::permissions(dir + "/bin/rsvg-convert", std::filesystem::perms::owner_all);
+    const std::string path = std::getenv("PATH") ? std::getenv("PATH") : "/usr/bin:/bin";
+    ::setenv("PATH", (dir + "/bin:" + path).c_str(), 1);
+    const auto start = std::chrono::steady_clock::now();
+    std::string error;
+    try {
+        write_figure(dir + "/x", standalone_figure("t", "", "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"10\" height=\"10\"></svg>\n", {}), 1);
+    } catch (const InputError& e) {
+        error = e.what();
+    }
+    ::setenv("PATH", path.c_str(), 1);
+    CHECK(error == dir + "/x.pdf: the converter did not finish in 1 s");
+    CHECK(std::chrono::steady_clock::now() - start < std::chrono::seconds(20));
+    std::vector<std::string> left;
+    for (const auto& entry : std::filesystem::directory_iterator(dir))
+        left.push_back(entry.path().filename().string());
+    std::sort(left.begin(), left.end());
+    CHECK(left == std::vector<std::string>{"bin", "x.svg"});
+    std::filesystem::remove_all(dir);
 }
