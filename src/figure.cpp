@@ -75,9 +75,15 @@ void convert_to_pdf(const std::string& converter, const std::string& svg_path, c
     posix_spawn_file_actions_addopen(&actions, 2, "/dev/null", O_WRONLY, 0);
     std::string a0 = converter, a1 = "-f", a2 = "pdf", a3 = (svg_path[0] == '-' ? "./" : "") + svg_path;
     char* argv[] = {a0.data(), a1.data(), a2.data(), a3.data(), nullptr};
+    // Its own process group, so that a deadline ends whatever it started too.
+    posix_spawnattr_t attributes;
+    posix_spawnattr_init(&attributes);
+    posix_spawnattr_setflags(&attributes, POSIX_SPAWN_SETPGROUP);
+    posix_spawnattr_setpgroup(&attributes, 0);
     pid_t pid = 0;
-    const int spawned = posix_spawn(&pid, converter.c_str(), &actions, nullptr, argv, environ);
+    const int spawned = posix_spawn(&pid, converter.c_str(), &actions, &attributes, argv, environ);
     posix_spawn_file_actions_destroy(&actions);
+    posix_spawnattr_destroy(&attributes);
     ::close(pipe_fds[1]);
     if (spawned != 0) {
         ::close(pipe_fds[0]);
@@ -96,7 +102,7 @@ void convert_to_pdf(const std::string& converter, const std::string& svg_path, c
             if (ready < 0 && errno == EINTR)
                 continue;
             if (ready == 0) {
-                ::kill(pid, SIGKILL);
+                ::kill(-pid, SIGKILL);
                 failure = "the converter did not finish in " + std::to_string(seconds) + " s";
                 break;
             }
@@ -107,13 +113,19 @@ void convert_to_pdf(const std::string& converter, const std::string& svg_path, c
                 break;
             total += static_cast<std::size_t>(got);
             if (total > kMaxPdfBytes) {
-                ::kill(pid, SIGKILL);
+                ::kill(-pid, SIGKILL);
                 failure = "the converter wrote more than 256 MiB";
                 break;
             }
             out.stream().write(buffer, got);
         }
         ::close(pipe_fds[0]);
+        // Its exit is awaited without reaping it (WNOWAIT): while it is a zombie its process group
+        // id cannot be reused, so killing what it left behind in the group hits nothing else.
+        siginfo_t exited{};
+        while (::waitid(P_PID, static_cast<id_t>(pid), &exited, WEXITED | WNOWAIT) < 0 && errno == EINTR) {
+        }
+        ::kill(-pid, SIGKILL);
         int status = 0;
         while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
         }
@@ -148,8 +160,24 @@ std::vector<std::string> wrap(const std::string& text, std::size_t width) {
     return lines;
 }
 
-std::string standalone_figure(const std::string& title, const std::string& caption, const std::string& drawing,
-                              const std::vector<LegendItem>& legend) {
+// At most `limit` bytes of text, cut at a UTF-8 character boundary, with "..." when cut.
+std::string shortened(const std::string& text, std::size_t limit) {
+    if (text.size() <= limit)
+        return text;
+    std::size_t end = limit;
+    while (end > 0 && (static_cast<unsigned char>(text[end]) & 0xC0) == 0x80)
+        --end;
+    return text.substr(0, end) + "...";
+}
+
+std::string standalone_figure(const std::string& full_title, const std::string& caption, const std::string& drawing,
+                              const std::vector<LegendItem>& full_legend) {
+    // Names come from the law file: a title of 200,000 characters made a page of 1.7 M pixels that
+    // the converter laid out for minutes. The full names stay in the drawing's hover titles.
+    const std::string title = shortened(full_title, 120);
+    std::vector<LegendItem> legend = full_legend;
+    for (auto& item : legend)
+        item.label = shortened(item.label, 40);
     const double margin = 14, w = first_tag_number(drawing, "width"), h = first_tag_number(drawing, "height");
     // Text widths estimated at 0.6 em per character (sans-serif; the figure scales, nothing clips).
     auto label_width = [](const LegendItem& item) { return 30 + 6.6 * static_cast<double>(item.label.size()) + 14; };

@@ -6,6 +6,7 @@
 #include "figure.hpp"
 #include "rational.hpp"
 
+#include <cstdio>
 #include <filesystem>
 
 namespace impactcert {
@@ -13,11 +14,26 @@ namespace {
 
 constexpr std::size_t kTabularRows = 40; // more pieces: longtable, which breaks across pages
 
-// Text for \texttt{} and comments: LaTeX's special characters escaped, control characters '?'.
+// Text for \texttt{} and comments: LaTeX's special characters escaped, control characters '?',
+// and every character beyond ASCII as its code point, "[U+03B3]" (pdflatex stops at a Unicode
+// character its fonts do not set up; the table must compile whatever the names).
 std::string tex_escape(const std::string& s) {
     std::string out;
-    for (const char ch : s) {
+    for (std::size_t i = 0; i < s.size(); ++i) {
+        const char ch = s[i];
         const auto u = static_cast<unsigned char>(ch);
+        if (u >= 0x80) {
+            // A UTF-8 sequence (nlohmann-json hands over valid UTF-8): its code point.
+            const std::size_t n = u >= 0xF0 ? 4 : u >= 0xE0 ? 3 : u >= 0xC0 ? 2 : 1;
+            unsigned long cp = n == 4 ? (u & 0x07u) : n == 3 ? (u & 0x0Fu) : n == 2 ? (u & 0x1Fu) : u;
+            for (std::size_t k = 1; k < n && i + k < s.size(); ++k)
+                cp = (cp << 6) | (static_cast<unsigned char>(s[i + k]) & 0x3Fu);
+            i += n - 1;
+            char buf[24];
+            std::snprintf(buf, sizeof buf, "[U+%04lX]", cp);
+            out += buf;
+            continue;
+        }
         switch (ch) {
         case '\\': out += "\\textbackslash{}"; break;
         case '{': out += "\\{"; break;

@@ -103,13 +103,23 @@ Vector embed(const Vector& xy, std::size_t c, std::size_t i, std::size_t j) {
     return g;
 }
 
-// Directions between u and v (counter-clockwise, exact): (1 - t) u + t v, t = 0, 1/m, ..., 1.
-std::vector<Vector> samples(const Vector& u, const Vector& v, int m) {
-    std::vector<Vector> out;
-    for (int k = 0; k <= m; ++k) {
-        const Rational t(k, m);
-        out.push_back({(Rational(1) - t) * u[0] + t * v[0], (Rational(1) - t) * u[1] + t * v[1]});
+// Directions from u to v (counter-clockwise, spanning alpha < pi in the metric H2 of the plane),
+// evenly spaced in that angle: g = p u + q v with p = sin(alpha (1 - s)) |v|_H2 / |u|_H2 and
+// q = sin(alpha s) (the rotation of u' = u / |u| towards v' = v / |v|, scaled by |v|), s = k / m,
+// with m from alpha (`per_turn` points per full turn, 2 to 64 per cone). p and q are doubles made
+// exact rationals, so every g is a point of the cone and its ratio is computed exactly; only the
+// spacing is approximate. (Equal steps of t in (1 - t) u + t v crowd next to the longer ray: a
+// cone between (1000, 1) and (0, 1) was drawn as one chord, hiding a gain of 36/25.)
+std::vector<Vector> arc_samples(const Matrix& H2, const Vector& u, const Vector& v, double alpha, int per_turn) {
+    const int m = static_cast<int>(std::clamp(std::ceil(alpha / (2 * kPi) * per_turn), 2.0, 64.0));
+    const double w = std::sqrt(display_double(quadratic(H2, v) / quadratic(H2, u)));
+    std::vector<Vector> out = {u};
+    for (int k = 1; k < m; ++k) {
+        const double t = static_cast<double>(k) / m;
+        const Rational p(std::sin(alpha * (1 - t)) * w), q(std::sin(alpha * t));
+        out.push_back({p * u[0] + q * v[0], p * u[1] + q * v[1]});
     }
+    out.push_back(v);
     return out;
 }
 
@@ -126,8 +136,6 @@ std::string unit_circle_svg(const Model& model) {
         return "";
     const auto& pieces = model.pieces();
     const Matrix& H = model.H();
-    // At most about 4,000 sampled points in all, at least 2 per cone.
-    const int m = static_cast<int>(std::clamp<std::size_t>(4000 / pieces.size(), 2, 64));
     struct Samples {
         std::vector<std::pair<double, double>> image; // angle of S(g), |S(g)|_H / |g|_H
         std::vector<std::pair<double, double>> ratio; // angle of g, the same ratio
@@ -143,7 +151,7 @@ std::string unit_circle_svg(const Model& model) {
         sec.d = span(sec.a, h_angle(H, v));
         sectors.push_back(sec);
         Samples curve;
-        for (const auto& g : samples(u, v, m)) {
+        for (const auto& g : arc_samples(H, u, v, sec.d, 360)) {
             const double r = norm_ratio(model, pieces[p], g);
             top = std::max(top, r);
             curve.image.push_back({h_angle(H, pieces[p].Q * g), r});
@@ -246,7 +254,7 @@ std::string planes_svg(const Model& model, std::string* why_not) {
                 sec.a = h_angle(B, sec.u);
                 sec.d = span(sec.a, h_angle(B, sec.v));
                 std::vector<std::pair<double, double>> curve;
-                for (const auto& xy : samples(sec.u, sec.v, 16)) {
+                for (const auto& xy : arc_samples(B, sec.u, sec.v, sec.d, 180)) {
                     const double r = norm_ratio(model, pieces[p], embed(xy, c, i, j));
                     top = std::max(top, r);
                     curve.push_back({h_angle(B, xy), r});

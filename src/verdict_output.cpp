@@ -56,7 +56,17 @@ std::string pad_left(std::string s, std::size_t width) {
 
 std::string xml_escape(const std::string& s) {
     std::string out;
-    for (char ch : s) {
+    for (std::size_t i = 0; i < s.size(); ++i) {
+        const char ch = s[i];
+        // UTF-8 of U+FFFE, U+FFFF (EF BF BE/BF) and of the surrogates (ED A0..BF xx): not XML 1.0
+        // characters either (a law named "x\uFFFEy" made every SVG invalid).
+        const auto byte = [&](std::size_t k) { return k < s.size() ? static_cast<unsigned char>(s[k]) : 0u; };
+        if ((byte(i) == 0xEF && byte(i + 1) == 0xBF && (byte(i + 2) == 0xBE || byte(i + 2) == 0xBF)) ||
+            (byte(i) == 0xED && byte(i + 1) >= 0xA0 && byte(i + 1) <= 0xBF && byte(i + 2) >= 0x80 && byte(i + 2) <= 0xBF)) {
+            out += "&#65533;";
+            i += 2;
+            continue;
+        }
         switch (ch) {
         case '&': out += "&amp;"; break;
         case '<': out += "&lt;"; break;

@@ -23,7 +23,8 @@ std::string verdict_table(const VerifyReport& report, const Model& model);
 std::string verdict_table(const VerifyReport& report, std::size_t balls, std::size_t contacts, std::size_t pieces);
 std::string verdict_junit(const VerifyReport& report);
 
-// Escapes & < > " ' for XML/HTML text and attribute values.
+// Escapes & < > " ' for XML/HTML text and attribute values; what XML 1.0 cannot hold (control
+// characters but tab and newlines, U+FFFE, U+FFFF, encoded surrogates) becomes U+FFFD.
 std::string xml_escape(const std::string& s);
 
 } // namespace impactcert

@@ -4,7 +4,8 @@
 (figures/cones, unit-circle, planes: SVG and PDF), `sweep` one figure per map.
 
 Checked by a second route:
-- law.tex read back (\\frac, pmatrix) equals the law file exactly, piece by piece; names with
+- law.tex read back (\\frac, pmatrix) equals the law file exactly, piece by piece (Q exactly, each
+  ray a positive multiple of the file's: the tables show primitive rays); names with
   every LaTeX special character come out escaped; verdicts.tex equals `verify --json`.
 - unit-circle.svg: the ratio of the drawn radius
   to the dashed circle's is ||S(g)||_H / ||g||_H: exactly 1 everywhere for the paper's elastic law,
@@ -30,6 +31,7 @@ import shutil
 import subprocess
 import sys
 import tempfile
+import time
 import xml.etree.ElementTree as ET
 from fractions import Fraction as F
 
@@ -124,7 +126,7 @@ def check_law_tex(law_path, tex_path, what):
 def parse_svg(path, title_prefix, legend):
     try:
         root = ET.parse(path).getroot()
-    except ET.ParseError as e:
+    except (ET.ParseError, OSError) as e:
         fail(f"{path}: not XML: {e}")
         return None
     if root.tag != SVG + "svg" or "viewBox" not in root.attrib:
@@ -240,6 +242,67 @@ if root is not None:
     # Energy is gained off the positive cone: some drawn point is outside the circle.
     if sum(1 for x in rs if x > 1.01) < 10:
         fail("approaching-3: the ratio curve never leaves the unit circle")
+
+# ---------------------------------------------------------------------------------------------
+# A gain hidden in a thin-ray cone (review): cone A between (1000, 1) and (0, 1) with
+# Q = 3/5 [[1, 1], [1, 1]] reaches T+/T- = 36/25 at (1, 1); the other cones are the identity.
+# Sampled by equal steps between the rays, A was one chord that stayed inside the circle and the
+# identity D dipped to 0.52. The curves must follow the angle: every identity point at ratio 1,
+# A's largest within 1% of sqrt(36/25) = 6/5, and no gap between neighbouring points over 3 degrees.
+
+hide = os.path.join(tmp, "hide.json")
+json.dump({"format": "impactcert-law/1", "name": "hidden-gain", "masses": ["1", "1", "1"], "pieces": [
+    {"name": "A", "Q": [["3/5", "3/5"], ["3/5", "3/5"]], "rays": [["1000", "1"], ["0", "1"]]},
+    {"name": "B", "Q": [["1", "0"], ["0", "1"]], "rays": [["0", "1"], ["-1", "0"]]},
+    {"name": "C", "Q": [["1", "0"], ["0", "1"]], "rays": [["-1", "0"], ["0", "-1"]]},
+    {"name": "D", "Q": [["1", "0"], ["0", "1"]], "rays": [["0", "-1"], ["1000", "1"]]}]}, open(hide, "w"))
+run(["report", "--law", hide, "-o", os.path.join(tmp, "hide")], ok=(0, 1))
+root = parse_svg(os.path.join(tmp, "hide", "figures", "unit-circle.svg"), "hidden-gain: S along", ["A", "D"])
+if root is not None:
+    dashed, _ = circles_and_curves(root)
+    right = max(dashed)  # the right panel: the ratio in the direction of gamma-
+    by_piece = {}
+    for g in root.iter(SVG + "g"):
+        if g.attrib.get("class") != "ratio-curve":
+            continue
+        name = "".join(g.find(SVG + "title").itertext())
+        pts = [tuple(map(float, p.split(","))) for p in g.find(SVG + "polyline").attrib["points"].split()]
+        by_piece.setdefault(name, []).append(pts)
+    for name, curves in by_piece.items():
+        for pts in curves:
+            rs = [math.hypot(x - right[0], y - right[1]) / right[2] for x, y in pts]
+            angles = [math.atan2(right[1] - y, x - right[0]) for x, y in pts]
+            gaps = [abs(math.remainder(b - a, 2 * math.pi)) for a, b in zip(angles, angles[1:])]
+            if max(gaps) > math.radians(3):
+                fail(f"hidden-gain {name}: neighbouring curve points {math.degrees(max(gaps)):.1f} degrees apart")
+            if name != "A" and max(abs(r - 1) for r in rs) > 0.005:
+                fail(f"hidden-gain {name}: the identity drawn at ratios {min(rs):.3f}..{max(rs):.3f}, not 1")
+            if name == "A" and not (1.2 * 0.99 <= max(rs) <= 1.2 + 0.005):
+                fail(f"hidden-gain A: largest drawn ratio {max(rs):.4f}, the exact sup is 6/5")
+    if sorted(by_piece) != ["A", "B", "C", "D"]:
+        fail(f"hidden-gain: ratio curves for {sorted(by_piece)}")
+
+# ---------------------------------------------------------------------------------------------
+# Names the figures and tables must survive: XML non-characters, 200,000 characters, non-ASCII
+
+law = json.load(open(os.path.join(HERE, "..", "proofs", "newton3", "law.json")))
+law["name"] = "x\ufffey\uffff" + "L" * 200000
+law["pieces"][0]["name"] = "γ⁻\ufffe"
+odd_names = os.path.join(tmp, "odd-names.json")
+json.dump(law, open(odd_names, "w"))
+started = time.monotonic()
+r = run(["report", "--law", odd_names, "-o", os.path.join(tmp, "odd-names")])
+if time.monotonic() - started > 60:
+    fail(f"a 200,000-character name: report took {time.monotonic() - started:.0f} s")
+for f in ["cones.svg", "unit-circle.svg"]:
+    root = parse_svg(os.path.join(tmp, "odd-names", "figures", f), "x\ufffdy\ufffdLLL", [])
+    if root is not None:
+        title = "".join(next(root.iter(SVG + "text")).itertext())
+        if len(title) > 130 or not title.endswith("..."):
+            fail(f"{f}: a 200,000-character name gives a title of {len(title)} characters")
+tex = open(os.path.join(tmp, "odd-names", "law.tex")).read() if os.path.exists(os.path.join(tmp, "odd-names", "law.tex")) else ""
+if "\\texttt{[U+03B3][U+207B][U+FFFE]}" not in tex or any(ord(ch) > 127 for ch in tex):
+    fail("law.tex: non-ASCII names are not written as [U+XXXX]")
 
 # ---------------------------------------------------------------------------------------------
 # c = 4: the plane view, checked by locating directions exactly

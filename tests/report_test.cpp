@@ -389,13 +389,14 @@ TEST_CASE("report: colour-blind-safe colours, a sentence for c >= 4, a summary-o
     CHECK(md3.find("No picture") == std::string::npos);
 }
 
-TEST_CASE("figures: a converter that hangs is killed at its deadline, and no PDF is left", "[report][figures]") {
+TEST_CASE("figures: a converter that hangs is killed at its deadline with what it started, and no PDF is left",
+          "[report][figures]") {
     const std::string dir = "/tmp/impactcert-figure-deadline";
     std::filesystem::remove_all(dir);
     std::filesystem::create_directories(dir + "/bin");
     {
         std::ofstream fake(dir + "/bin/rsvg-convert");
-        fake << "#!/bin/sh\nexec sleep 30\n";
+        fake << "#!/bin/sh\nsleep 31.25\n"; // a child of the shell: killed with its process group
     }
     std::filesystem::permissions(dir + "/bin/rsvg-convert", std::filesystem::perms::owner_all);
     const std::string path = std::getenv("PATH") ? std::getenv("PATH") : "/usr/bin:/bin";
@@ -416,4 +417,12 @@ TEST_CASE("figures: a converter that hangs is killed at its deadline, and no PDF
     std::sort(left.begin(), left.end());
     CHECK(left == std::vector<std::string>{"bin", "x.svg"});
     std::filesystem::remove_all(dir);
+    // Nothing of it is left running: no process's command line is "sleep 31.25".
+    bool left_running = false;
+    for (const auto& entry : std::filesystem::directory_iterator("/proc")) {
+        std::ifstream cmdline(entry.path() / "cmdline", std::ios::binary);
+        const std::string text((std::istreambuf_iterator<char>(cmdline)), std::istreambuf_iterator<char>());
+        left_running = left_running || text == std::string("sleep\0" "31.25\0", 12);
+    }
+    CHECK_FALSE(left_running);
 }
