@@ -307,79 +307,82 @@ if "\\texttt{[U+03B3][U+207B][U+FFFE]}" not in tex or any(ord(ch) > 127 for ch i
 # ---------------------------------------------------------------------------------------------
 # c = 4: the plane view, checked by locating directions exactly
 
-ap5 = derive("newton", "--masses", "1,1,1,1,1", "--restitution", "1", "--restitution-on", "approaching")
-d5 = os.path.join(tmp, "ap5")
-r = run(["report", "--law", ap5, "-o", d5])
-if r.stdout.split() != [f"{d5}/{f}" for f in ["report.md", "report.html", "law.tex", "verdicts.tex",
-                                                "figures/planes.svg", "figures/planes.pdf"]]:
-    fail(f"c = 4 report lists {r.stdout.split()}")
-check_law_tex(ap5, os.path.join(d5, "law.tex"), "approaching-5 law.tex")
-if "\\begin{longtable}" not in open(os.path.join(d5, "law.tex")).read():
-    fail("92 pieces: law.tex should be a longtable")
-root = parse_svg(os.path.join(d5, "figures", "planes.svg"), "newton-approaching-5-balls: the law on the planes",
-                 ["no cone in a sector"])
-check_pdf(os.path.join(d5, "figures", "planes.svg"))
-if "figures/planes.svg" not in open(os.path.join(d5, "report.md")).read():
-    fail("report.md of a c = 4 law does not point to the plane view")
+# (Left to the Release run under --light: the sanitizer build draws the planes of a c = 4 law
+# in-process in tests/report_test.cpp, and this law's verification alone takes 21 s there.)
+if not LIGHT:
+    ap5 = derive("newton", "--masses", "1,1,1,1,1", "--restitution", "1", "--restitution-on", "approaching")
+    d5 = os.path.join(tmp, "ap5")
+    r = run(["report", "--law", ap5, "-o", d5])
+    if r.stdout.split() != [f"{d5}/{f}" for f in ["report.md", "report.html", "law.tex", "verdicts.tex",
+                                                    "figures/planes.svg", "figures/planes.pdf"]]:
+        fail(f"c = 4 report lists {r.stdout.split()}")
+    check_law_tex(ap5, os.path.join(d5, "law.tex"), "approaching-5 law.tex")
+    if "\\begin{longtable}" not in open(os.path.join(d5, "law.tex")).read():
+        fail("92 pieces: law.tex should be a longtable")
+    root = parse_svg(os.path.join(d5, "figures", "planes.svg"), "newton-approaching-5-balls: the law on the planes",
+                     ["no cone in a sector"])
+    check_pdf(os.path.join(d5, "figures", "planes.svg"))
+    if "figures/planes.svg" not in open(os.path.join(d5, "report.md")).read():
+        fail("report.md of a c = 4 law does not point to the plane view")
 
 
-def solve(R, x):
-    """lambda with R lambda = x, exactly (Gauss-Jordan over fractions); R given as columns."""
-    n = len(x)
-    A = [[R[j][i] for j in range(n)] + [x[i]] for i in range(n)]
-    for col in range(n):
-        piv = next(r for r in range(col, n) if A[r][col] != 0)
-        A[col], A[piv] = A[piv], A[col]
-        for r in range(n):
-            if r != col and A[r][col] != 0:
-                k = A[r][col] / A[col][col]
-                A[r] = [a - k * b for a, b in zip(A[r], A[col])]
-    return [A[i][n] / A[i][i] for i in range(n)]
+    def solve(R, x):
+        """lambda with R lambda = x, exactly (Gauss-Jordan over fractions); R given as columns."""
+        n = len(x)
+        A = [[R[j][i] for j in range(n)] + [x[i]] for i in range(n)]
+        for col in range(n):
+            piv = next(r for r in range(col, n) if A[r][col] != 0)
+            A[col], A[piv] = A[piv], A[col]
+            for r in range(n):
+                if r != col and A[r][col] != 0:
+                    k = A[r][col] / A[col][col]
+                    A[r] = [a - k * b for a, b in zip(A[r], A[col])]
+        return [A[i][n] / A[i][i] for i in range(n)]
 
 
-if root is not None:
-    law = json.load(open(ap5))
-    pieces = [(p["name"], [[F(v) for v in ray] for ray in p["rays"]]) for p in law["pieces"]]
-    panels = [g for g in root.iter(SVG + "g") if g.attrib.get("class") == "plane"]
-    c = 4
-    planes = [(i, j) for i in range(c) for j in range(i + 1, c)]
-    if len(panels) != len(planes):
-        fail(f"c = 4: {len(panels)} panels, not {len(planes)}")
-    rng = random.Random(7)
-    drawn_total = 0
-    for (i, j), panel in zip(planes, panels):
-        head = "".join(next(panel.iter(SVG + "text")).itertext())
-        if head != f"γ{i + 1}, γ{j + 1}":
-            fail(f"panel {head!r} is not the plane of contacts {i + 1}, {j + 1}")
-        ring = {"".join(p.find(SVG + "title").itertext()).split(":")[0] for p in panel.iter(SVG + "path")}
-        drawn_total += len(ring)
-        for _ in range(20 if LIGHT else 60):
-            x = [F(0)] * c
-            x[i], x[j] = F(rng.randint(-50, 50), rng.randint(1, 9)), F(rng.randint(-50, 50), rng.randint(1, 9))
-            if x[i] == 0 and x[j] == 0:
-                continue
-            inside = [name for name, rays in pieces if all(v >= 0 for v in solve(rays, x))]
-            if not inside:
-                fail(f"plane {i + 1},{j + 1}: {x} in no cone (the law tiles)")
-            elif all(v not in ring for v in inside):
-                fail(f"plane {i + 1},{j + 1}: {x} lies in {inside}, none of which the ring draws")
-        # Every ring cone meets the plane in a sector: some direction of the plane lies inside it
-        # with two non-zero free coordinates (checked along a fine exact fan of directions).
-        for name in ring:
-            rays = dict(pieces)[name]
-            hit = False
-            fan = 240 if LIGHT else 720
-            for k in range(fan):
-                a = 2 * math.pi * (k + 0.5) / fan
+    if root is not None:
+        law = json.load(open(ap5))
+        pieces = [(p["name"], [[F(v) for v in ray] for ray in p["rays"]]) for p in law["pieces"]]
+        panels = [g for g in root.iter(SVG + "g") if g.attrib.get("class") == "plane"]
+        c = 4
+        planes = [(i, j) for i in range(c) for j in range(i + 1, c)]
+        if len(panels) != len(planes):
+            fail(f"c = 4: {len(panels)} panels, not {len(planes)}")
+        rng = random.Random(7)
+        drawn_total = 0
+        for (i, j), panel in zip(planes, panels):
+            head = "".join(next(panel.iter(SVG + "text")).itertext())
+            if head != f"γ{i + 1}, γ{j + 1}":
+                fail(f"panel {head!r} is not the plane of contacts {i + 1}, {j + 1}")
+            ring = {"".join(p.find(SVG + "title").itertext()).split(":")[0] for p in panel.iter(SVG + "path")}
+            drawn_total += len(ring)
+            for _ in range(20 if LIGHT else 60):
                 x = [F(0)] * c
-                x[i], x[j] = F(round(1000 * math.cos(a)), 1000), F(round(1000 * math.sin(a)), 1000)
-                if all(v >= 0 for v in solve(rays, x)):
-                    hit = True
-                    break
-            if not hit:
-                fail(f"plane {i + 1},{j + 1}: ring draws {name}, which meets no direction of the plane")
-    if drawn_total >= len(planes) * len(pieces):
-        fail("negative control: every cone drawn in every plane")
+                x[i], x[j] = F(rng.randint(-50, 50), rng.randint(1, 9)), F(rng.randint(-50, 50), rng.randint(1, 9))
+                if x[i] == 0 and x[j] == 0:
+                    continue
+                inside = [name for name, rays in pieces if all(v >= 0 for v in solve(rays, x))]
+                if not inside:
+                    fail(f"plane {i + 1},{j + 1}: {x} in no cone (the law tiles)")
+                elif all(v not in ring for v in inside):
+                    fail(f"plane {i + 1},{j + 1}: {x} lies in {inside}, none of which the ring draws")
+            # Every ring cone meets the plane in a sector: some direction of the plane lies inside it
+            # with two non-zero free coordinates (checked along a fine exact fan of directions).
+            for name in ring:
+                rays = dict(pieces)[name]
+                hit = False
+                fan = 240 if LIGHT else 720
+                for k in range(fan):
+                    a = 2 * math.pi * (k + 0.5) / fan
+                    x = [F(0)] * c
+                    x[i], x[j] = F(round(1000 * math.cos(a)), 1000), F(round(1000 * math.sin(a)), 1000)
+                    if all(v >= 0 for v in solve(rays, x)):
+                        hit = True
+                        break
+                if not hit:
+                    fail(f"plane {i + 1},{j + 1}: ring draws {name}, which meets no direction of the plane")
+        if drawn_total >= len(planes) * len(pieces):
+            fail("negative control: every cone drawn in every plane")
 
 # ---------------------------------------------------------------------------------------------
 # Names with LaTeX's special characters
