@@ -65,6 +65,7 @@ std::string on_path(const std::string& name) {
 // rsvg-convert -f pdf SVG, its standard output into pdf_path (whole or absent).
 void convert_to_pdf(const std::string& converter, const std::string& svg_path, const std::string& pdf_path,
                     int seconds) {
+    OutputFile out(pdf_path); // first: a PDF that cannot be written fails before anything runs
     int pipe_fds[2];
     if (::pipe2(pipe_fds, O_CLOEXEC) != 0)
         throw InputError(pdf_path + ": cannot start " + converter + ": " + std::strerror(errno));
@@ -91,7 +92,6 @@ void convert_to_pdf(const std::string& converter, const std::string& svg_path, c
     }
     std::string failure;
     {
-        OutputFile out(pdf_path);
         std::size_t total = 0;
         char buffer[1 << 16];
         const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(seconds);
@@ -120,10 +120,23 @@ void convert_to_pdf(const std::string& converter, const std::string& svg_path, c
             out.stream().write(buffer, got);
         }
         ::close(pipe_fds[0]);
-        // Its exit is awaited without reaping it (WNOWAIT): while it is a zombie its process group
-        // id cannot be reused, so killing what it left behind in the group hits nothing else.
-        siginfo_t exited{};
-        while (::waitid(P_PID, static_cast<id_t>(pid), &exited, WEXITED | WNOWAIT) < 0 && errno == EINTR) {
+        // Its exit is awaited, within the same deadline (a converter may close its output and go
+        // on), without reaping it (WNOWAIT): while it is a zombie its process group id cannot be
+        // reused, so killing what it left behind in the group hits nothing else.
+        for (bool killed = false;;) {
+            siginfo_t exited{};
+            const int r = ::waitid(P_PID, static_cast<id_t>(pid), &exited, WEXITED | WNOWAIT | WNOHANG);
+            if (r < 0 && errno == EINTR)
+                continue;
+            if (r < 0 || exited.si_pid != 0)
+                break;
+            if (!killed && std::chrono::steady_clock::now() >= deadline) {
+                ::kill(-pid, SIGKILL);
+                killed = true;
+                if (failure.empty())
+                    failure = "the converter did not finish in " + std::to_string(seconds) + " s";
+            }
+            ::usleep(10000);
         }
         ::kill(-pid, SIGKILL);
         int status = 0;

@@ -398,6 +398,11 @@ TEST_CASE("figures: a converter that hangs is killed at its deadline with what i
         std::ofstream fake(dir + "/bin/rsvg-convert");
         fake << "#!/bin/sh\nsleep 31.25\n"; // a child of the shell: killed with its process group
     }
+    {
+        // One that closes its output at once and goes on: its exit is awaited within the deadline.
+        std::ofstream fake(dir + "/bin/closes-and-sleeps");
+        fake << "#!/bin/sh\nexec >&-\nsleep 31.25\n";
+    }
     std::filesystem::permissions(dir + "/bin/rsvg-convert", std::filesystem::perms::owner_all);
     const std::string path = std::getenv("PATH") ? std::getenv("PATH") : "/usr/bin:/bin";
     ::setenv("PATH", (dir + "/bin:" + path).c_str(), 1);
@@ -408,14 +413,24 @@ TEST_CASE("figures: a converter that hangs is killed at its deadline with what i
     } catch (const InputError& e) {
         error = e.what();
     }
-    ::setenv("PATH", path.c_str(), 1);
     CHECK(error == dir + "/x.pdf: the converter did not finish in 1 s");
+    CHECK(std::chrono::steady_clock::now() - start < std::chrono::seconds(20));
+    std::filesystem::rename(dir + "/bin/closes-and-sleeps", dir + "/bin/rsvg-convert");
+    std::filesystem::permissions(dir + "/bin/rsvg-convert", std::filesystem::perms::owner_all);
+    error.clear();
+    try {
+        write_figure(dir + "/y", standalone_figure("t", "", "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"10\" height=\"10\"></svg>\n", {}), 1);
+    } catch (const InputError& e) {
+        error = e.what();
+    }
+    ::setenv("PATH", path.c_str(), 1);
+    CHECK(error == dir + "/y.pdf: the converter did not finish in 1 s");
     CHECK(std::chrono::steady_clock::now() - start < std::chrono::seconds(20));
     std::vector<std::string> left;
     for (const auto& entry : std::filesystem::directory_iterator(dir))
         left.push_back(entry.path().filename().string());
     std::sort(left.begin(), left.end());
-    CHECK(left == std::vector<std::string>{"bin", "x.svg"});
+    CHECK(left == std::vector<std::string>{"bin", "x.svg", "y.svg"});
     std::filesystem::remove_all(dir);
     // Nothing of it is left running: no process's command line is "sleep 31.25".
     bool left_running = false;
