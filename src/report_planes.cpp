@@ -17,6 +17,7 @@ using namespace draw;
 
 constexpr double kPi = 3.14159265358979323846;
 
+// g^T H g for the 2 x 2 metric of a plane (Model::energy is the law's own H).
 Rational quadratic(const Matrix& H, const Vector& g) {
     Rational s(0);
     for (std::size_t i = 0; i < g.size(); ++i)
@@ -28,8 +29,7 @@ Rational quadratic(const Matrix& H, const Vector& g) {
 
 // |S(g)|_H / |g|_H for g in the piece's cone (exact ratio, shown as a double).
 double norm_ratio(const Model& model, const Piece& piece, const Vector& g) {
-    const Vector out = piece.Q * g;
-    return std::sqrt(display_double(quadratic(model.H(), out) / quadratic(model.H(), g)));
+    return std::sqrt(display_double(model.energy(piece.Q * g) / model.energy(g)));
 }
 
 std::string point(double cx, double cy, double r, double angle) {
@@ -110,17 +110,31 @@ Vector embed(const Vector& xy, std::size_t c, std::size_t i, std::size_t j) {
 // exact rationals, so every g is a point of the cone and its ratio is computed exactly; only the
 // spacing is approximate. (Equal steps of t in (1 - t) u + t v crowd next to the longer ray: a
 // cone between (1000, 1) and (0, 1) was drawn as one chord, hiding a gain of 36/25.)
+// A cone narrower than the doubles can tell (alpha 0 after rounding) is drawn by its two rays.
 std::vector<Vector> arc_samples(const Matrix& H2, const Vector& u, const Vector& v, double alpha, int per_turn) {
+    if (!(alpha > 0 && alpha < kPi))
+        return {u, v};
     const int m = static_cast<int>(std::clamp(std::ceil(alpha / (2 * kPi) * per_turn), 2.0, 64.0));
     const double w = std::sqrt(display_double(quadratic(H2, v) / quadratic(H2, u)));
     std::vector<Vector> out = {u};
     for (int k = 1; k < m; ++k) {
         const double t = static_cast<double>(k) / m;
-        const Rational p(std::sin(alpha * (1 - t)) * w), q(std::sin(alpha * t));
+        const double dp = std::sin(alpha * (1 - t)) * w, dq = std::sin(alpha * t);
+        if (!(dp >= 0 && dq >= 0 && dp + dq > 0))
+            continue; // (rounding) not a point of the cone: left out
+        const Rational p(dp), q(dq);
         out.push_back({p * u[0] + q * v[0], p * u[1] + q * v[1]});
     }
     out.push_back(v);
     return out;
+}
+
+// The drawn span of a sector whose rays are exactly counter-clockwise within pi: the angles are
+// doubles, and two rays closer than their rounding could come out in the wrong order (a span
+// near 2 pi); that is a span of 0.
+double sector_span(double a, double b) {
+    const double d = span(a, b);
+    return d < kPi ? d : 0;
 }
 
 struct Sector {
@@ -148,7 +162,7 @@ std::string unit_circle_svg(const Model& model) {
         if (sign_of(cross(u, v)) == Sign::negative)
             std::swap(u, v);
         Sector sec{p, u, v, h_angle(H, u), 0};
-        sec.d = span(sec.a, h_angle(H, v));
+        sec.d = sector_span(sec.a, h_angle(H, v));
         sectors.push_back(sec);
         Samples curve;
         for (const auto& g : arc_samples(H, u, v, sec.d, 360)) {
@@ -252,7 +266,7 @@ std::string planes_svg(const Model& model, std::string* why_not) {
                     continue;
                 Sector sec{p, sector->first, sector->second, 0, 0};
                 sec.a = h_angle(B, sec.u);
-                sec.d = span(sec.a, h_angle(B, sec.v));
+                sec.d = sector_span(sec.a, h_angle(B, sec.v));
                 std::vector<std::pair<double, double>> curve;
                 for (const auto& xy : arc_samples(B, sec.u, sec.v, sec.d, 180)) {
                     const double r = norm_ratio(model, pieces[p], embed(xy, c, i, j));

@@ -283,6 +283,23 @@ if root is not None:
         fail(f"hidden-gain: ratio curves for {sorted(by_piece)}")
 
 # ---------------------------------------------------------------------------------------------
+# Cones narrower than a double can tell (review): rays (10^20 + 1, 1) and (10^20, 1) have the same
+# angle in double. Sampled between them, the arc gave the zero vector and a division by zero
+# (SIGFPE). c = 2 (the unit circle) and c = 3 (a plane of the plane view).
+
+big = "100000000000000000000"
+for name, rays in [("thin-2", [[big[:-1] + "1", "1"], [big, "1"]]),
+                   ("thin-3", [[big[:-1] + "1", "1", "0"], [big, "1", "0"], ["0", "0", "1"]])]:
+    c = len(rays)
+    thin = os.path.join(tmp, name + ".json")
+    json.dump({"format": "impactcert-law/1", "name": name, "masses": ["1"] * (c + 1),
+               "pieces": [{"name": "T", "Q": [[str(int(i == j)) for j in range(c)] for i in range(c)], "rays": rays}]},
+              open(thin, "w"))
+    r = run(["report", "--law", thin, "-o", os.path.join(tmp, name)])
+    for f in ["unit-circle.svg"] if c == 2 else ["cones.svg", "planes.svg"]:
+        parse_svg(os.path.join(tmp, name, "figures", f), name + ":", [])
+
+# ---------------------------------------------------------------------------------------------
 # Names the figures and tables must survive: XML non-characters, 200,000 characters, non-ASCII
 
 law = json.load(open(os.path.join(HERE, "..", "proofs", "newton3", "law.json")))
