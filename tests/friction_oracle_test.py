@@ -85,17 +85,33 @@ def run(args, expect):
     return p
 
 
+def pieces_of(law, _cache={}):
+    """Each piece as (R^-1, Q) in fractions, once per law (None for a singular R: no point is
+    located in it, as solve() would find). R^-1 comes from solve() on the unit vectors, so
+    R^-1 gamma is the solution of R s = gamma that solve(R, gamma) would give."""
+    key = id(law)
+    if key not in _cache:
+        pieces = []
+        for piece in law["pieces"]:
+            d = len(piece["rays"][0])
+            R = [[F(r[i]) for r in piece["rays"]] for i in range(d)]
+            cols = [solve(R, [F(int(i == j)) for i in range(d)]) for j in range(d)]
+            Rinv = None if any(c is None for c in cols) else [[cols[j][i] for j in range(d)] for i in range(d)]
+            pieces.append((Rinv, [[F(x) for x in row] for row in piece["Q"]]))
+        _cache[key] = (law, pieces)  # law kept alive: its id cannot be reused
+    return _cache[key][1]
+
+
 def locate(law, gamma):
     """gamma+ by the law: the value Q gamma of every piece whose closed cone holds gamma."""
     values = []
-    for piece in law["pieces"]:
-        R = [[F(r[i]) for r in piece["rays"]] for i in range(len(gamma))]
-        s = solve(R, gamma)
-        if s is not None and all(x >= 0 for x in s):
-            Q = [[F(x) for x in row] for row in piece["Q"]]
-            v = [sum(Q[i][j] * gamma[j] for j in range(len(gamma))) for i in range(len(gamma))]
-            if v not in values:
-                values.append(v)
+    n = len(gamma)
+    for Rinv, Q in pieces_of(law):
+        if Rinv is None or any(sum(row[j] * gamma[j] for j in range(n)) < 0 for row in Rinv):
+            continue
+        v = [sum(Q[i][j] * gamma[j] for j in range(n)) for i in range(n)]
+        if v not in values:
+            values.append(v)
     return values
 
 
@@ -131,6 +147,15 @@ try:
                 if got != [expected]:
                     fail(f"{name}/{on}: u- = {u}: law {got}, oracle {expected}")
                 compared += 1
+            # Negative control: one entry of Q changed, in the piece holding the last gamma- compared,
+            # is caught (the law's side of the comparison can fail).
+            k = next(i for i, (Rinv, _) in enumerate(pieces_of(law))
+                     if Rinv is not None and all(sum(r[j] * gm[j] for j in range(len(gm))) >= 0 for r in Rinv))
+            j = next(j for j in range(len(gm)) if gm[j] != 0)
+            bad = json.loads(json.dumps(law))
+            bad["pieces"][k]["Q"][0][j] = q(F(bad["pieces"][k]["Q"][0][j]) + 1)
+            if locate(bad, gm) == [expected]:
+                fail(f"{name}/{on}: Q of piece {k + 1} changed, and the comparison at {gm} still agrees")
             # Negative control: the oracle with another mu disagrees somewhere (the comparison can fail).
             wrong = System(M, normals, [(k, mu + 1 if mu else F(1), eT, cols) for (k, mu, eT, cols) in friction])
             differs = False
