@@ -30,7 +30,7 @@ build_jobs() {
 
 # configure_tree DIR [cmake options...]: configure (cmake redoes only what changed). A new tree
 # uses Ninja, which starts a target's compilations before the targets it links are linked (the
-# two builds of scripts/test keep both cores busy to the end); a tree configured earlier keeps
+# builds of scripts/test keep both cores busy to the end); a tree configured earlier keeps
 # its generator.
 configure_tree() {
     local dir="$1"

@@ -19,7 +19,7 @@ expect() { # MODE REPORT
 }
 expect heap-buffer-overflow "ERROR: AddressSanitizer: heap-buffer-overflow"
 expect heap-use-after-free "ERROR: AddressSanitizer: heap-use-after-free"
-expect stack-buffer-overflow "ERROR: AddressSanitizer: stack-buffer-overflow|runtime error: load of address .* with insufficient space"
+expect stack-buffer-overflow "ERROR: AddressSanitizer: stack-buffer-overflow"
 expect memory-leak "ERROR: LeakSanitizer: detected memory leaks"
 expect signed-integer-overflow "runtime error: signed integer overflow"
 expect shift-exponent "runtime error: shift exponent 32"
