@@ -191,6 +191,7 @@ int main(int argc, char** argv) {
     eval_cmd->add_option("--system", eval_float_args.system.system_path, "with --float and --impl/--impl-cmd: check consistency with this system");
     eval_cmd->add_option("--max-rel-error", eval_float_args.max_rel_error, "consistency: the relative tolerance (as fuzz)");
     eval_cmd->add_option("--restitution", eval_float_args.restitution, "consistency: the restitution the implementation is meant to apply (as fuzz)");
+    eval_cmd->add_option("--reference", eval_float_args.reference, "consistency: the exact law the implementation means to compute (as fuzz): the answer is checked against it");
     eval_cmd->add_option_function<std::string>("--max-ulps", [&](const std::string& text) {
         std::string why;
         const auto k = fuzz::parse_seed(text, &why); // a decimal integer in [0, 2^64 - 1]
@@ -286,7 +287,8 @@ int main(int argc, char** argv) {
     fuzz_cmd->add_option("--require", fuzz_args.require, "consistency: also check nonexpansive and/or continuity on close pairs (comma-separated)");
     fuzz_cmd->add_option("--reference", fuzz_args.reference, "consistency: the exact law the implementation means to compute, a law file of the system or by name (approaching: the Newton law with restitution on approaching contacts, what sequential-impulse engines converge to; newton; poisson; with --restitution): each finding is then law-level or solver-level");
     fuzz_cmd->add_option("--restitution", fuzz_args.restitution, "consistency, frictionless: the restitution the implementation is meant to apply (E, or one per contact); checks the restitution property where one contact alone approaches");
-    fuzz_cmd->add_option("--range", fuzz_args.range, "input components 0 or of magnitude in LO..HI (consistency: default 1e-3..1e3; law mode: default the whole double range, each sample scaled by a power of two into the range)");
+    fuzz_cmd->add_option("--range", fuzz_args.range, "input components 0 or of magnitude in LO..HI (consistency: default 1e-3..1e3; law mode: default the whole double range, each sample scaled by a power of two drawn uniformly among those that put its largest component in the range)");
+    fuzz_cmd->add_option("--allow", fuzz_args.allow, "law mode: extreme -- violations at inputs whose largest component is beyond 2^500 (about 3.3e150) or below 2^-500 are reported but do not fail the run (plain formulas overflow or underflow there)");
     fuzz_cmd->add_flag("--json", fuzz_args.json, "print the summary as impactcert-fuzz/1 JSON");
     fuzz_cmd->add_option("--junit", fuzz_args.junit, "also write a JUnit XML report to this file");
 
@@ -362,6 +364,7 @@ int main(int argc, char** argv) {
             eval_float_args.impl_given = eval_cmd->count("--impl") > 0;
             eval_float_args.impl_cmd_given = eval_cmd->count("--impl-cmd") > 0;
             eval_float_args.restitution_given = eval_cmd->count("--restitution") > 0;
+            eval_float_args.reference_given = eval_cmd->count("--reference") > 0;
             return run_eval(law_path, velocities, eval_args, as_float, eval_float_args);
         } catch (const DeriveLimit& e) {
             throw Undecided(std::string("derive: ") + e.what());

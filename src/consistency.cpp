@@ -34,6 +34,7 @@ const char* property_id(Property p) {
     case Property::at_rest: return "at-rest";
     case Property::nondeterministic: return "nondeterministic";
     case Property::non_finite: return "non_finite";
+    case Property::reference: return "reference";
     case Property::count: break;
     }
     return "?";
@@ -53,6 +54,7 @@ const char* property_title(Property p) {
     case Property::at_rest: return "motion from rest (at-rest)";
     case Property::nondeterministic: return "the same input answered differently (nondeterministic)";
     case Property::non_finite: return "non-finite output";
+    case Property::reference: return "answer off the reference law (reference)";
     case Property::count: break;
     }
     return "?";
@@ -368,6 +370,59 @@ std::vector<Finding> ConsistencyChecker::check_exact(const Vector& x, const Vect
     return out;
 }
 
+std::optional<Finding> ConsistencyChecker::reference(const double* xd, const double* yd, const Model& law) const {
+    const std::size_t d = dim();
+    Vector x(d), y(d);
+    for (std::size_t i = 0; i < d; ++i) {
+        const auto xi = exact_of(xd[i]), yi = exact_of(yd[i]);
+        if (!xi || !yi)
+            return std::nullopt; // a non-finite output is its own finding (non_finite)
+        x[i] = *xi;
+        y[i] = *yi;
+    }
+    const Vector gamma = velocities_ ? transpose(m_.W) * x : x;
+    const Matrix& X = velocities_ ? m_.M : m_.H;
+    std::optional<Vector> best;
+    Rational best_d2;
+    for (const Vector& g : law.values_at(gamma)) {
+        const Vector ystar = velocities_ ? law.post_impact_velocities(x, gamma, g) : g;
+        const Vector diff = y - ystar;
+        const Rational d2 = bilinear(diff, X, diff);
+        if (!best || d2 < best_d2) {
+            best = ystar;
+            best_d2 = d2;
+        }
+    }
+    if (!best)
+        return std::nullopt; // x lies in no cone of the law
+    // (R s + A)^2 <= R^2 s^2 + A (2 R s_up + A), as in check_exact: beyond this bound, beyond the
+    // tolerance.
+    const Rational R = *exact_of(R_);
+    const Rational s2 = bilinear(x, X, x);
+    const Rational tol2 = R * R * s2 + A_ * (Rational(2) * R * sqrt_up(s2) + A_);
+    if (!(best_d2 > tol2))
+        return std::nullopt;
+    Finding f;
+    f.property = Property::reference;
+    f.input.assign(xd, xd + d);
+    f.output.assign(yd, yd + d);
+    f.off = sign_of(s2) == Sign::positive ? std::sqrt(ratio(best_d2, s2)) : 0;
+    f.score = f.off;
+    std::string exact;
+    for (std::size_t i = 0; i < d; ++i)
+        exact += (i ? ", " : "") + exact_text((*best)[i]);
+    char off[48];
+    std::snprintf(off, sizeof off, "%.3g", f.off);
+    f.detail = std::string(off) + " off the exact law (relative, |y - y*| / |x|); the law answers (" + exact + ")";
+    std::string value;
+    for (std::size_t i = 0; i < d; ++i)
+        value += (i ? " " : "") + to_string((*best)[i]);
+    f.exact.emplace_back("y*", value);
+    f.exact.emplace_back("|y - y*|^2", to_string(best_d2));
+    f.exact.emplace_back("|x|^2", to_string(s2));
+    return f;
+}
+
 Finding ConsistencyChecker::nondeterministic(const double* x, const double* y1, const std::vector<double>& y2) const {
     const std::size_t d = dim();
     Finding f;
@@ -635,6 +690,8 @@ void classify(Finding& f, const Model* reference, const ConsistencyChecker& chec
     case Property::nonexpansive:
     case Property::continuity:
         return; // pairs: not classified
+    case Property::reference:
+        return; // the distance to the law itself: not classified
     case Property::at_rest:
     case Property::nondeterministic:
     case Property::non_finite:
@@ -700,6 +757,14 @@ ConsistencySummary run_consistency(const Mechanics& m, const ConsistencyOptions&
         classify(f, o.reference, checker, m, o.velocities);
         record(part, std::move(f), o.keep);
     };
+    // Every property of one answer, the distance to the reference law included.
+    auto checked = [&](const double* x, const double* y) {
+        auto findings = checker.check(x, y);
+        if (o.reference)
+            if (auto f = checker.reference(x, y, *o.reference))
+                findings.push_back(std::move(*f));
+        return findings;
+    };
     // A nondeterministic answer's replay: the input twice, in one run of the implementation.
     auto twice = [&](const Finding& f) {
         std::string s = o.replay_prefix;
@@ -723,7 +788,18 @@ ConsistencySummary run_consistency(const Mechanics& m, const ConsistencyOptions&
             Finding f = checker.nondeterministic(x, y, im.repeated_answer());
             f.index = index;
             f.replay = twice(f);
+            const std::vector<double> second = im.repeated_answer();
             note(part, std::move(f));
+            // Not a reason to stop checking: each of the differing answers is checked as given.
+            for (const double* answer : {y, second.size() == d ? second.data() : nullptr}) {
+                if (!answer)
+                    continue;
+                for (auto& g : checked(x, answer)) {
+                    g.index = index;
+                    g.replay = twice(g);
+                    note(part, std::move(g));
+                }
+            }
             break;
         }
         }
@@ -747,11 +823,23 @@ ConsistencySummary run_consistency(const Mechanics& m, const ConsistencyOptions&
         ImplStatus st = ImplStatus::ok;
         impls[0]->eval(zero.data(), y.data(), nullptr, 1, &st);
         Partial& part = partials[0];
-        if (!failure(part, st, zero.data(), y.data(), 0, *impls[0]))
+        if (st == ImplStatus::crashed || st == ImplStatus::hung || st == ImplStatus::malformed) {
+            // No answer at rest: the finding at-rest, with its replay (not a reason to stop).
+            Finding f;
+            f.property = Property::at_rest;
+            f.score = 1;
+            f.input = zero;
+            f.detail = st == ImplStatus::crashed ? "the implementation crashed (its process ended) on the input at rest"
+                       : st == ImplStatus::hung  ? "no answer to the input at rest within the timeout"
+                                                 : "the answer to the input at rest is not " + std::to_string(d) + " numbers";
+            f.replay = replay_text(o.replay_prefix, f);
+            note(part, std::move(f));
+        } else if (!failure(part, st, zero.data(), y.data(), 0, *impls[0])) {
             if (auto f = checker.at_rest(y.data())) {
                 f->replay = replay_text(o.replay_prefix, *f);
                 note(part, std::move(*f));
             }
+        }
     }
     const auto start = std::chrono::steady_clock::now();
     auto worker = [&](unsigned j) {
@@ -800,7 +888,7 @@ ConsistencySummary run_consistency(const Mechanics& m, const ConsistencyOptions&
                 ++part.sum.samples;
                 if (failed(pa_i))
                     continue;
-                for (auto& f : checker.check(&in[pa_i * d], &out[pa_i * d])) {
+                for (auto& f : checked(&in[pa_i * d], &out[pa_i * d])) {
                     f.index = indices[s];
                     f.replay = replay_text(o.replay_prefix, f);
                     note(part, std::move(f));
@@ -809,7 +897,7 @@ ConsistencySummary run_consistency(const Mechanics& m, const ConsistencyOptions&
                     continue;
                 ++part.sum.pairs;
                 // The second point's answer is checked like the first's (a NaN there, an energy gain).
-                for (auto& f : checker.check(&in[pb_i * d], &out[pb_i * d])) {
+                for (auto& f : checked(&in[pb_i * d], &out[pb_i * d])) {
                     f.index = indices[s];
                     f.replay = replay_text(o.replay_prefix, f);
                     note(part, std::move(f));

@@ -29,8 +29,10 @@
 //                   approaches and the single impact at k leaves every other contact not
 //                   approaching -- every impact law then gives gamma+_k = -e_k gamma-_k --
 //                   (gamma+_k + e_k gamma-_k)^2 > (R s + A)^2 G_kk
+//       reference   (with --reference) |y - y*| > R s + A, y* the reference law's exact answer
 //   - The probe: the input at rest is evaluated once before the samples; an answer that moves
-//     (beyond the underflow allowance) is the finding `at-rest` (energy from nothing).
+//     (beyond the underflow allowance), a non-finite one, a crash, a hang or a malformed answer
+//     there is the finding `at-rest`, with its replay.
 //   - nondeterministic: an implementation run as a process that answers the same input
 //     differently (fuzz_impl.hpp, ImplStatus::nondeterministic) is its own finding, with both
 //     answers; the rest of that batch is not checked (its answers cannot be trusted to be in step).
@@ -55,7 +57,7 @@ namespace impactcert::fuzz {
 // friction_cone and coulomb: systems with friction only (SPEC section 9).
 enum class Property : std::size_t {
     kinematic, kinetic, friction_cone, coulomb, restitution, momentum, energy, nonexpansive, continuity, at_rest,
-    nondeterministic, non_finite, count
+    nondeterministic, non_finite, reference, count
 };
 inline constexpr std::size_t kProperties = static_cast<std::size_t>(Property::count);
 const char* property_id(Property p);    // "kinematic", "kinetic", "momentum", "energy", ...
@@ -128,6 +130,10 @@ class ConsistencyChecker {
     // The probe (SPEC section 8, "Diagnosis", at-rest): the answer y to the input at rest must be
     // at rest, |y| <= A (the underflow allowance); a finding otherwise (a non-finite y too).
     std::optional<Finding> at_rest(const double* y) const;
+    // reference (with --reference): the answer y farther from the reference law's exact answer
+    // at x than the tolerance, |y - y*| > R s + A in the metric of the input space (y* the law's
+    // value nearest y where it has several); nothing where x lies in no cone of the law.
+    std::optional<Finding> reference(const double* x, const double* y, const Model& law) const;
     // The same input x answered y1, then y2 (nondeterministic).
     Finding nondeterministic(const double* x, const double* y1, const std::vector<double>& y2) const;
     bool checks_restitution() const { return !e_.empty(); }

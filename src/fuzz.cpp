@@ -19,6 +19,7 @@
 #include <exception>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <condition_variable>
 #include <mutex>
 #include <thread>
@@ -74,13 +75,168 @@ void rescale(double* p, std::size_t m, int e) {
 
 } // namespace
 
-Generator::Generator(const LawReference& reference) : g_(reference.geometry()), dim_(reference.in_dim()) {}
+Generator::Generator(const LawReference& reference, double lo, double hi)
+    : g_(reference.geometry()), dim_(reference.in_dim()), lo_(lo), hi_(hi) {
+    // The deterministic prefix, most telling first, at most kMaxPrefix probes (a law of many
+    // pieces gets the rest of its pieces from the stratified random kind "piece").
+    constexpr std::size_t kMaxPrefix = 1 << 14;
+    const std::size_t pieces = g_.piece_rays.size(), rays = g_.rays.size(), facets = g_.facet_rays.size();
+    auto add = [&](Probe::Kind kind, unsigned where, std::size_t id, int side = 0) {
+        if (prefix_.size() < kMaxPrefix)
+            prefix_.push_back({kind, static_cast<unsigned char>(where), static_cast<std::uint32_t>(id),
+                               static_cast<signed char>(side)});
+    };
+    add(Probe::rest, 1, 0);
+    for (std::size_t t = 0; t < 2; ++t)
+        add(Probe::tie, 1, t);
+    for (std::size_t p = 0; p < pieces; ++p)
+        add(Probe::piece, 1, p);
+    for (std::size_t f = 0; f < facets; ++f) {
+        add(Probe::facet_side, 1, f, 1);
+        add(Probe::facet_side, 1, f, -1);
+    }
+    for (std::size_t r = 0; r < rays; ++r)
+        add(Probe::ray, 1, r);
+    for (unsigned where : {2u, 0u}) {
+        for (std::size_t p = 0; p < pieces; ++p)
+            add(Probe::piece, where, p);
+        for (std::size_t f = 0; f < facets; ++f)
+            add(Probe::straddle, where, f);
+        for (std::size_t r = 0; r < rays; ++r)
+            add(Probe::ray, where, r);
+    }
+    for (std::size_t f = 0; f < facets; ++f)
+        add(Probe::facet, 1, f);
+}
 
 const std::vector<std::string>& Generator::kinds() {
-    static const std::vector<std::string> k = {"log-uniform", "common-scale",    "ray",      "facet",
-                                               "near-facet",  "signed-zero",     "subnormal", "overflow-region",
-                                               "close-pair"};
+    static const std::vector<std::string> k = {"log-uniform", "common-scale", "ray",       "facet",
+                                               "near-facet",  "piece",        "near-tie",  "signed-zero",
+                                               "subnormal",   "overflow-region", "close-pair", "prefix"};
     return k;
+}
+
+namespace {
+
+// The power of two 2^k for a point whose largest component is `top` (> 0, finite): the feasible k
+// put top 2^k in [lo, hi]; `where` 0 takes the smallest, 2 the largest, 1 the middle one, and 3 one
+// drawn uniformly by `draw`. Without a feasible k (hi < 2 lo): nothing.
+std::optional<int> range_power(double top, double lo, double hi, int where, std::uint64_t draw) {
+    int e_top = 0, e_hi = 0, e_lo = 0;
+    std::frexp(top, &e_top); // top in [2^(e_top-1), 2^e_top)
+    std::frexp(hi, &e_hi);
+    std::frexp(lo, &e_lo);
+    int k_max = e_hi - e_top;
+    while (std::ldexp(top, k_max) > hi)
+        --k_max;
+    while (std::ldexp(top, k_max + 1) <= hi)
+        ++k_max;
+    int k_min = e_lo - e_top;
+    while (std::ldexp(top, k_min) < lo)
+        ++k_min;
+    while (k_min > -2200 && std::ldexp(top, k_min - 1) >= lo)
+        --k_min;
+    if (k_min > k_max)
+        return std::nullopt;
+    switch (where) {
+    case 0: return k_min;
+    case 1: return k_min + (k_max - k_min) / 2;
+    case 2: return k_max;
+    default: return k_min + static_cast<int>(draw % static_cast<std::uint64_t>(k_max - k_min + 1));
+    }
+}
+
+// Multiplies by 2^k in two steps (no overflow on the way; the final value may round if it is
+// subnormal).
+double times_power(double x, int k) { return std::ldexp(std::ldexp(x, k / 2), k - k / 2); }
+
+} // namespace
+
+// A probe of the prefix, near unit scale, then placed at the bottom, middle or top of the range
+// (without a range: of the doubles, down to the subnormals and up to the overflow limit).
+void Generator::make_probe(const Probe& probe, Sample& s) const {
+    const std::size_t m = dim_;
+    for (std::size_t j = 0; j < m; ++j)
+        s.a[j] = s.b[j] = 0;
+    s.kind = "prefix";
+    s.pair = false;
+    s.facet = -1;
+    // A positive combination of rays, each first brought to unit scale (rays near the double
+    // range's ends would overflow in the sum).
+    auto combine = [&](const std::vector<std::size_t>& ids, double* p) {
+        for (std::size_t r : ids) {
+            double ray[kMaxDim];
+            for (std::size_t j = 0; j < m; ++j)
+                ray[j] = g_.rays[r][j];
+            rescale(ray, m, 0);
+            for (std::size_t j = 0; j < m; ++j)
+                p[j] += ray[j];
+        }
+    };
+    auto unit = [&](double* p) { rescale(p, m, 0); };
+    switch (probe.kind) {
+    case Probe::rest:
+        return;
+    case Probe::tie: // every component -1; or alternating -1, +1
+        for (std::size_t j = 0; j < m; ++j)
+            s.a[j] = probe.id == 0 || j % 2 == 0 ? -1.0 : 1.0;
+        break;
+    case Probe::piece:
+        combine(g_.piece_rays[probe.id], s.a);
+        unit(s.a);
+        break;
+    case Probe::ray:
+        for (std::size_t j = 0; j < m; ++j)
+            s.a[j] = g_.rays[probe.id][j];
+        unit(s.a);
+        break;
+    case Probe::facet:
+    case Probe::facet_side:
+    case Probe::straddle: {
+        s.facet = static_cast<long>(probe.id);
+        combine(g_.facet_rays[probe.id], s.a);
+        unit(s.a);
+        if (probe.kind == Probe::facet)
+            break;
+        const double delta = 0x1p-20 * max_abs(s.a, m);
+        const auto& normal = g_.facet_normals[probe.id];
+        if (probe.kind == Probe::facet_side) {
+            for (std::size_t j = 0; j < m; ++j)
+                s.a[j] += probe.side * delta * normal[j];
+        } else {
+            s.pair = true;
+            for (std::size_t j = 0; j < m; ++j) {
+                s.b[j] = s.a[j] - delta * normal[j];
+                s.a[j] += delta * normal[j];
+            }
+        }
+        break;
+    }
+    }
+    for (std::size_t j = 0; j < m; ++j) { // finite, as every sample (no non-finite input reaches the reference)
+        if (!std::isfinite(s.a[j]))
+            s.a[j] = 0;
+        if (!std::isfinite(s.b[j]))
+            s.b[j] = s.a[j];
+    }
+    double top = max_abs(s.a, m);
+    if (s.pair)
+        top = std::fmax(top, max_abs(s.b, m));
+    if (!(top > 0) || !std::isfinite(top))
+        return;
+    const double lo = hi_ > 0 ? lo_ : 0x1p-1040, hi = hi_ > 0 ? hi_ : std::numeric_limits<double>::max();
+    // Without a range the middle is the unit scale itself (the probe as made, |largest| in [1, 2)).
+    const auto k = hi_ > 0 || probe.where != 1 ? range_power(top, lo, hi, probe.where, 0) : std::optional<int>(0);
+    if (!k)
+        return fit_range(s, m, lo_, hi_, 0);
+    for (std::size_t j = 0; j < m; ++j) {
+        s.a[j] = times_power(s.a[j], *k);
+        s.b[j] = times_power(s.b[j], *k);
+        if (hi_ > 0 && std::fabs(s.a[j]) < lo_)
+            s.a[j] = 0.0;
+        if (hi_ > 0 && std::fabs(s.b[j]) < lo_)
+            s.b[j] = 0.0;
+    }
 }
 
 // A point of the facet (a non-negative combination of its rays; in ball velocities plus a
@@ -112,9 +268,12 @@ void Generator::facet_point(std::uint64_t& st, std::size_t facet, double* p, int
 }
 
 void Generator::make(std::uint64_t seed, std::uint64_t index, Sample& s) const {
+    if (index < prefix_.size())
+        return make_probe(prefix_[index], s);
     std::uint64_t st = seed * 0xD1B54A32D192ED03ULL ^ (index + 1) * 0x9E3779B97F4A7C15ULL;
     const std::size_t m = dim_;
     s.pair = false;
+    s.facet = -1;
     // The generator kind is drawn per block of 16 consecutive indices (still a pure function of
     // seed and index): runs of one kind keep the branches of the generator, the implementation
     // and the reference predictable, which makes the whole loop much faster.
@@ -123,6 +282,7 @@ void Generator::make(std::uint64_t seed, std::uint64_t index, Sample& s) const {
     const std::size_t facets = g_.facet_rays.size();
     auto near_facet = [&](double* p, std::size_t& facet, double& delta) {
         facet = below(st, facets);
+        s.facet = static_cast<long>(facet);
         int scale;
         facet_point(st, facet, p, scale);
         for (std::size_t j = 0; j < m; ++j)
@@ -134,18 +294,18 @@ void Generator::make(std::uint64_t seed, std::uint64_t index, Sample& s) const {
         for (std::size_t j = 0; j < m; ++j)
             p[j] += delta * g_.facet_normals[facet][j];
     };
-    if (pick < 6) {
+    if (pick < 5) {
         s.kind = "log-uniform";
         for (std::size_t j = 0; j < m; ++j)
             s.a[j] = below(st, 8) == 0 ? (coin(st) ? 0.0 : -0.0) : log_uniform(st);
-    } else if (pick < 10) {
+    } else if (pick < 8) {
         s.kind = "common-scale";
         const int e = static_cast<int>(below(st, 2000)) - 1000;
         for (std::size_t j = 0; j < m; ++j) {
             const double mant = 1.0 + static_cast<double>(splitmix(st) >> 12) * 0x1p-52;
             s.a[j] = below(st, 6) == 0 ? 0.0 : eft::ldexp_fast(mant, e - static_cast<int>(below(st, 64))) * (coin(st) ? 1 : -1);
         }
-    } else if (pick < 13) {
+    } else if (pick < 10) {
         s.kind = "ray";
         const auto& r = g_.rays[below(st, g_.rays.size())];
         const double t = eft::ldexp_fast(1.0 + static_cast<double>(splitmix(st) >> 12) * 0x1p-52,
@@ -163,24 +323,59 @@ void Generator::make(std::uint64_t seed, std::uint64_t index, Sample& s) const {
             if (!std::isfinite(s.a[j]))
                 s.a[j] = 0;
         }
-    } else if (pick < 17) {
+    } else if (pick < 12) {
         s.kind = "facet";
         int scale;
-        facet_point(st, below(st, facets), s.a, scale);
+        s.facet = static_cast<long>(below(st, facets));
+        facet_point(st, static_cast<std::size_t>(s.facet), s.a, scale);
         for (std::size_t j = 0; j < m; ++j)
             s.a[j] = eft::ldexp_fast(s.a[j], scale);
-    } else if (pick < 22) {
+    } else if (pick < 16) {
         s.kind = "near-facet";
         std::size_t f;
         double delta;
         near_facet(s.a, f, delta);
+    } else if (pick < 20) {
+        // Stratified over the pieces: a positive combination of one piece's rays, with weights
+        // spread over 2^0..2^-60 so that thin cones and the corners of wide ones are reached.
+        s.kind = "piece";
+        const auto& ids = g_.piece_rays[below(st, g_.piece_rays.size())];
+        for (std::size_t j = 0; j < m; ++j)
+            s.a[j] = 0;
+        for (std::size_t r : ids) {
+            const double w = eft::ldexp_fast(1.0 + static_cast<double>(splitmix(st) >> 12) * 0x1p-52,
+                                             -static_cast<int>(below(st, 4) == 0 ? below(st, 61) : below(st, 4)));
+            for (std::size_t j = 0; j < m; ++j)
+                s.a[j] += w * g_.rays[r][j];
+        }
+        for (const auto& k : g_.kernel) {
+            const double t = static_cast<double>(static_cast<std::int64_t>(below(st, 129)) - 64);
+            for (std::size_t j = 0; j < m; ++j)
+                s.a[j] += t * k[j];
+        }
+        rescale(s.a, m, static_cast<int>(below(st, 1900)) - 950);
+    } else if (pick < 22) {
+        // Near-ties: one component equal to another (or its negative) up to a relative difference
+        // of 2^-1 .. 2^-53 (an ulp): slow relative motion beside fast motion.
+        s.kind = "near-tie";
+        const int e = static_cast<int>(below(st, 1900)) - 950;
+        for (std::size_t j = 0; j < m; ++j)
+            s.a[j] = eft::ldexp_fast(1.0 + static_cast<double>(splitmix(st) >> 12) * 0x1p-52,
+                                     e - static_cast<int>(below(st, 4))) * (coin(st) ? 1 : -1);
+        if (m >= 2) {
+            const std::size_t i = below(st, m), j = (i + 1 + below(st, m - 1)) % m;
+            s.a[j] = s.a[i] * (coin(st) ? 1 : -1);
+            s.a[j] = nudge(s.a[j], coin(st) ? 1 : -1) ;
+            if (coin(st))
+                s.a[j] = s.a[i] * (coin(st) ? 1 : -1) * (1 + eft::ldexp_fast(coin(st) ? 1.0 : -1.0, -1 - static_cast<int>(below(st, 53))));
+        }
     } else if (pick < 24) {
         s.kind = "signed-zero";
         int scale;
         facet_point(st, below(st, facets), s.a, scale);
         for (std::size_t j = 0; j < m; ++j)
             s.a[j] = coin(st) ? (coin(st) ? 0.0 : -0.0) : eft::ldexp_fast(s.a[j], scale);
-    } else if (pick < 26) {
+    } else if (pick < 25) {
         s.kind = "subnormal";
         if (coin(st)) {
             for (std::size_t j = 0; j < m; ++j)
@@ -190,7 +385,7 @@ void Generator::make(std::uint64_t seed, std::uint64_t index, Sample& s) const {
             facet_point(st, below(st, facets), s.a, scale);
             rescale(s.a, m, -1023 - static_cast<int>(below(st, 40)));
         }
-    } else if (pick < 28) {
+    } else if (pick < 27) {
         s.kind = "overflow-region";
         if (coin(st)) {
             for (std::size_t j = 0; j < m; ++j)
@@ -231,9 +426,10 @@ void Generator::make(std::uint64_t seed, std::uint64_t index, Sample& s) const {
         for (std::size_t j = 0; j < m; ++j)
             if (!std::isfinite(s.b[j]))
                 s.b[j] = s.a[j];
+    fit_range(s, m, lo_, hi_, splitmix(st) | 1);
 }
 
-void fit_range(Sample& s, std::size_t dim, double lo, double hi) {
+void fit_range(Sample& s, std::size_t dim, double lo, double hi, std::uint64_t draw) {
     if (!(hi > 0))
         return;
     double top = 0;
@@ -244,24 +440,17 @@ void fit_range(Sample& s, std::size_t dim, double lo, double hi) {
     }
     if (!(top > 0) || !std::isfinite(top))
         return; // at rest (or not finite: the generators never make such a sample)
-    // The largest power of two 2^k with top 2^k <= hi; then one step up if that leaves top below
-    // lo and the step still fits (it cannot when hi < 2 lo and top falls between).
-    int e_top = 0, e_hi = 0;
-    std::frexp(top, &e_top); // top in [2^(e_top-1), 2^e_top)
-    std::frexp(hi, &e_hi);
-    int k = e_hi - e_top;
-    while (std::ldexp(top, k) > hi)
-        --k;
-    while (std::ldexp(top, k + 1) <= hi && std::ldexp(top, k) < lo)
-        ++k;
+    // A power of two 2^k with top 2^k in [lo, hi]: drawn uniformly among those that fit (draw != 0),
+    // or the largest (draw == 0).
+    const auto k = range_power(top, lo, hi, draw ? 3 : 2, draw);
     // No power of two fits (hi < 2 lo): a rounded scale into the middle of the range instead,
     // the largest component kept at least lo (the sample is then not an exact multiple).
-    const bool power = std::ldexp(top, k) >= lo;
+    const bool power = k.has_value();
     const double mid = lo / 2 + hi / 2;
     auto fit = [&](double* v) {
         for (std::size_t j = 0; j < dim; ++j) {
-            double x = power ? std::ldexp(std::ldexp(v[j], k / 2), k - k / 2) // two steps: no overflow on the way
-                             : v[j] / top * mid; // |v[j] / top| <= 1: no overflow
+            double x = power ? times_power(v[j], *k) // two steps: no overflow on the way
+                             : v[j] / top * mid;    // |v[j] / top| <= 1: no overflow
             if (!power && std::fabs(v[j]) == top)
                 x = std::copysign(std::clamp(std::fabs(x), lo, hi), x);
             if (std::fabs(x) < lo)
@@ -274,6 +463,11 @@ void fit_range(Sample& s, std::size_t dim, double lo, double hi) {
     fit(s.a);
     if (s.pair)
         fit(s.b);
+}
+
+bool extreme_input(const double* x, std::size_t dim) {
+    const double big = max_abs(x, dim);
+    return big > 0x1p500 || (big > 0 && big < 0x1p-500) || !(big == big);
 }
 
 Sample make_paper_sample(std::uint64_t seed, std::uint64_t index) {
@@ -412,7 +606,14 @@ struct Worker {
            std::unique_ptr<Implementation> i)
         : opt(o), ref(r), props(p), metric(mt), gen(g), impl(std::move(i)), m(r.in_dim()), mo(r.out_dim()) {
         sum.max_ulps.assign(mo, 0);
+        piece_hit.assign(r.model().pieces().size(), 0);
+        facet_probed.assign(g.facets(), 0);
+        decade_seen.assign(kDecades, 0);
     }
+    // Coverage (Summary): decades of the largest component, from 10^-324 (index 0) to 10^308.
+    static constexpr int kDecadeMin = -324, kDecades = 633;
+    std::vector<char> piece_hit, facet_probed, decade_seen;
+    static int decade_of(double big) { return static_cast<int>(std::floor(std::log10(big))); }
     const Options& opt;
     const LawReference& ref;
     const Properties& props;
@@ -444,12 +645,22 @@ struct Worker {
 
     void record(std::uint64_t index, const std::string& what, const Sample& s, const double* x, const double* xb,
                 const double* y, const double* expected) {
-        if (sum.examples.size() >= opt.keep)
-            return;
+        const bool extreme = extreme_input(s.a, m) || (s.pair && extreme_input(s.b, m));
+        std::size_t slot = sum.examples.size();
+        if (slot >= opt.keep) { // full: a violation within the range replaces the latest extreme one
+            if (extreme)
+                return;
+            for (slot = sum.examples.size(); slot > 0 && !sum.examples[slot - 1].extreme; --slot) {
+            }
+            if (slot == 0)
+                return;
+            --slot;
+        }
         Violation v;
         v.index = index;
         v.what = what;
         v.kind = s.kind;
+        v.extreme = extreme;
         v.input.assign(x, x + m);
         if (xb)
             v.input_b.assign(xb, xb + m);
@@ -458,7 +669,10 @@ struct Worker {
         if (expected)
             v.expected.assign(expected, expected + mo);
         v.replay = replay(x, xb);
-        sum.examples.push_back(std::move(v));
+        if (slot < sum.examples.size())
+            sum.examples[slot] = std::move(v);
+        else
+            sum.examples.push_back(std::move(v));
     }
 
     // Common power-of-two scale for vectors that enter a quadratic form (no overflow).
@@ -614,6 +828,8 @@ struct Worker {
             ++sum.outside;
             return true;
         }
+        for (std::size_t v = 0; v < r.values; ++v)
+            piece_hit[r.piece[v]] = 1;
         std::uint64_t worst = 0;
         const std::size_t vi = nearest_value(r, y, worst);
         const double* v = r.value[vi];
@@ -776,7 +992,6 @@ struct Worker {
         std::size_t points = 0;
         for (std::size_t i = 0; i < count; ++i) {
             gen.make(opt.seed, begin + i, samples[i]);
-            fit_range(samples[i], m, opt.range_lo, opt.range_hi);
             copy_small(samples[i].a, &in[points * m], m);
             ++points;
             if (samples[i].pair) {
@@ -799,6 +1014,27 @@ struct Worker {
             if (status[q] == ImplStatus::skipped || (s.pair && status[q + 1] == ImplStatus::skipped))
                 break; // the run's time ran out inside this batch
             ++sum.samples;
+            const std::uint64_t before = sum.violations();
+            struct Tally { // counts the sample's violations, extreme or gated, however it ends
+                Worker& w;
+                const Sample& s;
+                std::uint64_t before;
+                ~Tally() {
+                    if (w.sum.violations() == before)
+                        return;
+                    const bool extreme = extreme_input(s.a, w.m) || (s.pair && extreme_input(s.b, w.m));
+                    ++(extreme ? w.sum.extreme : w.sum.gated);
+                }
+            } tally{*this, s, before};
+            if (s.facet >= 0)
+                facet_probed[static_cast<std::size_t>(s.facet)] = 1;
+            {
+                double big = 0;
+                for (std::size_t j = 0; j < m; ++j)
+                    big = std::fmax(big, std::fabs(s.a[j]));
+                if (big > 0 && std::isfinite(big))
+                    decade_seen[static_cast<std::size_t>(std::clamp(decade_of(big) - kDecadeMin, 0, kDecades - 1))] = 1;
+            }
             const double* ya = &out[q * mo];
             const double* ba = bounded ? &bound[q * mo] : nullptr;
             const ImplStatus sa = status[q++];
@@ -823,7 +1059,7 @@ Summary run(const Options& options, const LawReference& reference, const Impleme
             const Properties& properties, const std::function<void(std::uint64_t)>& progress) {
     const unsigned jobs = std::max(1u, options.jobs);
     const Metric metric(reference);
-    const Generator gen(reference);
+    const Generator gen(reference, options.range_lo, options.range_hi);
     std::atomic<bool> stop{false};
     std::vector<std::unique_ptr<Worker>> workers;
     for (unsigned j = 0; j < jobs; ++j) {
@@ -918,11 +1154,44 @@ Summary run(const Options& options, const LawReference& reference, const Impleme
         total.hung += s.hung;
         total.malformed += s.malformed;
         total.refused += s.refused;
+        total.extreme += s.extreme;
+        total.gated += s.gated;
         for (const auto& v : s.examples)
             total.examples.push_back(v);
     }
-    std::stable_sort(total.examples.begin(), total.examples.end(),
-                     [](const Violation& a, const Violation& b) { return a.index < b.index; });
+    // Coverage, merged over the workers.
+    total.pieces = reference.model().pieces().size();
+    total.facets = gen.facets();
+    total.prefix = std::min<std::uint64_t>(gen.prefix_count(), total.samples);
+    for (std::size_t p = 0; p < total.pieces; ++p) {
+        bool hit = false;
+        for (auto& w : workers)
+            hit = hit || w->piece_hit[p];
+        total.pieces_hit += hit ? 1 : 0;
+    }
+    for (std::size_t f = 0; f < total.facets; ++f) {
+        bool hit = false;
+        for (auto& w : workers)
+            hit = hit || w->facet_probed[f];
+        total.facets_probed += hit ? 1 : 0;
+    }
+    bool any = false;
+    for (int d = 0; d < Worker::kDecades; ++d) {
+        bool hit = false;
+        for (auto& w : workers)
+            hit = hit || w->decade_seen[static_cast<std::size_t>(d)];
+        if (!hit)
+            continue;
+        ++total.decades;
+        total.decade_hi = d + Worker::kDecadeMin;
+        if (!any)
+            total.decade_lo = d + Worker::kDecadeMin;
+        any = true;
+    }
+    // Violations at inputs within the range first: with --allow extreme they are what fails.
+    std::stable_sort(total.examples.begin(), total.examples.end(), [](const Violation& a, const Violation& b) {
+        return a.extreme != b.extreme ? !a.extreme : a.index < b.index;
+    });
     if (total.examples.size() > options.keep)
         total.examples.resize(options.keep);
     return total;

@@ -43,19 +43,39 @@ struct Sample {
     double b[kMaxDim] = {};
     bool pair = false;     // also check non-expansivity between a and b
     const char* kind = ""; // generator name
+    long facet = -1;       // the facet (piece side) it was made on or near, for the coverage; -1: none
 };
 
+// The generator of a run. Indices below prefix_count() are the deterministic prefix, which every
+// run covers first however short: the input at rest, ties, an interior point of every piece, both
+// sides of every facet, every ray, each at the middle of the range and at its ends (the overflow
+// and underflow limits without --range), and close pairs straddling facets at both ends. The
+// others are random (kinds()), including points stratified over the pieces (positive
+// combinations of a piece's rays, thin cones included) and near-ties. With a range (lo..hi,
+// hi > 0) every random sample is then scaled by a power of two drawn uniformly among those that
+// put its largest component in [lo, hi] (fit_range): log-uniform scales, exact ratios kept.
 class Generator {
   public:
-    Generator(const LawReference& reference);
+    explicit Generator(const LawReference& reference, double lo = 0, double hi = 0);
     std::size_t dim() const { return dim_; }
     void make(std::uint64_t seed, std::uint64_t index, Sample& s) const;
+    std::uint64_t prefix_count() const { return prefix_.size(); }
+    std::size_t facets() const { return g_.facet_rays.size(); }
     static const std::vector<std::string>& kinds();
 
   private:
+    struct Probe {
+        enum Kind : unsigned char { rest, tie, piece, ray, facet, facet_side, straddle } kind;
+        unsigned char where; // 0 the bottom of the range, 1 its middle, 2 its top
+        std::uint32_t id;    // piece, ray or facet
+        signed char side;    // facet_side: +1 inward, -1 outward
+    };
     LawReference::Geometry g_;
     std::size_t dim_;
+    double lo_, hi_;
+    std::vector<Probe> prefix_;
     void facet_point(std::uint64_t& st, std::size_t facet, double* p, int& scale) const;
+    void make_probe(const Probe& probe, Sample& s) const;
 };
 
 // The paper's law's generator (contact velocities), for tests and benchmarks.
@@ -99,19 +119,28 @@ struct Options {
     std::size_t keep = 10;     // violations kept as examples
     std::string replay_prefix = "impactcert eval --float"; // + law and space options
     // --range LO..HI (0 < LO <= HI; both 0: the whole double range): every sample, a pair's two
-    // points alike, is scaled by a power of two so that its largest component is at most HI (and at
-    // least LO where a power of two fits), then components below LO become 0 (fit_range).
+    // points alike, is scaled by a power of two drawn uniformly among those that put its largest
+    // component in [LO, HI] (log-uniform scales), then components below LO become 0 (fit_range).
     double range_lo = 0, range_hi = 0;
+    bool allow_extreme = false; // --allow extreme: violations at extreme inputs do not fail the run
 };
 
 // The sample moved into the run's --range (Options::range_lo/hi), as described there. A scale by
 // a power of two is exact, so points on facets stay on them (the law is positively homogeneous).
-void fit_range(Sample& s, std::size_t dim, double lo, double hi);
+// `draw` picks the power of two uniformly among those that fit (0: the largest, as before).
+void fit_range(Sample& s, std::size_t dim, double lo, double hi, std::uint64_t draw = 0);
+
+// The magnitudes a plain implementation cannot be asked to handle: an input whose largest
+// component is above 2^500 (about 3.3e150: squares and norms overflow) or, non-zero, below
+// 2^-500 (their squares underflow). Violations there are counted as `extreme` as well, a class
+// a gate may allow (--allow extreme) while every other input stays gated.
+bool extreme_input(const double* x, std::size_t dim);
 
 struct Violation {
     std::uint64_t index = 0;
     std::string what;
     std::string kind; // generator
+    bool extreme = false; // at an extreme input (extreme_input)
     std::vector<double> input, input_b, output, expected;
     std::string replay; // a ready command that shows it again
 };
@@ -133,6 +162,14 @@ struct Summary {
     std::uint64_t violations() const {
         return inaccurate + negative + energy + nonexpansive + non_finite + crashed + hung + malformed + refused;
     }
+    // Samples with a violation, at extreme inputs (extreme_input) and at the others.
+    std::uint64_t extreme = 0, gated = 0;
+    // Coverage: pieces whose cone held a checked input; facets (piece sides) a sample was made on
+    // or near; the decades of the checked inputs' largest components.
+    std::uint64_t pieces_hit = 0, pieces = 0, facets_probed = 0, facets = 0, prefix = 0;
+    int decade_lo = 0, decade_hi = 0; // floor(log10) of the smallest and largest scale checked
+    std::uint64_t decades = 0;        // distinct decades met
+    bool fails(bool allow_extreme) const { return gated > 0 || (!allow_extreme && extreme > 0); }
 };
 
 // progress(done) is called from the coordinating thread about every 200 ms.

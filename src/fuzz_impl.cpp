@@ -697,6 +697,18 @@ std::unique_ptr<Implementation> command(const std::string& cmd, std::size_t in_d
     std::vector<double> zero(in_dim, 0.0), out(out_dim);
     ImplStatus st = ImplStatus::ok;
     impl->eval(zero.data(), out.data(), nullptr, 1, &st);
+    if (st != ImplStatus::ok) {
+        // It may fail at rest only: a command that answers another input is a working one, and its
+        // failure at rest is a finding of the run (at-rest), not bad input.
+        std::vector<double> one(in_dim, 0.0);
+        for (std::size_t j = 0; j < in_dim; ++j)
+            one[j] = j % 2 == 0 ? -1.0 : 1.0;
+        ImplStatus again = ImplStatus::ok;
+        auto second = std::make_unique<CommandImpl>(cmd, in_dim, out_dim, timeout_seconds, true);
+        second->eval(one.data(), out.data(), nullptr, 1, &again);
+        if (again == ImplStatus::ok)
+            return second->clone();
+    }
     if (st == ImplStatus::crashed)
         throw InputError("--impl-cmd " + cmd + ": the command ended without answering (" + impl->last_exit() +
                          "; is it a command that reads lines of " + std::to_string(in_dim) + " doubles?)");

@@ -195,6 +195,7 @@ LawReference::LawReference(const Model& model, bool velocities, bool continuous_
     }
     for (std::size_t p = 0; p < model.pieces().size(); ++p) {
         const auto& piece = model.pieces()[p];
+        geometry_.piece_rays.emplace_back(piece.ray_ids.begin(), piece.ray_ids.begin() + static_cast<std::ptrdiff_t>(c));
         for (std::size_t i = 0; i < c; ++i) {
             std::vector<std::size_t> ids;
             for (std::size_t j = 0; j < c; ++j)

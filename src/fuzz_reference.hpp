@@ -64,7 +64,8 @@ class LawReference {
     // Input-space geometry for the generators (doubles, informational, not exact):
     struct Geometry {
         std::vector<std::vector<double>> rays;             // rays of the cones, in input space
-        std::vector<std::vector<std::size_t>> facet_rays;  // per facet: its rays (indices)
+        std::vector<std::vector<std::size_t>> piece_rays;  // per piece: its rays (indices)
+        std::vector<std::vector<std::size_t>> facet_rays;  // per facet (piece p's side i is p c + i): its rays
         std::vector<std::vector<double>> facet_normals;    // per facet: an inward normal
         std::vector<std::vector<double>> kernel;           // velocities: directions all cones contain
         bool integer_rays = false;                         // rays are exact small integers

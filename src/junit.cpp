@@ -35,8 +35,12 @@ std::string junit_xml(const JunitSuite& suite) {
                seconds(c.time) + "\"";
         switch (c.kind) {
         case JunitCase::Kind::passed:
-            out += "/>\n";
-            continue;
+            if (c.system_out.empty()) {
+                out += "/>\n";
+                continue;
+            }
+            out += ">\n";
+            break;
         case JunitCase::Kind::failed:
             out += ">\n      <failure type=\"" + xml_escape(c.type) + "\" message=\"" + xml_escape(c.message) + "\">" +
                    xml_escape(c.text) + "</failure>\n";
@@ -45,6 +49,8 @@ std::string junit_xml(const JunitSuite& suite) {
             out += ">\n      <skipped message=\"" + xml_escape(c.message) + "\"/>\n";
             break;
         }
+        if (!c.system_out.empty())
+            out += "      <system-out>" + xml_escape(c.system_out) + "</system-out>\n";
         out += "    </testcase>\n";
     }
     return out + "  </testsuite>\n</testsuites>\n";

@@ -6,6 +6,7 @@
 //     <testsuite name=SUITE (the same counts)>
 //       <testcase classname= name= time=/> | with <failure type= message=>TEXT</failure>
 //                                          | with <skipped message=/>
+//                                          (any of them with <system-out>TEXT</system-out>)
 // every attribute and text escaped for XML 1.0 (xml_escape, verdict_output.hpp); the counts are
 // those of the cases; time is the sum of the cases' times (seconds, 6 decimals).
 #pragma once
@@ -23,6 +24,7 @@ struct JunitCase {
     std::string type;    // failed: the kind of failure ("refuted", "violations", ...)
     std::string message; // failed or skipped: one line
     std::string text;    // failed: the body (a witness, a replay)
+    std::string system_out; // any kind: written as <system-out> when not empty (a coverage line)
     std::chrono::nanoseconds time{0};
 };
 

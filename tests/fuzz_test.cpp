@@ -48,7 +48,9 @@ TEST_CASE("fuzz: samples are a pure function of seed and index", "[fuzz]") {
         CHECK(fuzz::hex(a.a[0]) == fuzz::hex(b.a[0]));
         CHECK(fuzz::hex(a.a[1]) == fuzz::hex(b.a[1]));
     }
-    CHECK(fuzz::hex(fuzz::make_paper_sample(1, 5).a[0]) != fuzz::hex(fuzz::make_paper_sample(2, 5).a[0]));
+    // Beyond the deterministic prefix (the same for every seed), the seed matters.
+    CHECK(fuzz::hex(fuzz::make_paper_sample(1, 5000).a[0]) != fuzz::hex(fuzz::make_paper_sample(2, 5000).a[0]));
+    CHECK(fuzz::hex(fuzz::make_paper_sample(1, 5).a[0]) == fuzz::hex(fuzz::make_paper_sample(2, 5).a[0]));
 }
 
 TEST_CASE("fuzz: ulp distance counts representable doubles, with +0 == -0", "[fuzz]") {
@@ -309,7 +311,9 @@ TEST_CASE("fuzz generators: reproducible, every kind, exact facet points, the wh
         CHECK(pairs > 2000);
         CHECK(on_facet * 10 > facet * 9); // integer rays: facet points are exact
     }
-    CHECK(fuzz::hex(fuzz::make_paper_sample(1, 5).a[0]) != fuzz::hex(fuzz::make_paper_sample(2, 5).a[0]));
+    // Beyond the deterministic prefix (the same for every seed), the seed matters.
+    CHECK(fuzz::hex(fuzz::make_paper_sample(1, 5000).a[0]) != fuzz::hex(fuzz::make_paper_sample(2, 5000).a[0]));
+    CHECK(fuzz::hex(fuzz::make_paper_sample(1, 5).a[0]) == fuzz::hex(fuzz::make_paper_sample(2, 5).a[0]));
 }
 
 TEST_CASE("fuzz --range in law mode: samples scaled by powers of two into LO..HI, small components zeroed",
@@ -372,6 +376,66 @@ TEST_CASE("fuzz --range in law mode: samples scaled by powers of two into LO..HI
             CHECK(zeroed < kept);           // a wide range zeroes little
         else
             CHECK(zeroed > 0);              // a narrow one zeroes the tiny components
+    }
+}
+
+// Issue 44: with --range 1e-150..1e150, 99.4% of the samples had their largest component above
+// 1e125 (each was pushed to the top of the range), and a solver with an absolute 1e-6 threshold
+// passed a million samples. The scale is now drawn among the powers of two that fit.
+TEST_CASE("fuzz --range in law mode: the samples' scales are log-uniform over the range, and the prefix "
+          "covers every piece, facet side and ray at both ends",
+          "[fuzz]") {
+    const Model model = law_file("proofs/newton4/law.json");
+    const fuzz::LawReference ref(model, false, true);
+    const std::size_t m = ref.in_dim();
+    for (const auto& [lo, hi] : std::vector<std::pair<double, double>>{{1e-150, 1e150}, {1e-3, 1e3}}) {
+        const fuzz::Generator gen(ref, lo, hi);
+        const double decades = std::log10(hi / lo);
+        std::vector<std::uint64_t> per_decade(static_cast<std::size_t>(decades) + 1, 0);
+        std::uint64_t moving = 0;
+        for (std::uint64_t i = gen.prefix_count(); i < gen.prefix_count() + 60000; ++i) {
+            fuzz::Sample s;
+            gen.make(7, i, s);
+            double top = 0;
+            for (std::size_t j = 0; j < m; ++j) {
+                REQUIRE((s.a[j] == 0 || (std::fabs(s.a[j]) >= lo && std::fabs(s.a[j]) <= hi)));
+                top = std::max(top, std::fabs(s.a[j]));
+            }
+            if (top == 0)
+                continue;
+            ++moving;
+            ++per_decade[static_cast<std::size_t>(std::min(decades, std::floor(std::log10(top / lo))))];
+        }
+        INFO("range " << lo << ".." << hi);
+        // Every decade of the range holds about its share (log-uniform): none below half of it, none
+        // above twice (the end decades partly: the powers of two that fit there are fewer).
+        const double share = static_cast<double>(moving) / decades;
+        for (std::size_t d = 1; d + 1 < per_decade.size(); ++d) {
+            INFO("decade " << d);
+            CHECK(static_cast<double>(per_decade[d]) > share / 2);
+            CHECK(static_cast<double>(per_decade[d]) < share * 2);
+        }
+        // The prefix: at rest first, then every piece and both sides of every facet, at the
+        // middle of the range, and the pieces again at its top and bottom.
+        std::set<long> facets;
+        std::uint64_t top_end = 0, bottom_end = 0;
+        for (std::uint64_t i = 0; i < gen.prefix_count(); ++i) {
+            fuzz::Sample s;
+            gen.make(7, i, s);
+            CHECK(std::string(s.kind) == "prefix");
+            if (s.facet >= 0)
+                facets.insert(s.facet);
+            double top = 0;
+            for (std::size_t j = 0; j < m; ++j)
+                top = std::max(top, std::fabs(s.a[j]));
+            if (i == 0)
+                CHECK(top == 0);
+            top_end += top > hi / 2;
+            bottom_end += top > 0 && top < 2 * lo;
+        }
+        CHECK(facets.size() == gen.facets());
+        CHECK(top_end >= model.pieces().size());
+        CHECK(bottom_end >= model.pieces().size());
     }
 }
 

@@ -250,7 +250,8 @@ int run_consistency_fuzz(const FuzzArgs& a) {
     o.replay_prefix = replay_command("eval --float ") + system_flags(a.system) + (a.velocities ? " --velocities " : " ") +
                       (s.law ? "--float-law " + fuzz::shell_quote(a.float_law) : s.impl->replay_flags()) +
                       " --max-rel-error " + rbuf +
-                      (a.restitution.empty() ? "" : " --restitution " + fuzz::shell_quote(a.restitution)) + " --";
+                      (a.restitution.empty() ? "" : " --restitution " + fuzz::shell_quote(a.restitution)) +
+                      (a.reference.empty() ? "" : " --reference " + fuzz::shell_quote(a.reference)) + " --";
     const bool tty = !a.json && isatty(STDERR_FILENO);
     const auto start = std::chrono::steady_clock::now();
     auto progress = [&](std::uint64_t done) {
@@ -276,6 +277,7 @@ int run_consistency_fuzz(const FuzzArgs& a) {
     checked[static_cast<std::size_t>(fuzz::Property::restitution)] = !o.restitution.empty();
     checked[static_cast<std::size_t>(fuzz::Property::nondeterministic)] = a.impl_cmd_given && !a.impl_cmd.empty();
     checked[static_cast<std::size_t>(fuzz::Property::continuity)] = o.continuity;
+    checked[static_cast<std::size_t>(fuzz::Property::reference)] = s.reference != nullptr;
     const std::string target = s.impl->describe();
     const std::string space = a.velocities ? "ball velocities" : "contact velocities";
     const double rate = sum.seconds > 0 ? static_cast<double>(sum.samples) / sum.seconds : 0;
@@ -374,6 +376,8 @@ int run_consistency_fuzz(const FuzzArgs& a) {
                 line(head + "not checked (contact velocities carry no momentum; use --velocities)");
             else if (prop == fuzz::Property::nonexpansive || prop == fuzz::Property::continuity)
                 line(head + "not requested (--require " + fuzz::property_id(prop) + ")");
+            else if (prop == fuzz::Property::reference)
+                line(head + "not checked (give --reference)");
             else if (prop == fuzz::Property::restitution)
                 line(head + (s.mech.has_friction() ? "not checked (with friction)" : "not checked (give --restitution E)"));
             continue;
@@ -387,7 +391,7 @@ int run_consistency_fuzz(const FuzzArgs& a) {
              std::to_string(slot.worst->index) + "): " + slot.worst->detail);
         out += finding_text(*slot.worst);
         line("      replay: " + slot.worst->replay);
-        if (s.reference) {
+        if (s.reference && prop != fuzz::Property::reference) {
             const std::uint64_t other = slot.count - slot.law - slot.solver;
             line("      against the reference law: " + std::to_string(slot.law) +
                  " law-level (the exact law breaks it there too: more iterations will not help), " +
@@ -491,11 +495,14 @@ int run_consistency_eval(const FuzzArgs& a, const std::vector<std::vector<std::s
         if (at_rest)
             if (auto f = checker.at_rest(&out[i * d])) // the probe's own finding, by its name
                 findings.insert(findings.begin(), std::move(*f));
+        if (s.reference)
+            if (auto f = checker.reference(&in[i * d], &out[i * d], *s.reference))
+                findings.push_back(std::move(*f));
         for (const auto& f : findings)
             text += "  " + std::string(fuzz::property_title(f.property)) + ": " + f.detail + "\n";
         if (findings.empty())
             text += "  consistent within the tolerance (kinematic, kinetic" + std::string(a.velocities ? ", momentum" : "") +
-                    ", energy)\n";
+                    ", energy" + (s.reference ? ", reference" : "") + ")\n";
         violated = violated || !findings.empty();
     }
     if (a.pair && status[0] == fuzz::ImplStatus::ok && status[1] == fuzz::ImplStatus::ok) {

@@ -171,7 +171,37 @@ std::string count_text(std::uint64_t n) {
     return buf;
 }
 
-std::string fuzz_junit(const fuzz::Summary& sum, const std::string& target) {
+// The coverage line (text, JSON and JUnit alike) and what the run did not test.
+std::string coverage_text(const fuzz::Summary& sum) {
+    char buf[200];
+    std::snprintf(buf, sizeof buf, "pieces %llu/%llu hit, facets %llu/%llu probed, scales 1e%d..1e%d (%llu decades), prefix %llu probes",
+                  static_cast<unsigned long long>(sum.pieces_hit), static_cast<unsigned long long>(sum.pieces),
+                  static_cast<unsigned long long>(sum.facets_probed), static_cast<unsigned long long>(sum.facets),
+                  sum.decade_lo, sum.decade_hi, static_cast<unsigned long long>(sum.decades),
+                  static_cast<unsigned long long>(sum.prefix));
+    return buf;
+}
+
+std::vector<std::string> untested(const fuzz::Summary& sum, const fuzz::Options& o) {
+    std::vector<std::string> out;
+    auto u = [](std::uint64_t x) { return std::to_string(x); };
+    if (sum.pieces_hit < sum.pieces)
+        out.push_back(u(sum.pieces - sum.pieces_hit) + " of " + u(sum.pieces) + " pieces never held a checked input (raise --samples or --seconds)");
+    if (sum.facets_probed < sum.facets)
+        out.push_back(u(sum.facets - sum.facets_probed) + " of " + u(sum.facets) + " facets never probed");
+    char buf[160];
+    if (o.range_hi > 0 && o.range_lo > 0x1p-1000) {
+        std::snprintf(buf, sizeof buf, "no magnitude below %.3g: thresholds and tolerances there are unseen", o.range_lo);
+        out.push_back(buf);
+    }
+    if (o.range_hi > 0 && o.range_hi < 0x1p1000) {
+        std::snprintf(buf, sizeof buf, "no magnitude above %.3g: overflow there is unseen", o.range_hi);
+        out.push_back(buf);
+    }
+    return out;
+}
+
+std::string fuzz_junit(const fuzz::Summary& sum, const std::string& target, const fuzz::Options& o) {
     struct Case {
         const char* name;
         std::uint64_t count;
@@ -182,7 +212,8 @@ std::string fuzz_junit(const fuzz::Summary& sum, const std::string& target) {
                           {"negative contact velocities", sum.negative},
                           {"energy", sum.energy},
                           {"non-expansivity", sum.nonexpansive},
-                          {"implementation failures", sum.crashed + sum.hung + sum.malformed + sum.refused}};
+                          {"implementation failures", sum.crashed + sum.hung + sum.malformed + sum.refused},
+                          {"extreme magnitudes", sum.extreme}};
     std::string first;
     for (const auto& v : sum.examples)
         if (first.empty())
@@ -192,14 +223,23 @@ std::string fuzz_junit(const fuzz::Summary& sum, const std::string& target) {
         JunitCase t;
         t.classname = "impactcert.fuzz";
         t.name = c.name;
-        if (c.count) {
+        if (c.count && sum.fails(o.allow_extreme)) {
             t.kind = JunitCase::Kind::failed;
             t.type = "violations";
             t.message = std::to_string(c.count) + " violation(s) in " + std::to_string(sum.samples) + " samples";
             t.text = first;
+        } else if (c.count) { // every violation at an extreme input, and those allowed
+            t.system_out = std::to_string(c.count) + " violation(s), all at extreme magnitudes (allowed: --allow extreme)";
         }
         suite.cases.push_back(std::move(t));
     }
+    JunitCase cov;
+    cov.classname = "impactcert.fuzz";
+    cov.name = "coverage";
+    cov.system_out = coverage_text(sum);
+    for (const auto& line : untested(sum, o))
+        cov.system_out += "\nnot tested: " + line;
+    suite.cases.push_back(std::move(cov));
     return junit_xml(suite);
 }
 
@@ -208,8 +248,14 @@ std::string fuzz_junit(const fuzz::Summary& sum, const std::string& target) {
 int run_fuzz(FuzzArgs a) {
     if (!(a.options.seconds >= 0 && std::isfinite(a.options.seconds)))
         throw InputError("--seconds: must be a finite number >= 0");
-    if (a.law_path.empty() && a.system.given())
+    if (!a.allow.empty() && a.allow != "extreme")
+        throw InputError("--allow: expected extreme, got \"" + a.allow + "\"");
+    if (a.law_path.empty() && a.system.given()) {
+        if (!a.allow.empty())
+            throw InputError("--allow extreme: law mode only (consistency inputs lie within --range, at most 1e150)");
         return run_consistency_fuzz(a);
+    }
+    a.options.allow_extreme = !a.allow.empty();
     if (a.system.given())
         throw InputError("--law and --masses/--system: a law names its own system (without --law the implementation "
                          "is checked for consistency with the system alone)");
@@ -281,7 +327,7 @@ int run_fuzz(FuzzArgs a) {
         return j;
     };
     if (!a.junit.empty()) {
-        write_file(a.junit, fuzz_junit(sum, target));
+        write_file(a.junit, fuzz_junit(sum, target, options));
     }
     if (a.json) {
         Json j;
@@ -307,6 +353,12 @@ int run_fuzz(FuzzArgs a) {
         j["max_relative_error"] = sum.max_rel_error;
         j["checked_properties"] = {{"nonnegative", facts.properties.nonnegative}, {"energy", facts.properties.energy},
                                    {"nonexpansive", facts.properties.nonexpansive}};
+        j["coverage"] = {{"pieces_hit", sum.pieces_hit}, {"pieces", sum.pieces}, {"facets_probed", sum.facets_probed},
+                         {"facets", sum.facets}, {"decade_lo", sum.decade_lo}, {"decade_hi", sum.decade_hi},
+                         {"decades", sum.decades}, {"prefix", sum.prefix}, {"text", coverage_text(sum)},
+                         {"not_tested", untested(sum, options)}};
+        j["extreme_samples"] = sum.extreme;
+        j["allow_extreme"] = options.allow_extreme;
         j["violations"] = {{"outside_tolerance", sum.inaccurate}, {"classification", sum.misclassified},
                            {"non_finite", sum.non_finite}, {"negative_output", sum.negative},
                            {"energy", sum.energy}, {"nonexpansive", sum.nonexpansive},
@@ -314,7 +366,8 @@ int run_fuzz(FuzzArgs a) {
                            {"refused", sum.refused}};
         Json examples = Json::array();
         for (const auto& v : sum.examples) {
-            Json e = {{"index", v.index}, {"what", v.what}, {"generator", v.kind}, {"input", hexes(v.input)}};
+            Json e = {{"index", v.index}, {"what", v.what}, {"generator", v.kind}, {"extreme", v.extreme},
+                      {"input", hexes(v.input)}};
             if (!v.input_b.empty())
                 e["input_b"] = hexes(v.input_b);
             e["output"] = hexes(v.output);
@@ -325,7 +378,7 @@ int run_fuzz(FuzzArgs a) {
         j["examples"] = examples;
         if (const auto e = impl->stderr_summary())
             j["stderr"] = Json{{"lines", e->lines}, {"bytes", e->bytes}, {"first", e->first}};
-        j["verdict"] = sum.violations() ? "violations" : sum.samples == 0 ? "undecided" : "no violation";
+        j["verdict"] = sum.fails(options.allow_extreme) ? "violations" : sum.samples == 0 ? "undecided" : "no violation";
         std::cout << j.dump(2) << "\n";
     } else {
         auto u = [](std::uint64_t x) { return static_cast<unsigned long long>(x); };
@@ -336,8 +389,13 @@ int run_fuzz(FuzzArgs a) {
                     model.law().name.c_str(), space.c_str(), u(options.seed), options.jobs, options.jobs == 1 ? "" : "s");
         std::printf("  tolerance                      %s\n", tolerance.c_str());
         if (options.range_hi > 0)
-            std::printf("  inputs                         components 0 or of magnitude in %.6g..%.6g (--range)\n",
+            std::printf("  inputs                         components 0 or of magnitude in %.6g..%.6g (--range), scales log-uniform\n",
                         options.range_lo, options.range_hi);
+        else
+            std::printf("  inputs                         the whole double range; extreme: largest component beyond 2^500 or below 2^-500\n");
+        std::printf("  coverage                       %s\n", coverage_text(sum).c_str());
+        for (const auto& line : untested(sum, options))
+            std::printf("  not tested                     %s\n", line.c_str());
         std::printf("  samples                        %llu (%llu close pairs; %llu reference points through GMP)\n",
                     u(sum.samples), u(sum.pairs), u(sum.slow));
         std::printf("  time                           %.2f s (%.2f M samples/s, %.2f M/s per job)\n", sum.seconds,
@@ -353,6 +411,8 @@ int run_fuzz(FuzzArgs a) {
                     u(sum.crashed), u(sum.hung), u(sum.malformed), u(sum.refused));
         if (sum.outside)
             std::printf("  points in no cone (skipped)    %llu\n", u(sum.outside));
+        std::printf("  samples with violations        %llu within 2^-500..2^500, %llu at extreme magnitudes%s\n", u(sum.gated),
+                    u(sum.extreme), sum.extreme == 0 ? "" : options.allow_extreme ? " (allowed: --allow extreme)" : " (fail the run; --allow extreme accepts them)");
         if (const auto e = impl->stderr_summary(); e && e->lines) {
             std::string first;
             for (std::size_t i = 0; i < e->first.size(); ++i)
@@ -372,17 +432,18 @@ int run_fuzz(FuzzArgs a) {
                 out += " " + fuzz::hex(x);
             for (double x : v.expected)
                 ex += " " + fuzz::hex(x);
-            std::printf("  violation at sample %llu (%s): %s\n    input%s -> output%s, exact%s\n    replay: %s\n",
-                        u(v.index), v.kind.c_str(), v.what.c_str(), in.c_str(), out.empty() ? " (none)" : out.c_str(),
+            std::printf("  violation at sample %llu (%s%s): %s\n    input%s -> output%s, exact%s\n    replay: %s\n",
+                        u(v.index), v.kind.c_str(), v.extreme ? ", extreme" : "", v.what.c_str(), in.c_str(), out.empty() ? " (none)" : out.c_str(),
                         ex.empty() ? " (none)" : ex.c_str(), v.replay.c_str());
         }
-        std::printf("verdict: %s\n", sum.violations() ? "violations found"
+        std::printf("verdict: %s\n", sum.fails(options.allow_extreme) ? "violations found"
+                                      : sum.violations() && sum.samples ? "no violation within 2^-500..2^500 (those at extreme magnitudes allowed)"
                                       : sum.samples == 0 ? "undecided: no sample was checked (--seconds ran out first; raise --seconds)"
                                                          : "no violation");
     }
     write_stdout("");
     // Nothing checked is not a pass: a gate must not go green on an empty run.
-    return sum.violations() ? kExitRefuted : sum.samples == 0 ? kExitUndecided : kExitProved;
+    return sum.fails(options.allow_extreme) ? kExitRefuted : sum.samples == 0 ? kExitUndecided : kExitProved;
 }
 
 int run_eval(const std::string& law_path, bool velocities, const std::vector<std::string>& args, bool as_float,

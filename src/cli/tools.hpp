@@ -65,6 +65,7 @@ struct FuzzArgs {
     std::string require;
     std::string restitution; // consistency: the restitution the implementation is meant to apply
     std::string reference;   // consistency: the exact law it is meant to compute (a file, or a name)
+    std::string allow;       // law mode: classes of violations that do not fail the run ("extreme")
     bool velocities = false, json = false, pair = false, pieces = false;
     bool impl_given = false, impl_cmd_given = false; // given, even as an empty string
     bool restitution_given = false, reference_given = false;

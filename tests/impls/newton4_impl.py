@@ -8,12 +8,27 @@ format); the answer is one line with gamma+ (any format float() or float.fromhex
 exactly; float.hex is exact). Flush after each line, or at least before waiting for input.
 
 MODE sorted     correct, not correctly rounded (ball velocities by summation, sorted)
+MODE plain      correct in the physical range, as a plain solver is: pairwise exchanges while a
+                contact approaches, no rescaling (its sums overflow beyond about 1e308)
 MODE tolerance  WRONG: exchanges only when a contact approaches faster than 1e-9
+MODE threshold  WRONG: the plain solver with an absolute threshold, a contact approaches only if
+                gamma < -1e-6 (the newcomer's bug of docs/fuzzing.md)
 """
 import sys
 
 
+def plain(g, threshold):
+    u = [0.0, g[0], g[0] + g[1], g[0] + g[1] + g[2]]
+    for _ in range(4):
+        for k in range(3):
+            if u[k + 1] - u[k] < -threshold:
+                u[k], u[k + 1] = u[k + 1], u[k]
+    return [u[1] - u[0], u[2] - u[1], u[3] - u[2]]
+
+
 def law(g, mode):
+    if mode in ("plain", "threshold"):
+        return plain(g, 0.0 if mode == "plain" else 1e-6)
     scale = 0.25 if max(abs(x) for x in g) > 2.0**1020 else 1.0  # keep the sums finite (exact)
     g = [x * scale for x in g]
     u = [0.0, g[0], g[0] + g[1], g[0] + g[1] + g[2]]
