@@ -1,0 +1,193 @@
+#!/usr/bin/env python3
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""Detection power (issue 44): the bugs people make are found, correct solvers are not flagged.
+
+Law mode, the newcomer's case (tests/impls/newton4_impl.py, the 4-ball law):
+  - a plain solver with an absolute threshold (a contact approaches only if gamma < -1e-6) fails
+    the CI line of docs/fuzzing.md; the same solver without the threshold passes it (its sums
+    overflow near 1e308: those are `extreme` violations, which that line allows), and fails the
+    strict default (no --allow extreme), which the text says why;
+  - with --range 1e-150..1e150 the threshold is found within 2,000 samples (it passed a million
+    when every sample was pushed to the top of the range), and every reported witness is
+    recomputed here in Python fractions: the exact law (a sort of the ball velocities) differs
+    from the answer by more than the tolerance;
+  - the coverage: every piece and facet of the law, in the text, the JSON and the JUnit report;
+    what a narrow range leaves untested is said.
+Consistency mode (tests/impls/chain_engine.py, an engine-like sequential-impulse solver):
+  - Box2D's velocity threshold (restitution off below 1) is consistent, but a `reference` finding
+    against --reference approaching; the worst one is recomputed here: the reported y* satisfies
+    the Newton law's complementarity conditions exactly (so it is the law's answer), and the
+    answer is farther from it than the tolerance; its replay exits 1 and names the property;
+  - the converged correct solver has no reference finding (negative control);
+  - a solver that crashes on the input at rest: exit 1, the finding at-rest with a replay (it was
+    exit 2, "the command ended without answering").
+Usage: detection_test.py BINDIR SOURCE_DIR [--light]"""
+import json
+import os
+import subprocess
+import sys
+from fractions import Fraction as F
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import testkit  # noqa: E402
+
+BIN, SRC = os.path.abspath(sys.argv[1]), os.path.abspath(sys.argv[2])
+LIGHT = "--light" in sys.argv[3:]
+CLI = os.path.join(BIN, "impactcert")
+LAW = os.path.join(SRC, "proofs", "newton4", "law.json")
+SOLVER = "python3 " + os.path.join(SRC, "tests", "impls", "newton4_impl.py")
+ENGINE = "python3 " + os.path.join(SRC, "tests", "impls", "chain_engine.py")
+failures = []
+
+
+def fail(msg):
+    failures.append(msg)
+
+
+def run(args):
+    return subprocess.run([CLI] + args, capture_output=True, text=True, cwd=SRC)
+
+
+def fuzz_law(mode, extra):
+    return run(["fuzz", "--law", LAW, "--impl-cmd", SOLVER + " " + mode, "--max-rel-error", "1e-12"] + extra)
+
+
+# The CI line of docs/fuzzing.md, with a sample count instead of --seconds (reproducible).
+CI = ["--allow", "extreme", "--samples", "4000" if LIGHT else "20000"]
+for mode, want in [("threshold", 1), ("tolerance", 1), ("plain", 0), ("sorted", 0)]:
+    r = fuzz_law(mode, CI)
+    if r.returncode != want:
+        fail(f"CI line, {mode}: exit {r.returncode}, expected {want}\n{r.stdout[-2000:]}{r.stderr}")
+# The plain solver overflows near 1e308: strict by default, and the text says where.
+r = fuzz_law("plain", ["--samples", "4000"])
+if r.returncode != 1 or "at extreme magnitudes (fail the run; --allow extreme accepts them)" not in r.stdout:
+    fail(f"plain solver without --allow extreme: exit {r.returncode}\n{r.stdout[-2000:]}")
+if "samples with violations        0 within 2^-500..2^500" not in r.stdout:
+    fail("plain solver: violations within the physical range?\n" + r.stdout[-2000:])
+
+
+def exact_law(g):
+    """The 4-ball law in Fractions, independently: ball velocities 0, g1, g1+g2, g1+g2+g3 sorted."""
+    u = [F(0)]
+    for x in g:
+        u.append(u[-1] + x)
+    u.sort()
+    return [u[k + 1] - u[k] for k in range(3)]
+
+
+
+
+def h_norm2(v):
+    """|v|^2 in the contact metric of the 4-ball chain of unit masses: the kinetic energy of the
+    relative motion, 2 T = sum over balls of (u_i - mean)^2 with u the partial sums."""
+    u = [F(0)]
+    for x in v:
+        u.append(u[-1] + x)
+    mean = sum(u) / 4
+    return sum((x - mean) ** 2 for x in u)
+
+
+r = fuzz_law("threshold", ["--range", "1e-150..1e150", "--samples", "2000", "--json", "--keep", "20"])
+try:
+    j = json.loads(r.stdout)
+except json.JSONDecodeError:
+    j = None
+    fail(f"--range 1e-150..1e150 --json: not JSON (exit {r.returncode})\n{r.stdout[:500]}{r.stderr}")
+if j is not None:
+    if r.returncode != 1 or j["verdict"] != "violations":
+        fail(f"the threshold solver passed 2,000 samples of --range 1e-150..1e150 (exit {r.returncode})")
+    checked = 0
+    for e in j["examples"]:
+        if "input_b" in e:
+            continue
+        x = [F.from_float(float.fromhex(t)) for t in e["input"]]
+        y = [F.from_float(float.fromhex(t)) for t in e["output"]]
+        exact = exact_law(x)
+        d = [a - b for a, b in zip(y, exact)]
+        # outside --max-rel-error 1e-12: |y - S(x)| > R |x|, squared, in the law's metric
+        if not h_norm2(d) > F(1e-12) ** 2 * h_norm2(x):
+            fail(f"witness {e['input']} -> {e['output']} is within the tolerance of the exact law {exact}")
+        checked += 1
+    if checked == 0:
+        fail("no single-point witness to recompute")
+    cov = j["coverage"]
+    if cov["pieces_hit"] != cov["pieces"] or cov["pieces"] != 24 or cov["facets_probed"] != cov["facets"]:
+        fail(f"coverage: {cov}")
+    if cov["decade_lo"] > -149 or cov["decade_hi"] < 148:
+        fail(f"coverage: the range's decades not reached: {cov}")
+    if not any("overflow there is unseen" in t for t in cov["not_tested"]):
+        fail(f"coverage: the range's top not said untested: {cov['not_tested']}")
+
+# A narrow range says what it leaves out, in the text and the JUnit report.
+junit = os.path.join("/tmp", f"impactcert-detection-{os.getpid()}.xml")
+r = fuzz_law("plain", ["--range", "1e-3..1e3", "--samples", "3000", "--junit", junit])
+if r.returncode != 0 or "not tested                     no magnitude below 0.001: thresholds and tolerances there are unseen" not in r.stdout:
+    fail(f"--range 1e-3..1e3: exit {r.returncode}, untested magnitudes not said\n{r.stdout}")
+if "coverage                       pieces 24/24 hit, facets 72/72 probed, scales 1e-3..1e2 (6 decades)" not in r.stdout:
+    fail("--range 1e-3..1e3: coverage line\n" + r.stdout)
+try:
+    with open(junit) as f:
+        xml = f.read()
+    os.unlink(junit)
+    if 'name="coverage"' not in xml or "<system-out>pieces 24/24 hit" not in xml or "not tested: no magnitude below" not in xml:
+        fail("JUnit: no coverage case\n" + xml)
+except OSError as e:
+    fail(f"JUnit not written: {e}")
+
+# --allow takes one value.
+r = fuzz_law("plain", ["--allow", "everything", "--samples", "10"])
+if r.returncode != 2 or r.stderr.count("\n") != 1 or "--allow" not in r.stderr:
+    fail(f"--allow everything: exit {r.returncode}: {r.stderr}")
+
+# Consistency mode.
+def fuzz_engine(mode, extra):
+    return run(["fuzz", "--masses", "1,1,1", "--velocities", "--impl-cmd", ENGINE + " " + mode, "--max-rel-error", "1e-9",
+                "--restitution", "1", "--reference", "approaching", "--samples", "700" if LIGHT else "2000"] + extra)
+
+
+r = fuzz_engine("threshold", ["--json"])
+j = json.loads(r.stdout) if r.stdout.startswith("{") else None
+if j is None or r.returncode != 1:
+    fail(f"threshold engine: exit {r.returncode}\n{r.stdout[:1000]}{r.stderr}")
+else:
+    if not j["checked_properties"].get("reference") or j["violations"]["reference"] == 0:
+        fail(f"threshold engine: no reference finding: {j['violations']}")
+    for what in ("kinematic", "kinetic", "momentum"):
+        if j["violations"][what]:
+            fail(f"threshold engine: {what} violated? it is consistent: {j['violations']}")
+    w = j["worst"]["reference"]
+    x = [F.from_float(float.fromhex(t)) for t in w["input"]]
+    y = [F.from_float(float.fromhex(t)) for t in w["output"]]
+    ystar = [F(t) for t in w["exact"]["y*"].split()]
+    # y* is the Newton law with restitution 1 on approaching contacts: momentum kept, and per
+    # contact gamma+ >= target, impulse >= 0, complementary (chain of unit masses).
+    if sum(ystar) != sum(x):
+        fail(f"y* {ystar} does not keep momentum of {x}")
+    lam1 = x[0] - ystar[0]
+    lam2 = ystar[2] - x[2]
+    for k, lam in enumerate((lam1, lam2)):
+        gm = x[k + 1] - x[k]
+        gp = ystar[k + 1] - ystar[k]
+        target = -gm if gm < 0 else F(0)
+        if gp < target or lam < 0 or (gp - target) * lam != 0:
+            fail(f"y* {ystar} breaks the Newton law at contact {k + 1} (input {x})")
+    off2 = sum((a - b) ** 2 for a, b in zip(y, ystar))
+    if not off2 > F(1e-9) ** 2 * sum(v * v for v in x):
+        fail(f"reference finding within the tolerance: {w}")
+    rr = testkit.run_replay(w["replay"], CLI)
+    if rr.returncode != 1 or "(reference)" not in rr.stdout:
+        fail(f"reference replay: exit {rr.returncode}\n{rr.stdout}{rr.stderr}")
+
+r = fuzz_engine("correct", ["--json"])
+j = json.loads(r.stdout) if r.stdout.startswith("{") else None
+if j is None or j["violations"]["reference"] != 0:
+    fail(f"the converged correct engine has reference findings: {r.stdout[:1500]}")
+
+r = fuzz_engine("restcrash", ["--json"])
+j = json.loads(r.stdout) if r.stdout.startswith("{") else None
+if j is None or r.returncode != 1 or j["violations"]["at-rest"] != 1:
+    fail(f"crash at rest: exit {r.returncode} (expected 1 and the finding at-rest)\n{r.stdout[:800]}{r.stderr}")
+elif "crashed" not in j["worst"]["at-rest"]["detail"] or "replay" not in j["worst"]["at-rest"]:
+    fail(f"crash at rest: {j['worst']['at-rest']}")
+
+testkit.finish(failures)
