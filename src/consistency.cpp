@@ -414,10 +414,8 @@ std::optional<Finding> ConsistencyChecker::reference(const double* xd, const dou
     char off[48];
     std::snprintf(off, sizeof off, "%.3g", f.off);
     f.detail = std::string(off) + " off the exact law (relative, |y - y*| / |x|); the law answers (" + exact + ")";
-    std::string value;
     for (std::size_t i = 0; i < d; ++i)
-        value += (i ? " " : "") + to_string((*best)[i]);
-    f.exact.emplace_back("y*", value);
+        f.exact.emplace_back("y*_" + std::to_string(i + 1), to_string((*best)[i]));
     f.exact.emplace_back("|y - y*|^2", to_string(best_d2));
     f.exact.emplace_back("|x|^2", to_string(s2));
     return f;

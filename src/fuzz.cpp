@@ -142,7 +142,7 @@ std::optional<int> range_power(double top, double lo, double hi, int where, std:
     case 0: return k_min;
     case 1: return k_min + (k_max - k_min) / 2;
     case 2: return k_max;
-    default: return k_min + static_cast<int>(draw % static_cast<std::uint64_t>(k_max - k_min + 1));
+    default: return k_min + static_cast<int>((draw >> 1) % static_cast<std::uint64_t>(k_max - k_min + 1)); // bit 0 is the caller's flag
     }
 }
 
@@ -645,7 +645,9 @@ struct Worker {
 
     void record(std::uint64_t index, const std::string& what, const Sample& s, const double* x, const double* xb,
                 const double* y, const double* expected) {
-        const bool extreme = extreme_input(s.a, m) || (s.pair && extreme_input(s.b, m));
+        // Extreme only when every point of the sample is (a violation at a point within the range
+        // is never allowed because its pair partner lies beyond it).
+        const bool extreme = extreme_input(s.a, m) && (!s.pair || extreme_input(s.b, m));
         std::size_t slot = sum.examples.size();
         if (slot >= opt.keep) { // full: a violation within the range replaces the latest extreme one
             if (extreme)
@@ -1022,7 +1024,7 @@ struct Worker {
                 ~Tally() {
                     if (w.sum.violations() == before)
                         return;
-                    const bool extreme = extreme_input(s.a, w.m) || (s.pair && extreme_input(s.b, w.m));
+                    const bool extreme = extreme_input(s.a, w.m) && (!s.pair || extreme_input(s.b, w.m));
                     ++(extreme ? w.sum.extreme : w.sum.gated);
                 }
             } tally{*this, s, before};
