@@ -370,6 +370,26 @@ std::vector<Finding> ConsistencyChecker::check_exact(const Vector& x, const Vect
     return out;
 }
 
+// The law's exact answer at x nearest y in the metric of the input space (the law may have several
+// values on a boundary), with its squared distance; nothing where x lies in no cone of the law.
+// Shared by the reference property and the law/solver classification.
+static std::optional<Vector> nearest_law_answer(const Model& law, const Mechanics& m, bool velocities, const Vector& x,
+                                         const Vector& y, Rational& d2_out) {
+    const Vector gamma = velocities ? transpose(m.W) * x : x;
+    const Matrix& X = velocities ? m.M : m.H;
+    std::optional<Vector> best;
+    for (const Vector& g : law.values_at(gamma)) {
+        const Vector ystar = velocities ? law.post_impact_velocities(x, gamma, g) : g;
+        const Vector diff = y - ystar;
+        const Rational d2 = bilinear(diff, X, diff);
+        if (!best || d2 < d2_out) {
+            best = ystar;
+            d2_out = d2;
+        }
+    }
+    return best;
+}
+
 std::optional<Finding> ConsistencyChecker::reference(const double* xd, const double* yd, const Model& law) const {
     const std::size_t d = dim();
     Vector x(d), y(d);
@@ -380,19 +400,9 @@ std::optional<Finding> ConsistencyChecker::reference(const double* xd, const dou
         x[i] = *xi;
         y[i] = *yi;
     }
-    const Vector gamma = velocities_ ? transpose(m_.W) * x : x;
     const Matrix& X = velocities_ ? m_.M : m_.H;
-    std::optional<Vector> best;
     Rational best_d2;
-    for (const Vector& g : law.values_at(gamma)) {
-        const Vector ystar = velocities_ ? law.post_impact_velocities(x, gamma, g) : g;
-        const Vector diff = y - ystar;
-        const Rational d2 = bilinear(diff, X, diff);
-        if (!best || d2 < best_d2) {
-            best = ystar;
-            best_d2 = d2;
-        }
-    }
+    const std::optional<Vector> best = nearest_law_answer(law, m_, velocities_, x, y, best_d2);
     if (!best)
         return std::nullopt; // x lies in no cone of the law
     // (R s + A)^2 <= R^2 s^2 + A (2 R s_up + A), as in check_exact: beyond this bound, beyond the
@@ -704,19 +714,9 @@ void classify(Finding& f, const Model* reference, const ConsistencyChecker& chec
         x[i] = *exact_of(f.input[i]);
         y[i] = *exact_of(f.output[i]);
     }
-    const Vector gamma = velocities ? transpose(m.W) * x : x;
     const Matrix& X = velocities ? m.M : m.H;
-    std::optional<Vector> best;
     Rational best_d2;
-    for (const Vector& g : reference->values_at(gamma)) {
-        const Vector ystar = velocities ? reference->post_impact_velocities(x, gamma, g) : g;
-        const Vector diff = y - ystar;
-        const Rational d2 = bilinear(diff, X, diff);
-        if (!best || d2 < best_d2) {
-            best = ystar;
-            best_d2 = d2;
-        }
-    }
+    const std::optional<Vector> best = nearest_law_answer(*reference, m, velocities, x, y, best_d2);
     if (!best)
         return; // outside every cone of the reference law
     bool law = false;
