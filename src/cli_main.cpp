@@ -199,6 +199,7 @@ int main(int argc, char** argv) {
             throw CLI::ValidationError("--max-ulps", text + ": must be a decimal integer in [0, 2^64 - 1]");
         eval_float_args.max_ulps = *k;
     }, "with --float and --impl/--impl-cmd against a law: the error allowed per component (default 0); exit 1 beyond it");
+    eval_cmd->add_option("--mutant", eval_float_args.mutant, "with --float --law: the answer of this mutant of the law's plain double evaluation (fuzz --mutants), against the exact law");
     eval_cmd->add_option("--float-law", eval_float_args.float_law, "consistency: the implementation is impactcert's float law of this file");
     eval_cmd->add_flag("--pair", eval_float_args.pair, "consistency: the two points are a pair (non-expansivity, continuity)");
     eval_cmd->add_option("points", eval_args, "numbers: rationals (-3/4), decimals (0.1, 2.5e-3), hex floats (0x1.8p-3)");
@@ -289,6 +290,9 @@ int main(int argc, char** argv) {
     fuzz_cmd->add_option("--restitution", fuzz_args.restitution, "consistency, frictionless: the restitution the implementation is meant to apply (E, or one per contact); checks the restitution property where one contact alone approaches");
     fuzz_cmd->add_option("--range", fuzz_args.range, "input components 0 or of magnitude in LO..HI (consistency: default 1e-3..1e3; law mode: default the whole double range, each sample scaled by a power of two drawn uniformly among those that put its largest component in the range)");
     fuzz_cmd->add_option("--allow", fuzz_args.allow, "law mode: extreme -- violations at inputs whose largest component is beyond 2^500 (about 3.3e150) or below 2^-500 are reported but do not fail the run (plain formulas overflow or underflow there)");
+    fuzz_cmd->add_option("--mutants", fuzz_args.mutants, "law mode: run this gate (tolerance, --range, --samples/--seconds, --allow, --seed) against N mutants of the law's plain double evaluation (planted bugs: thresholds, cone tests, signs, formulas, float32, overflow) and print its kill rate; exit 1 when the control fails or the rate is below --min-kill-rate")->check(natural_text)->check(CLI::Range(std::size_t{1}, std::size_t{100000}));
+    fuzz_cmd->add_option("--min-kill-rate", fuzz_args.min_kill_rate, "with --mutants: exit 1 when the kill rate is below this fraction (0..1)");
+    fuzz_cmd->add_option("--mutant", fuzz_args.mutant, "law mode: fuzz one mutant of the law's plain double evaluation (an ID that --mutants prints; none: the plain evaluation itself)");
     fuzz_cmd->add_flag("--json", fuzz_args.json, "print the summary as impactcert-fuzz/1 JSON");
     fuzz_cmd->add_option("--junit", fuzz_args.junit, "also write a JUnit XML report to this file");
 

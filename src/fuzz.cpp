@@ -1087,6 +1087,8 @@ Summary run(const Options& options, const LawReference& reference, const Impleme
                 const std::uint64_t end = std::min(n, begin + kChunk);
                 workers[j]->run_chunk(begin, end);
                 done.fetch_add(end - begin, std::memory_order_relaxed);
+                if (options.stop_on_failure && workers[j]->sum.fails(options.allow_extreme))
+                    stop = true;
             }
         } catch (...) {
             errors[j] = std::current_exception();
@@ -1199,10 +1201,13 @@ Summary run(const Options& options, const LawReference& reference, const Impleme
     return total;
 }
 
-std::string explain(const LawReference& reference, Implementation* impl, const double* x, std::uint64_t* worst_ulps) {
+std::string explain(const LawReference& reference, Implementation* impl, const double* x, std::uint64_t* worst_ulps,
+                    std::vector<double>* answer) {
     const std::size_t mo = reference.out_dim();
     if (worst_ulps)
         *worst_ulps = UINT64_MAX;
+    if (answer)
+        answer->clear();
     std::fesetround(FE_TONEAREST);
     RefPoint r;
     reference.eval(x, r);
@@ -1223,6 +1228,8 @@ std::string explain(const LawReference& reference, Implementation* impl, const d
         else {
             line("impl ", y);
             text += "\n";
+            if (answer)
+                answer->assign(y, y + mo);
         }
         if (st != ImplStatus::ok)
             impl = nullptr;

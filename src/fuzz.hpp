@@ -123,6 +123,7 @@ struct Options {
     // component in [LO, HI] (log-uniform scales), then components below LO become 0 (fit_range).
     double range_lo = 0, range_hi = 0;
     bool allow_extreme = false; // --allow extreme: violations at extreme inputs do not fail the run
+    bool stop_on_failure = false; // end the run at the first chunk whose violations fail it (--mutants)
 };
 
 // The sample moved into the run's --range (Options::range_lo/hi), as described there. A scale by
@@ -181,8 +182,9 @@ Summary run(const Options& options, const LawReference& reference, const Impleme
 // `worst_ulps`, when given, receives the implementation's error: the largest component distance
 // in ulps to the nearest correctly rounded value (UINT64_MAX when it failed, answered a non-finite
 // number, or the input lies in no cone).
+// `answer`, when given, receives the implementation's output (empty when it failed).
 std::string explain(const LawReference& reference, Implementation* impl, const double* x,
-                    std::uint64_t* worst_ulps = nullptr);
+                    std::uint64_t* worst_ulps = nullptr, std::vector<double>* answer = nullptr);
 
 // A seed as the command line gives it: decimal digits only, value in [0, 2^64 - 1]. No sign,
 // exponent, hex or white space (they used to wrap or saturate silently); `why` gets the reason.

@@ -66,25 +66,8 @@ if "samples with violations        0 within 2^-500..2^500" not in r.stdout:
     fail("plain solver: violations within the physical range?\n" + r.stdout[-2000:])
 
 
-def exact_law(g):
-    """The 4-ball law in Fractions, independently: ball velocities 0, g1, g1+g2, g1+g2+g3 sorted."""
-    u = [F(0)]
-    for x in g:
-        u.append(u[-1] + x)
-    u.sort()
-    return [u[k + 1] - u[k] for k in range(3)]
-
-
-
-
-def h_norm2(v):
-    """|v|^2 in the contact metric of the 4-ball chain of unit masses: the kinetic energy of the
-    relative motion, 2 T = sum over balls of (u_i - mean)^2 with u the partial sums."""
-    u = [F(0)]
-    for x in v:
-        u.append(u[-1] + x)
-    mean = sum(u) / 4
-    return sum((x - mean) ** 2 for x in u)
+exact_law = testkit.newton4_exact
+h_norm2 = testkit.newton4_h_norm2
 
 
 r = fuzz_law("threshold", ["--range", "1e-150..1e150", "--samples", "2000", "--json", "--keep", "20"])

@@ -20,3 +20,24 @@ def run_replay(cmd, cli):
     if not cmd.startswith("cd ") or f" && {cli} eval " not in cmd:
         raise AssertionError(f"a replay not of the form `cd DIR && {cli} eval ...`: {cmd}")
     return subprocess.run(cmd, shell=True, capture_output=True, text=True, cwd="/")
+
+
+def newton4_exact(g):
+    """The 4-ball law (proofs/newton4) in Fractions, independently of impactcert: the ball
+    velocities 0, g1, g1+g2, g1+g2+g3 sorted, and their differences."""
+    u = [0]
+    for x in g:
+        u.append(u[-1] + x)
+    u.sort()
+    return [u[k + 1] - u[k] for k in range(3)]
+
+
+def newton4_h_norm2(v):
+    """|v|^2 in the contact metric of the 4-ball chain of unit masses: 2 T of the relative
+    motion, the sum over balls of (u_i - mean)^2 with u the partial sums."""
+    from fractions import Fraction
+    u = [Fraction(0)]
+    for x in v:
+        u.append(u[-1] + x)
+    mean = sum(u) / 4
+    return sum((x - mean) ** 2 for x in u)

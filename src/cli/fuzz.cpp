@@ -5,6 +5,7 @@
 
 #include "consistency.hpp"
 #include "float_eval.hpp"
+#include "fuzz_mutants.hpp"
 #include "json.hpp"
 #include "junit.hpp"
 #include "verdict_output.hpp"
@@ -16,6 +17,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <iostream>
 #include <memory>
@@ -23,6 +25,17 @@
 namespace impactcert::cli {
 
 namespace {
+
+// The shortest decimal that reads back as x (a replay's tolerance, exactly the run's).
+std::string shortest_decimal(double x) {
+    char buf[40];
+    for (int digits = 1; digits <= 17; ++digits) {
+        std::snprintf(buf, sizeof buf, "%.*g", digits, x);
+        if (std::strtod(buf, nullptr) == x)
+            break;
+    }
+    return buf;
+}
 
 // One point: c contact velocities, or n ball velocities with --velocities.
 std::string evaluate_point(const Model& model, const Vector& x, bool velocities, const std::string& where,
@@ -57,6 +70,13 @@ std::unique_ptr<fuzz::Implementation> make_impl(const FuzzArgs& a, const Model& 
         throw InputError("--impl-cmd: empty command");
     if (!(a.timeout > 0 && std::isfinite(a.timeout)))
         throw InputError("--impl-timeout: must be a finite number of seconds > 0");
+    if (!a.mutant.empty()) {
+        if (a.impl_given || a.impl_cmd_given)
+            throw InputError("--mutant and --impl/--impl-cmd: a mutant is of the law's own plain evaluation; give one");
+        if (a.velocities)
+            throw InputError("--mutant: the law's plain evaluation takes contact velocities (no --velocities)");
+        return fuzz::plain_law(model, fuzz::parse_mutation(a.mutant, model));
+    }
     if (!a.impl_spec.empty())
         return fuzz::load_symbol(a.impl_spec, dim, dim);
     if (!a.impl_cmd.empty())
@@ -104,24 +124,41 @@ std::vector<double> parse_doubles(const std::vector<std::string>& toks) {
 }
 
 int run_eval_float(const FuzzArgs& a, const std::vector<std::vector<std::string>>& points) {
-    if (a.impl_given || a.impl_cmd_given) {
+    if (a.impl_given || a.impl_cmd_given || !a.mutant.empty()) {
         // An implementation against the exact law, point by point (the fuzzer's replays).
         const Model model = load_model(a.law_path);
         const LawFacts facts = law_facts(model, a.velocities);
         const fuzz::LawReference reference(model, a.velocities, facts.continuous_tiling);
         auto impl = make_impl(a, model, reference.in_dim());
-        // Exit 1 when an answer is not within --max-ulps (default 0) of a correctly rounded
-        // value, as the fuzzer decides in law mode (issue 32: a replay showing a 10^18-ulp error
-        // exited 0).
+        if (a.max_ulps && a.max_rel_error)
+            throw InputError("--max-ulps and --max-rel-error: give one tolerance");
+        if (a.max_rel_error && !(*a.max_rel_error >= 0 && std::isfinite(*a.max_rel_error)))
+            throw InputError("--max-rel-error: must be a finite number >= 0");
+        // Exit 1 when an answer is not within the tolerance the fuzzer used: --max-ulps (default
+        // 0) of a correctly rounded value, or --max-rel-error in the law's metric, decided exactly
+        // (issue 32: a replay showing a 10^18-ulp error exited 0; a replay that dropped
+        // --max-rel-error judged at 0 ulp).
         const std::uint64_t allowed = a.max_ulps.value_or(0);
+        fuzz::Options tol;
+        if (a.max_rel_error) {
+            tol.tolerance = fuzz::Tolerance::relative;
+            tol.max_rel_error = *a.max_rel_error;
+        }
         bool off = false;
         for (const auto& toks : points) {
             const auto x = parse_doubles(toks);
             std::uint64_t worst = 0;
-            std::printf("%s", fuzz::explain(reference, impl.get(), x.data(), &worst).c_str());
-            off = off || worst > allowed;
+            std::vector<double> y;
+            std::printf("%s", fuzz::explain(reference, impl.get(), x.data(), &worst, &y).c_str());
+            if (!a.max_rel_error)
+                off = off || worst > allowed;
+            else
+                off = off || (y.empty() ? worst > 0 : fuzz::exact_violation(model, tol, x.data(), y.data(), nullptr, a.velocities));
         }
-        if (off)
+        if (off && a.max_rel_error)
+            std::printf("not within --max-rel-error %s of the exact value in the law's metric\n",
+                        shortest_decimal(*a.max_rel_error).c_str());
+        else if (off)
             std::printf("not within %llu ulp of the correctly rounded value (--max-ulps)\n",
                         static_cast<unsigned long long>(allowed));
         return off ? kExitRefuted : kExitProved;
@@ -245,6 +282,151 @@ std::string fuzz_junit(const fuzz::Summary& sum, const std::string& target, cons
     return junit_xml(suite);
 }
 
+std::string tolerance_text(const fuzz::Options& o) {
+    return o.tolerance == fuzz::Tolerance::relative ? "--max-rel-error " + shortest_decimal(o.max_rel_error)
+           : o.tolerance == fuzz::Tolerance::ulps   ? "--max-ulps " + std::to_string(o.max_ulps)
+                                                    : "the implementation's stated bound";
+}
+
+// fuzz --mutants N: the configured gate against mutants of the law's plain double evaluation.
+int run_mutants_gate(const FuzzArgs& a, const Model& model, const fuzz::LawReference& reference,
+                     const fuzz::Properties& properties, const std::string& tolerance) {
+    const fuzz::Options& o = a.options;
+    const bool tty = !a.json && isatty(STDERR_FILENO);
+    auto progress = [&](std::size_t done, std::size_t total) {
+        if (tty)
+            std::fprintf(stderr, "\r  mutants: %zu/%zu ", done, total);
+    };
+    const fuzz::MutantsReport rep = fuzz::run_mutants(o, reference, properties, *a.mutants, progress);
+    if (tty)
+        std::fprintf(stderr, "\r\033[K");
+    using Status = fuzz::MutantResult::Status;
+    auto status_name = [&](const fuzz::MutantResult& r) -> std::string {
+        switch (r.status) {
+        case Status::killed:
+            return "killed";
+        case Status::equivalent:
+            return "equivalent";
+        case Status::unconfirmed:
+            return "unconfirmed";
+        case Status::survived:
+            break;
+        }
+        if (r.witness.empty())
+            return "survived-no-witness";
+        return r.witness_extreme && o.allow_extreme ? "survived-extreme-only" : "survived";
+    };
+    auto point = [](const std::vector<double>& v) {
+        std::string t;
+        for (double x : v)
+            t += (t.empty() ? "" : " ") + fuzz::hex(x);
+        return t;
+    };
+    auto replay = [&](const fuzz::MutantResult& r) {
+        return o.replay_prefix + " --mutant " + r.site.mutation.id() + " -- " + point(r.witness);
+    };
+    const bool control_fails = rep.control.fails(o.allow_extreme);
+    const bool below = a.min_kill_rate && rep.kill_rate() < *a.min_kill_rate;
+    const int code = rep.control.samples == 0 ? kExitUndecided
+                     : control_fails || rep.unconfirmed || below ? kExitRefuted
+                                                                  : kExitProved;
+    char rate[64];
+    std::snprintf(rate, sizeof rate, "%.1f%%", 100 * rep.kill_rate());
+    std::string budget = o.seconds > 0 ? "at most " + shortest_decimal(o.seconds) + " s or " : "";
+    budget += std::to_string(o.samples) + " samples";
+    std::string range = "the whole double range";
+    if (o.range_hi > 0)
+        range = shortest_decimal(o.range_lo) + ".." + shortest_decimal(o.range_hi);
+    if (a.json) {
+        Json j;
+        j["format"] = "impactcert-mutants/1";
+        j["law"] = model.law().name;
+        j["gate"] = {{"tolerance", tolerance}, {"range", range}, {"budget", budget}, {"seed", o.seed},
+                     {"allow_extreme", o.allow_extreme}};
+        j["control"] = {{"samples", rep.control.samples}, {"violations", rep.control.fails(o.allow_extreme)}};
+        j["mutations_of_the_law"] = rep.enumerated;
+        Json list = Json::array();
+        for (const auto& r : rep.mutants) {
+            Json e = {{"id", r.site.mutation.id()}, {"what", r.site.mutation.what(model)}, {"result", status_name(r)}};
+            if (r.status == Status::equivalent)
+                e["why"] = r.site.equivalent;
+            else {
+                e["samples"] = r.samples;
+                e["seconds"] = r.seconds;
+            }
+            if (r.status == Status::killed) {
+                e["sample"] = r.kill_index;
+                e["generator"] = r.kill_kind;
+            }
+            if (!r.witness.empty()) {
+                Json w = Json::array(), y = Json::array();
+                for (double x : r.witness)
+                    w.push_back(fuzz::hex(x));
+                for (double x : r.output)
+                    y.push_back(fuzz::hex(x));
+                e["witness"] = {{"input", w}, {"output", y}, {"extreme", r.witness_extreme}, {"why", r.witness_what},
+                                {"replay", replay(r)}};
+            }
+            list.push_back(e);
+        }
+        j["mutants"] = list;
+        j["counts"] = {{"killed", rep.killed}, {"survived_with_witness", rep.survived_witness},
+                       {"survived_without_witness", rep.survived_unknown}, {"survived_extreme_only", rep.extreme_only},
+                       {"equivalent", rep.equivalent}, {"unconfirmed", rep.unconfirmed}};
+        j["kill_rate"] = rep.kill_rate();
+        j["verdict"] = code == kExitProved ? "measured" : code == kExitUndecided ? "undecided" : "failed";
+        std::cout << j.dump(2) << "\n";
+        write_stdout("");
+        return code;
+    }
+    std::printf("impactcert fuzz --mutants: the gate against mutants of law %s's plain double evaluation\n",
+                model.law().name.c_str());
+    std::printf("  gate           %s, inputs %s, %s per mutant, seed %llu%s\n", tolerance.c_str(), range.c_str(),
+                budget.c_str(), static_cast<unsigned long long>(o.seed), o.allow_extreme ? ", --allow extreme" : "");
+    std::printf("  control        the plain evaluation: %s (%llu samples)\n",
+                control_fails ? "VIOLATIONS: the gate rejects a careful evaluation; loosen the tolerance" : "passes",
+                static_cast<unsigned long long>(rep.control.samples));
+    std::printf("  mutants        %zu of the law's %zu mutations, one operator after another\n", rep.mutants.size(),
+                rep.enumerated);
+    for (const auto& r : rep.mutants) {
+        std::string detail;
+        char buf[96];
+        switch (r.status) {
+        case Status::killed:
+            std::snprintf(buf, sizeof buf, " at sample %llu (%s), %.3f s", static_cast<unsigned long long>(r.kill_index),
+                          r.kill_kind.c_str(), r.seconds);
+            detail = buf;
+            break;
+        case Status::equivalent:
+            detail = ": " + r.site.equivalent;
+            break;
+        case Status::unconfirmed:
+            detail = ": the gate's example was not confirmed by the exact second route (report this)";
+            break;
+        case Status::survived:
+            detail = r.witness.empty() ? ": no input found where it differs (it may be equivalent)"
+                                       : std::string(": differs at ") + (r.witness_extreme ? "the extreme input " : "") +
+                                             point(r.witness);
+            break;
+        }
+        std::printf("    %-22s %-22s %s%s\n", r.site.mutation.id().c_str(), status_name(r).c_str(),
+                    r.site.mutation.what(model).c_str(), detail.c_str());
+        if (r.status == Status::survived && !r.witness.empty())
+            std::printf("      replay: %s\n", replay(r).c_str());
+    }
+    std::printf("  kill rate      %zu of %zu mutants shown different by an exact witness (%s)\n", rep.killed,
+                rep.killed + rep.survived_witness, rate);
+    std::printf("  not counted    %zu equivalent, %zu with no witness found, %zu differing only at extreme magnitudes (--allow extreme)\n",
+                rep.equivalent, rep.survived_unknown, rep.extreme_only);
+    std::printf("verdict: %s\n", code == kExitUndecided ? "undecided: the control checked no sample (raise --seconds)"
+                                  : control_fails       ? "the gate fails the control"
+                                  : rep.unconfirmed     ? "a kill was not confirmed exactly"
+                                  : below               ? "kill rate below --min-kill-rate"
+                                                        : "measured");
+    write_stdout("");
+    return code;
+}
+
 } // namespace
 
 int run_fuzz(FuzzArgs a) {
@@ -255,12 +437,29 @@ int run_fuzz(FuzzArgs a) {
     if (a.law_path.empty() && a.system.given()) {
         if (!a.allow.empty())
             throw InputError("--allow extreme: law mode only (consistency inputs lie within --range, at most 1e150)");
+        if (a.mutants || !a.mutant.empty() || a.min_kill_rate)
+            throw InputError(std::string(a.mutants ? "--mutants" : !a.mutant.empty() ? "--mutant" : "--min-kill-rate") +
+                             ": law mode only (mutants of a law's plain evaluation; give --law)");
         return run_consistency_fuzz(a);
     }
     a.options.allow_extreme = !a.allow.empty();
     if (a.system.given())
         throw InputError("--law and --masses/--system: a law names its own system (without --law the implementation "
                          "is checked for consistency with the system alone)");
+    if (a.min_kill_rate && !a.mutants)
+        throw InputError("--min-kill-rate: with --mutants only");
+    if (a.min_kill_rate && !(*a.min_kill_rate >= 0 && *a.min_kill_rate <= 1))
+        throw InputError("--min-kill-rate: a fraction in 0..1");
+    if (a.mutants) {
+        if (a.impl_given || a.impl_cmd_given || !a.mutant.empty())
+            throw InputError("--mutants: mutants of the law's own plain evaluation; no --impl, --impl-cmd or --mutant");
+        if (a.velocities)
+            throw InputError("--mutants: the law's plain evaluation takes contact velocities (no --velocities)");
+        if (!a.max_ulps && !a.max_rel_error)
+            throw InputError("--mutants: give the gate's tolerance (--max-rel-error R or --max-ulps K)");
+        if (!a.junit.empty())
+            throw InputError("--mutants and --junit: the JUnit report is of one run (use --json)");
+    }
     if (!a.require.empty() || a.restitution_given || a.reference_given)
         throw InputError(std::string(!a.require.empty() ? "--require" : a.restitution_given ? "--restitution" : "--reference") +
                          ": consistency fuzzing only (give --masses or --system, no --law)");
@@ -289,10 +488,14 @@ int run_fuzz(FuzzArgs a) {
     options.replay_prefix = replay_command("eval --float");
     if (options.tolerance == fuzz::Tolerance::ulps && options.max_ulps > 0)
         options.replay_prefix += " --max-ulps " + std::to_string(options.max_ulps);
+    if (options.tolerance == fuzz::Tolerance::relative)
+        options.replay_prefix += " --max-rel-error " + shortest_decimal(options.max_rel_error);
     if (!a.law_path.empty())
         options.replay_prefix += " --law " + fuzz::shell_quote(a.law_path);
     if (a.velocities)
         options.replay_prefix += " --velocities";
+    if (a.mutants)
+        return run_mutants_gate(a, model, reference, facts.properties, tolerance_text(options));
     const bool tty = !a.json && isatty(STDERR_FILENO);
     const auto start = std::chrono::steady_clock::now();
     auto progress = [&](std::uint64_t done) {
@@ -314,14 +517,7 @@ int run_fuzz(FuzzArgs a) {
     const double rate = sum.seconds > 0 ? static_cast<double>(sum.samples) / sum.seconds : 0;
     const std::string target = impl->describe();
     const std::string space = a.velocities ? "ball velocities" : "contact velocities";
-    const std::string tolerance =
-        options.tolerance == fuzz::Tolerance::relative ? "--max-rel-error " + [&] {
-            char buf[32];
-            std::snprintf(buf, sizeof buf, "%.3g", options.max_rel_error);
-            return std::string(buf);
-        }()
-        : options.tolerance == fuzz::Tolerance::ulps   ? "--max-ulps " + std::to_string(options.max_ulps)
-                                                       : "the implementation's stated bound";
+    const std::string tolerance = tolerance_text(options);
     auto hexes = [](const std::vector<double>& v) {
         Json j = Json::array();
         for (double x : v)
@@ -451,8 +647,10 @@ int run_fuzz(FuzzArgs a) {
 
 int run_eval(const std::string& law_path, bool velocities, const std::vector<std::string>& args, bool as_float,
              FuzzArgs float_args) {
-    if ((float_args.impl_given || float_args.impl_cmd_given) && !as_float)
-        throw InputError("--impl and --impl-cmd need --float");
+    if ((float_args.impl_given || float_args.impl_cmd_given || !float_args.mutant.empty()) && !as_float)
+        throw InputError("--impl, --impl-cmd and --mutant need --float");
+    if (!float_args.mutant.empty() && float_args.system.given())
+        throw InputError("--mutant: a mutant of a law's plain evaluation; give --law, not --masses/--system");
     if (float_args.pieces && as_float)
         throw InputError("--pieces: exact evaluation only (--float already names the piece with --law)");
     if ((float_args.system.given() || float_args.pair || !float_args.float_law.empty()) && !as_float)

@@ -66,6 +66,9 @@ struct FuzzArgs {
     std::string restitution; // consistency: the restitution the implementation is meant to apply
     std::string reference;   // consistency: the exact law it is meant to compute (a file, or a name)
     std::string allow;       // law mode: classes of violations that do not fail the run ("extreme")
+    std::string mutant;      // law mode: --mutant ID, a mutant of the law's plain double evaluation
+    std::optional<std::size_t> mutants; // --mutants N: the gate against N mutants
+    std::optional<double> min_kill_rate; // with --mutants: exit 1 below this kill rate
     bool velocities = false, json = false, pair = false, pieces = false;
     bool impl_given = false, impl_cmd_given = false; // given, even as an empty string
     bool restitution_given = false, reference_given = false;
