@@ -181,6 +181,13 @@ try:
         doc = run(args, expect)
         if doc:
             check("fuzz.schema.json", doc, " ".join(args[:4]))
+    # the gate's strength
+    doc = run(["fuzz", "--law", os.path.join(SRC, "proofs", "newton4", "law.json"), "--mutants", "60",
+               "--max-rel-error", "1e-12", "--allow", "extreme", "--range", "1e-3..1e3", "--samples", "2000",
+               "--json"], 0)
+    if doc:
+        check("mutants.schema.json", doc, "fuzz --mutants")
+        rejects("mutants.schema.json", dict(doc, kill_rate=1.5), "a kill rate above 1")
     # sweep and its parts
     sw = os.path.join(tmp, "sweep")
     if run(["sweep", "--masses", "1,m,1", "--restitution", "e", "--vary", "m=1/2..2:3", "--vary", "e=0..1:3",

@@ -14,7 +14,9 @@
 
 #include <unistd.h>
 
+#include <array>
 #include <chrono>
+#include <map>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -388,32 +390,46 @@ int run_mutants_gate(const FuzzArgs& a, const Model& model, const fuzz::LawRefer
                 static_cast<unsigned long long>(rep.control.samples));
     std::printf("  mutants        %zu of the law's %zu mutations, one operator after another\n", rep.mutants.size(),
                 rep.enumerated);
+    // Per operator, in the order they were taken; then every survivor with its witness, and the
+    // mutants no witness was found for (the JSON lists every mutant).
+    std::vector<std::string> ops;
+    std::map<std::string, std::array<std::size_t, 5>> per; // killed, survived, no witness, extreme only, equivalent
     for (const auto& r : rep.mutants) {
-        std::string detail;
-        char buf[96];
-        switch (r.status) {
-        case Status::killed:
-            std::snprintf(buf, sizeof buf, " at sample %llu (%s), %.3f s", static_cast<unsigned long long>(r.kill_index),
-                          r.kill_kind.c_str(), r.seconds);
-            detail = buf;
-            break;
-        case Status::equivalent:
-            detail = ": " + r.site.equivalent;
-            break;
-        case Status::unconfirmed:
-            detail = ": the gate's example was not confirmed by the exact second route (report this)";
-            break;
-        case Status::survived:
-            detail = r.witness.empty() ? ": no input found where it differs (it may be equivalent)"
-                                       : std::string(": differs at ") + (r.witness_extreme ? "the extreme input " : "") +
-                                             point(r.witness);
-            break;
-        }
-        std::printf("    %-22s %-22s %s%s\n", r.site.mutation.id().c_str(), status_name(r).c_str(),
-                    r.site.mutation.what(model).c_str(), detail.c_str());
-        if (r.status == Status::survived && !r.witness.empty())
-            std::printf("      replay: %s\n", replay(r).c_str());
+        const std::string id = r.site.mutation.id(), op = id.substr(0, id.find(':'));
+        if (!per.count(op))
+            ops.push_back(op);
+        auto& row = per[op];
+        const std::string st = status_name(r);
+        ++row[st == "killed" || st == "unconfirmed" ? 0 : st == "survived" ? 1 : st == "survived-no-witness" ? 2
+                                                       : st == "survived-extreme-only" ? 3 : 4];
     }
+    std::printf("    %-18s %7s %9s %11s %13s %11s\n", "operator", "killed", "survived", "no witness", "extreme only", "equivalent");
+    for (const auto& op : ops) {
+        const auto& row = per[op];
+        std::printf("    %-18s %7zu %9zu %11zu %13zu %11zu\n", op.c_str(), row[0], row[1], row[2], row[3], row[4]);
+    }
+    std::string unknown;
+    std::size_t unknown_shown = 0;
+    for (const auto& r : rep.mutants) {
+        if (r.status == Status::unconfirmed)
+            std::printf("  unconfirmed    %s (%s): the gate's example was not confirmed by the exact second route; please report this\n",
+                        r.site.mutation.id().c_str(), r.site.mutation.what(model).c_str());
+        if (r.status != Status::survived)
+            continue;
+        if (r.witness.empty()) {
+            if (unknown_shown++ < 12)
+                unknown += (unknown.empty() ? "" : ", ") + r.site.mutation.id();
+            continue;
+        }
+        const bool allowed = r.witness_extreme && o.allow_extreme;
+        std::printf("  %-14s %s: %s%s\n", allowed ? "extreme only" : "survivor", r.site.mutation.id().c_str(),
+                    r.site.mutation.what(model).c_str(), allowed ? " (not counted: --allow extreme)" : "");
+        std::printf("    differs at%s %s -> %s\n    replay: %s\n", r.witness_extreme ? " the extreme input" : "",
+                    point(r.witness).c_str(), point(r.output).c_str(), replay(r).c_str());
+    }
+    if (!unknown.empty())
+        std::printf("  no witness     %s%s (no input found where they differ: they may be equivalent)\n", unknown.c_str(),
+                    unknown_shown > 12 ? (", and " + std::to_string(unknown_shown - 12) + " more").c_str() : "");
     std::printf("  kill rate      %zu of %zu mutants shown different by an exact witness (%s)\n", rep.killed,
                 rep.killed + rep.survived_witness, rate);
     std::printf("  not counted    %zu equivalent, %zu with no witness found, %zu differing only at extreme magnitudes (--allow extreme)\n",
