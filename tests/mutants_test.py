@@ -119,6 +119,23 @@ if j is not None:
             or "kill rate      " not in t.stdout:
         fail(f"text report: exit {t.returncode}\n{t.stdout[-3000:]}")
 
+# A replay judges the run's tolerance (issue 40, item 8: law-mode replays dropped --max-rel-error
+# and judged at 0 ulp): one ulp off, within 1e-12, exits 0 with it and 1 without it.
+sorted_cmd = "python3 " + os.path.join(SRC, "tests", "impls", "newton4_impl.py") + " sorted"
+pt = ["0.1", "-0.7", "0.3"]
+for tol, want in [(["--max-rel-error", "1e-12"], 0), ([], 1), (["--max-rel-error", "0"], 1)]:
+    e = run(["eval", "--float", "--law", LAW, "--impl-cmd", sorted_cmd] + tol + ["--"] + pt)
+    if e.returncode != want or "error 0, 1, 0 ulp" not in e.stdout:
+        fail(f"replay {tol}: exit {e.returncode}, expected {want}\n{e.stdout}{e.stderr}")
+r = run(["fuzz", "--law", LAW, "--impl-cmd", "python3 " + os.path.join(SRC, "tests", "impls", "newton4_impl.py") +
+         " threshold", "--max-rel-error", "1e-12", "--allow", "extreme", "--samples", "400", "--json"])
+try:
+    ex = [x for x in json.loads(r.stdout)["examples"] if not x["extreme"]]
+    if not ex or " --max-rel-error 1e-12 " not in ex[0]["replay"] or testkit.run_replay(ex[0]["replay"], CLI).returncode != 1:
+        fail(f"a law-mode replay without the run's tolerance, or not exiting 1: {ex[:1]}")
+except (json.JSONDecodeError, KeyError) as err:
+    fail(f"threshold solver --json: {err}\n{r.stdout[:300]}")
+
 # Bad input: one line, exit 2.
 bad = [
     (["fuzz", "--law", LAW, "--mutants", "5", "--max-rel-error", "1e-12", "--impl-cmd", "cat"], "--mutants"),
