@@ -127,14 +127,14 @@ std::optional<int> range_power(double top, double lo, double hi, int where, std:
     std::frexp(hi, &e_hi);
     std::frexp(lo, &e_lo);
     int k_max = e_hi - e_top;
-    while (std::ldexp(top, k_max) > hi)
+    while (eft::ldexp_fast(top, k_max) > hi)
         --k_max;
-    while (std::ldexp(top, k_max + 1) <= hi)
+    while (eft::ldexp_fast(top, k_max + 1) <= hi)
         ++k_max;
     int k_min = e_lo - e_top;
-    while (std::ldexp(top, k_min) < lo)
+    while (eft::ldexp_fast(top, k_min) < lo)
         ++k_min;
-    while (k_min > -2200 && std::ldexp(top, k_min - 1) >= lo)
+    while (k_min > -2200 && eft::ldexp_fast(top, k_min - 1) >= lo)
         --k_min;
     if (k_min > k_max)
         return std::nullopt;
@@ -148,7 +148,7 @@ std::optional<int> range_power(double top, double lo, double hi, int where, std:
 
 // Multiplies by 2^k in two steps (no overflow on the way; the final value may round if it is
 // subnormal).
-double times_power(double x, int k) { return std::ldexp(std::ldexp(x, k / 2), k - k / 2); }
+double times_power(double x, int k) { return eft::ldexp_fast(eft::ldexp_fast(x, k / 2), k - k / 2); }
 
 } // namespace
 

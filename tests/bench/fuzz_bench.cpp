@@ -12,6 +12,7 @@
 // Usage: impactcert_fuzz_bench SOURCE_DIR NEWTON4_IMPLS.so ECHO_PROGRAM
 #include "consistency.hpp"
 #include "fuzz.hpp"
+#include "fuzz_mutants.hpp"
 #include "law_json.hpp"
 #include "paper_law.hpp"
 
@@ -90,6 +91,39 @@ int main(int argc, char** argv) {
     compare("paper's law (built-in)", paper, *fuzz::builtin_paper(false), 200000);
     const Model newton4(load_law_file(source + "/proofs/newton4/law.json"));
     compare("newton4 (newton4_sorted)", newton4, *fuzz::load_symbol(std::string(argv[2]) + ":newton4_sorted", 3, 3), 20000);
+    // The law-mode sampler: the gate of docs/fuzzing.md on the law's plain evaluation, with a
+    // --range (log-uniform scales drawn per sample) against the whole double range (baseline, this
+    // run); then the time to the first kill of three mutants, with the gate stopping at its first
+    // failing chunk as `fuzz --mutants` does.
+    {
+        const fuzz::LawReference r4(newton4, false, true);
+        const fuzz::Properties p4{true, true, true};
+        const auto control = fuzz::plain_law(newton4, fuzz::Mutation{});
+        fuzz::Options g;
+        g.seed = 7;
+        g.samples = 400000;
+        g.tolerance = fuzz::Tolerance::relative;
+        g.max_rel_error = 1e-12;
+        g.allow_extreme = true;
+        const auto whole = fuzz::run(g, r4, *control, p4, nullptr);
+        g.range_lo = 1e-150;
+        g.range_hi = 1e150;
+        const auto ranged = fuzz::run(g, r4, *control, p4, nullptr);
+        const double rw = static_cast<double>(whole.samples) / whole.seconds, rr = static_cast<double>(ranged.samples) / ranged.seconds;
+        std::printf("%-28s %8.3f M samples/s/core, --range 1e-150..1e150 %8.3f M/s: %.2fx the whole-range baseline (target >= 0.9x)\n",
+                    "newton4 gate, plain control", rw / 1e6, rr / 1e6, rr / rw);
+        for (const char* id : {"dead-zone:1e-06", "slow-contact:1e-09", "float32"}) {
+            const auto mutant = fuzz::plain_law(newton4, fuzz::parse_mutation(id, newton4));
+            fuzz::Options k = g;
+            k.range_lo = k.range_hi = 0;
+            k.samples = 10000000;
+            k.stop_on_failure = true;
+            const auto sum = fuzz::run(k, r4, *mutant, p4, nullptr);
+            std::printf("%-28s first kill after %llu samples, %.4f s (%s)\n", (std::string("mutant ") + id).c_str(),
+                        static_cast<unsigned long long>(sum.samples), sum.seconds,
+                        sum.fails(true) ? "killed" : "NOT killed");
+        }
+    }
     // --impl-cmd with the echo program: protocol overhead only (every answer is "wrong").
     const fuzz::LawReference ref(newton4, false, true);
     const auto echo = fuzz::command(argv[3], 3, 3, 10);
