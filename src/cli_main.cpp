@@ -189,7 +189,7 @@ int main(int argc, char** argv) {
     eval_cmd->add_option("--masses", eval_float_args.system.masses, "with --float and --impl/--impl-cmd, no --law: check the output's consistency with this chain");
     eval_cmd->add_option("--walls", eval_float_args.system.walls, "with --masses: fixed walls")->capture_default_str();
     eval_cmd->add_option("--system", eval_float_args.system.system_path, "with --float and --impl/--impl-cmd: check consistency with this system");
-    eval_cmd->add_option("--max-rel-error", eval_float_args.max_rel_error, "consistency: the relative tolerance (as fuzz)");
+    eval_cmd->add_option("--max-rel-error", eval_float_args.max_rel_error, "the relative tolerance the answers are judged by (as fuzz; law mode and consistency)");
     eval_cmd->add_option("--restitution", eval_float_args.restitution, "consistency: the restitution the implementation is meant to apply (as fuzz)");
     eval_cmd->add_option("--reference", eval_float_args.reference, "consistency: the exact law the implementation means to compute (as fuzz): the answer is checked against it");
     eval_cmd->add_option_function<std::string>("--max-ulps", [&](const std::string& text) {
@@ -363,12 +363,14 @@ int main(int argc, char** argv) {
                 fuzz_args.impl_cmd_given = fuzz_cmd->count("--impl-cmd") > 0;
                 fuzz_args.restitution_given = fuzz_cmd->count("--restitution") > 0;
                 fuzz_args.reference_given = fuzz_cmd->count("--reference") > 0;
+                fuzz_args.mutant_given = fuzz_cmd->count("--mutant") > 0;
                 return run_fuzz(fuzz_args);
             }
             eval_float_args.impl_given = eval_cmd->count("--impl") > 0;
             eval_float_args.impl_cmd_given = eval_cmd->count("--impl-cmd") > 0;
             eval_float_args.restitution_given = eval_cmd->count("--restitution") > 0;
             eval_float_args.reference_given = eval_cmd->count("--reference") > 0;
+            eval_float_args.mutant_given = eval_cmd->count("--mutant") > 0;
             return run_eval(law_path, velocities, eval_args, as_float, eval_float_args);
         } catch (const DeriveLimit& e) {
             throw Undecided(std::string("derive: ") + e.what());

@@ -342,7 +342,30 @@ std::vector<Finding> ConsistencyChecker::check_exact(const Vector& x, const Vect
         if (r2 > tol2) {
             std::string detail = "|r|_M^2 = " + exact_text(r2) + " with |u-|_M^2 = " + exact_text(s2) +
                                  " (r = du - M^-1 W Lambda, not made of contact impulses)";
-            if (m_.diagonal) {
+            // Total momentum only where it is conserved by any impulses and means one thing: every
+            // contact pushes two coordinates by +-1 (internal, no wall or fixed ground), every
+            // coordinate is touched by a contact (no mixing with a rotation or a second axis), and
+            // no friction.
+            bool chain_like = m_.diagonal && !m_.has_friction();
+            std::vector<bool> touched(d, false);
+            for (std::size_t k = 0; chain_like && k < m_.W.cols(); ++k) {
+                int plus = 0, minus = 0;
+                for (std::size_t i = 0; i < d; ++i) {
+                    const Rational& w = m_.W(i, k);
+                    if (w == Rational(1))
+                        ++plus;
+                    else if (w == Rational(-1))
+                        ++minus;
+                    else if (sign_of(w) != Sign::zero)
+                        chain_like = false;
+                    if (sign_of(w) != Sign::zero)
+                        touched[i] = true;
+                }
+                chain_like = chain_like && plus == 1 && minus == 1;
+            }
+            for (std::size_t i = 0; i < d; ++i)
+                chain_like = chain_like && touched[i];
+            if (chain_like) {
                 Rational pm, pp;
                 for (std::size_t i = 0; i < d; ++i) {
                     pm += m_.M(i, i) * x[i];

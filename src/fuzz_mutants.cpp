@@ -43,9 +43,14 @@ const char* op_name(Mutation::Op op) {
     return "?";
 }
 
+// The shortest decimal that reads back as x: a mutant's ID names exactly its parameter.
 std::string param_text(double x) {
-    char buf[32];
-    std::snprintf(buf, sizeof buf, "%g", x);
+    char buf[40];
+    for (int digits = 1; digits <= 17; ++digits) {
+        std::snprintf(buf, sizeof buf, "%.*g", digits, x);
+        if (std::strtod(buf, nullptr) == x)
+            break;
+    }
     return buf;
 }
 
@@ -291,7 +296,7 @@ std::string Mutation::what(const Model& model) const {
     case Op::formula:
         return piece(p) + " computes " + piece(q) + "'s formula";
     case Op::separating:
-        return "restitution 1/2 applied to contact " + c + " when it separates";
+        return "restitution 1/2 applied to contact coordinate " + c + " when it separates";
     case Op::float32:
         return "every operation in single precision (float)";
     case Op::naive_norm:
@@ -340,7 +345,8 @@ Mutation parse_mutation(std::string_view id, const Model& model) {
         const std::string v(parts[1]);
         char* end = nullptr;
         m.param = std::strtod(v.c_str(), &end);
-        if (v.empty() || *end != '\0' || !(m.param > 0 && std::isfinite(m.param)))
+        if (v.empty() || !((v[0] >= '0' && v[0] <= '9') || v[0] == '.') || *end != '\0' ||
+            !(m.param > 0 && std::isfinite(m.param)))
             throw InputError("--mutant " + whole + ": expected a finite value > 0");
         break;
     }
@@ -584,8 +590,8 @@ bool maybe_violation(const LawReference& ref, const Options& o, const double* x,
             }
             for (std::size_t j = 0; j < m; ++j)
                 x2 += std::ldexp(x[j], s) * std::ldexp(x[j], s);
-            // Within a factor 4 of the metric's distortion is enough for a filter; the law's
-            // metric H is positive definite, so a generous margin keeps real witnesses.
+            // Euclidean norms in place of H's, with a margin of 10^4 in the squares: a filter
+            // only (H's conditioning beyond that can drop a candidate, never admit a false one).
             if (!(e2 > 1e-4 * o.max_rel_error * o.max_rel_error * x2))
                 return false;
         } else {
@@ -714,6 +720,9 @@ MutantsReport run_mutants(const Options& options, const LawReference& reference,
     const auto chosen = select_mutants(all, count);
     const auto control = plain_law(model, Mutation{});
     rep.control = run(options, reference, *control, properties, nullptr);
+    // A gate that fails the control measures nothing: its examples would be the control's own.
+    if (rep.control.fails(options.allow_extreme) || rep.control.samples == 0)
+        return rep;
     const std::size_t m = reference.in_dim();
     for (std::size_t k = 0; k < chosen.size(); ++k) {
         MutantResult res;

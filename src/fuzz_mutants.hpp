@@ -96,9 +96,10 @@ struct MutantsReport {
     std::size_t enumerated = 0; // mutations of this law in all
     std::size_t killed = 0, survived_witness = 0, survived_unknown = 0, equivalent = 0, unconfirmed = 0,
                 extreme_only = 0; // survivors whose only witnesses are extreme (allowed by the gate)
+    bool measured() const { return killed + survived_witness > 0; } // some mutant shown different
     double kill_rate() const {
         const std::size_t d = killed + survived_witness;
-        return d ? static_cast<double>(killed) / static_cast<double>(d) : 1.0;
+        return d ? static_cast<double>(killed) / static_cast<double>(d) : 0.0;
     }
 };
 

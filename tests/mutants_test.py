@@ -84,8 +84,12 @@ if j is not None:
         check_witness(m, "CI line")
     # Equivalent: the program's doubles are the control's.
     rng = random.Random(7)
-    pts = "\n".join(" ".join(float.hex(rng.choice([-1, 1]) * rng.random() * 10 ** rng.randint(-5, 5)) for _ in range(3))
-                    for _ in range(300)) + "\n"
+    def comp():
+        k = rng.randint(0, 5)
+        if k == 0:
+            return rng.choice([0.0, -0.0, 5e-324, -5e-324, 2.0 ** -1070, 1.7e308, -1.7e308])
+        return rng.choice([-1, 1]) * rng.random() * 10 ** rng.randint(-300, 300)
+    pts = "\n".join(" ".join(float.hex(comp()) for _ in range(3)) for _ in range(300)) + "\n"
     base = run(["eval", "--float", "--law", LAW, "--mutant", "none"], pts)
     ctrl = [ln for ln in base.stdout.splitlines() if ln.startswith("impl ")]
     equivalent = [m for m in j["mutants"] if m["result"] == "equivalent"]
@@ -136,6 +140,16 @@ try:
 except (json.JSONDecodeError, KeyError) as err:
     fail(f"threshold solver --json: {err}\n{r.stdout[:300]}")
 
+# A gate that fails the control runs no mutant and exits 1 (plain sums are not correctly rounded).
+c = run(["fuzz", "--law", LAW, "--mutants", "30", "--max-ulps", "0", "--samples", "2000"])
+if c.returncode != 1 or "no mutant was run" not in c.stdout or "  mutants        none run" not in c.stdout:
+    fail(f"--max-ulps 0: exit {c.returncode}\n{c.stdout}")
+# A mutant's ID names its parameter exactly (the replay runs the same mutant).
+c = run(["fuzz", "--law", LAW, "--mutant", "dead-zone:0.0012345678", "--max-rel-error", "1e-12", "--allow", "extreme",
+         "--samples", "2000"])
+if c.returncode != 1 or "--mutant dead-zone:0.0012345678 --" not in c.stdout:
+    fail(f"--mutant dead-zone:0.0012345678: exit {c.returncode}, the replay names another mutant\n{c.stdout[-1500:]}")
+
 # Bad input: one line, exit 2.
 bad = [
     (["fuzz", "--law", LAW, "--mutants", "5", "--max-rel-error", "1e-12", "--impl-cmd", "cat"], "--mutants"),
@@ -148,6 +162,9 @@ bad = [
     (["fuzz", "--law", LAW, "--mutants", "5", "--max-rel-error", "1e-12", "--min-kill-rate", "1.5"], "0..1"),
     (["fuzz", "--law", LAW, "--max-rel-error", "1e-12", "--min-kill-rate", "0.5"], "with --mutants only"),
     (["eval", "--law", LAW, "--mutant", "none", "1", "0", "0"], "need --float"),
+    (["fuzz", "--law", LAW, "--mutant", "", "--max-rel-error", "1e-12"], "empty"),
+    (["eval", "--float", "--law", LAW, "--mutant", "", "1", "0", "0"], "empty"),
+    (["fuzz", "--law", LAW, "--mutant", "dead-zone: 1", "--max-rel-error", "1e-12"], "> 0"),
 ]
 for args, words in bad:
     b = run(args)

@@ -328,10 +328,10 @@ int run_mutants_gate(const FuzzArgs& a, const Model& model, const fuzz::LawRefer
         return o.replay_prefix + " --mutant " + r.site.mutation.id() + " -- " + point(r.witness);
     };
     const bool control_fails = rep.control.fails(o.allow_extreme);
-    const bool below = a.min_kill_rate && rep.kill_rate() < *a.min_kill_rate;
-    const int code = rep.control.samples == 0 ? kExitUndecided
-                     : control_fails || rep.unconfirmed || below ? kExitRefuted
-                                                                  : kExitProved;
+    const bool below = a.min_kill_rate && rep.measured() && rep.kill_rate() < *a.min_kill_rate;
+    const int code = control_fails || rep.unconfirmed || below        ? kExitRefuted
+                     : rep.control.samples == 0 || !rep.measured() ? kExitUndecided
+                                                                    : kExitProved;
     char rate[64];
     std::snprintf(rate, sizeof rate, "%.1f%%", 100 * rep.kill_rate());
     std::string budget = o.seconds > 0 ? "at most " + shortest_decimal(o.seconds) + " s or " : "";
@@ -375,7 +375,7 @@ int run_mutants_gate(const FuzzArgs& a, const Model& model, const fuzz::LawRefer
         j["counts"] = {{"killed", rep.killed}, {"survived_with_witness", rep.survived_witness},
                        {"survived_without_witness", rep.survived_unknown}, {"survived_extreme_only", rep.extreme_only},
                        {"equivalent", rep.equivalent}, {"unconfirmed", rep.unconfirmed}};
-        j["kill_rate"] = rep.kill_rate();
+        j["kill_rate"] = rep.measured() ? Json(rep.kill_rate()) : Json(nullptr);
         j["verdict"] = code == kExitProved ? "measured" : code == kExitUndecided ? "undecided" : "failed";
         std::cout << j.dump(2) << "\n";
         write_stdout("");
@@ -386,27 +386,37 @@ int run_mutants_gate(const FuzzArgs& a, const Model& model, const fuzz::LawRefer
     std::printf("  gate           %s, inputs %s, %s per mutant, seed %llu%s\n", tolerance.c_str(), range.c_str(),
                 budget.c_str(), static_cast<unsigned long long>(o.seed), o.allow_extreme ? ", --allow extreme" : "");
     std::printf("  control        the plain evaluation: %s (%llu samples)\n",
-                control_fails ? "VIOLATIONS: the gate rejects a careful evaluation; loosen the tolerance" : "passes",
+                control_fails ? "VIOLATIONS: the gate rejects the plain evaluation itself (a tolerance too tight for it, as "
+                                "--max-ulps usually is, or an ill-conditioned law); no mutant was run"
+                              : "passes",
                 static_cast<unsigned long long>(rep.control.samples));
-    std::printf("  mutants        %zu of the law's %zu mutations, one operator after another\n", rep.mutants.size(),
-                rep.enumerated);
+    if (control_fails || rep.control.samples == 0)
+        std::printf("  mutants        none run (the law has %zu mutations)\n", rep.enumerated);
+    else
+        std::printf("  mutants        %zu of the law's %zu mutations, one operator after another\n", rep.mutants.size(),
+                    rep.enumerated);
     // Per operator, in the order they were taken; then every survivor with its witness, and the
     // mutants no witness was found for (the JSON lists every mutant).
     std::vector<std::string> ops;
-    std::map<std::string, std::array<std::size_t, 5>> per; // killed, survived, no witness, extreme only, equivalent
+    std::map<std::string, std::array<std::size_t, 6>> per; // killed, survived, no witness, extreme only, equivalent, unconfirmed
     for (const auto& r : rep.mutants) {
         const std::string id = r.site.mutation.id(), op = id.substr(0, id.find(':'));
         if (!per.count(op))
             ops.push_back(op);
         auto& row = per[op];
         const std::string st = status_name(r);
-        ++row[st == "killed" || st == "unconfirmed" ? 0 : st == "survived" ? 1 : st == "survived-no-witness" ? 2
-                                                       : st == "survived-extreme-only" ? 3 : 4];
+        ++row[st == "killed" ? 0 : st == "survived" ? 1 : st == "survived-no-witness" ? 2
+              : st == "survived-extreme-only" ? 3 : st == "equivalent" ? 4 : 5];
     }
-    std::printf("    %-18s %7s %9s %11s %13s %11s\n", "operator", "killed", "survived", "no witness", "extreme only", "equivalent");
+    if (!ops.empty())
+        std::printf("    %-18s %7s %9s %11s %13s %11s%s\n", "operator", "killed", "survived", "no witness", "extreme only",
+                    "equivalent", rep.unconfirmed ? "  unconfirmed" : "");
     for (const auto& op : ops) {
         const auto& row = per[op];
-        std::printf("    %-18s %7zu %9zu %11zu %13zu %11zu\n", op.c_str(), row[0], row[1], row[2], row[3], row[4]);
+        std::printf("    %-18s %7zu %9zu %11zu %13zu %11zu", op.c_str(), row[0], row[1], row[2], row[3], row[4]);
+        if (rep.unconfirmed)
+            std::printf(" %12zu", row[5]);
+        std::printf("\n");
     }
     std::string unknown;
     std::size_t unknown_shown = 0;
@@ -430,12 +440,17 @@ int run_mutants_gate(const FuzzArgs& a, const Model& model, const fuzz::LawRefer
     if (!unknown.empty())
         std::printf("  no witness     %s%s (no input found where they differ: they may be equivalent)\n", unknown.c_str(),
                     unknown_shown > 12 ? (", and " + std::to_string(unknown_shown - 12) + " more").c_str() : "");
-    std::printf("  kill rate      %zu of %zu mutants shown different by an exact witness (%s)\n", rep.killed,
-                rep.killed + rep.survived_witness, rate);
+    if (rep.measured())
+        std::printf("  kill rate      %zu of %zu mutants shown different by an exact witness (%s)\n", rep.killed,
+                    rep.killed + rep.survived_witness, rate);
+    else
+        std::printf("  kill rate      not measured: no mutant was shown different by an exact witness\n");
     std::printf("  not counted    %zu equivalent, %zu with no witness found, %zu differing only at extreme magnitudes (--allow extreme)\n",
                 rep.equivalent, rep.survived_unknown, rep.extreme_only);
-    std::printf("verdict: %s\n", code == kExitUndecided ? "undecided: the control checked no sample (raise --seconds)"
-                                  : control_fails       ? "the gate fails the control"
+    std::printf("verdict: %s\n", control_fails ? "the gate fails the control"
+                                  : code == kExitUndecided && rep.control.samples == 0
+                                      ? "undecided: the control checked no sample (raise --seconds)"
+                                  : code == kExitUndecided ? "undecided: no mutant was shown different"
                                   : rep.unconfirmed     ? "a kill was not confirmed exactly"
                                   : below               ? "kill rate below --min-kill-rate"
                                                         : "measured");
@@ -446,6 +461,8 @@ int run_mutants_gate(const FuzzArgs& a, const Model& model, const fuzz::LawRefer
 } // namespace
 
 int run_fuzz(FuzzArgs a) {
+    if (a.mutant_given && a.mutant.empty())
+        throw InputError("--mutant: empty (expected an ID that --mutants prints, or none)");
     if (!(a.options.seconds >= 0 && std::isfinite(a.options.seconds)))
         throw InputError("--seconds: must be a finite number >= 0");
     if (!a.allow.empty() && a.allow != "extreme")
@@ -663,6 +680,8 @@ int run_fuzz(FuzzArgs a) {
 
 int run_eval(const std::string& law_path, bool velocities, const std::vector<std::string>& args, bool as_float,
              FuzzArgs float_args) {
+    if (float_args.mutant_given && float_args.mutant.empty())
+        throw InputError("--mutant: empty (expected an ID that fuzz --mutants prints, or none)");
     if ((float_args.impl_given || float_args.impl_cmd_given || !float_args.mutant.empty()) && !as_float)
         throw InputError("--impl, --impl-cmd and --mutant need --float");
     if (!float_args.mutant.empty() && float_args.system.given())

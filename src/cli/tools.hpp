@@ -71,7 +71,7 @@ struct FuzzArgs {
     std::optional<double> min_kill_rate; // with --mutants: exit 1 below this kill rate
     bool velocities = false, json = false, pair = false, pieces = false;
     bool impl_given = false, impl_cmd_given = false; // given, even as an empty string
-    bool restitution_given = false, reference_given = false;
+    bool restitution_given = false, reference_given = false, mutant_given = false;
     std::optional<std::uint64_t> max_ulps;
     std::optional<double> max_rel_error;
     double timeout = 10;
