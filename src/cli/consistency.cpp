@@ -15,6 +15,7 @@
 #include <cmath>
 #include <cstring>
 #include <cstdio>
+#include <sstream>
 #include <cstdlib>
 #include <memory>
 
@@ -214,9 +215,71 @@ std::string junit(const fuzz::ConsistencySummary& sum, const std::string& target
 
 } // namespace
 
+// {iterations} in --impl-cmd: the command at one effort.
+constexpr const char* kEffortPlaceholder = "{iterations}";
+
+std::string at_effort(std::string cmd, std::uint64_t effort) {
+    const std::string p = kEffortPlaceholder;
+    for (std::size_t at = cmd.find(p); at != std::string::npos; at = cmd.find(p, at))
+        cmd.replace(at, p.size(), std::to_string(effort));
+    return cmd;
+}
+
+// --efforts: positive integers, ascending, at least two, at most eight.
+std::vector<std::uint64_t> parse_efforts(const std::string& text) {
+    std::vector<std::uint64_t> out;
+    std::string item;
+    std::stringstream in(text.empty() ? "4,64" : text);
+    while (std::getline(in, item, ',')) {
+        std::string why;
+        const auto v = fuzz::parse_seed(item, &why);
+        if (!v || *v == 0 || *v > 1000000000)
+            throw InputError("--efforts: \"" + item + "\" is not an integer in 1..10^9");
+        if (!out.empty() && *v <= out.back())
+            throw InputError("--efforts: expected ascending efforts, got " + text);
+        out.push_back(*v);
+    }
+    if (out.size() < 2 || out.size() > 8)
+        throw InputError("--efforts: expected 2 to 8 efforts, got \"" + text + "\"");
+    return out;
+}
+
+struct EffortRow {
+    std::uint64_t effort = 0, findings = 0, samples = 0;
+    double distance = 0; // the worst reference finding's |y - y*| / |x| (0: none)
+};
+
+// The diagnosis of a sweep over efforts (proofs/README.md, "Solver-level or model-level"):
+// converged when the largest effort has no reference finding; solver-level when the worst
+// distance at the largest effort is at most half of that at the smallest; model-level otherwise.
+std::string effort_diagnosis(const std::vector<EffortRow>& rows) {
+    if (rows.back().findings == 0)
+        return "converged";
+    return rows.back().distance <= rows.front().distance / 2 ? "solver-level" : "model-level";
+}
+
+int run_consistency_fuzz_at(const FuzzArgs& a, const FuzzArgs& given, const std::vector<std::uint64_t>& efforts);
+
 int run_consistency_fuzz(const FuzzArgs& a) {
     if (!(a.options.seconds >= 0 && std::isfinite(a.options.seconds)))
         throw InputError("--seconds: must be a finite number >= 0");
+    const bool effort_sweep = a.impl_cmd.find(kEffortPlaceholder) != std::string::npos;
+    if (!a.efforts.empty() && !effort_sweep)
+        throw InputError("--efforts: put {iterations} in --impl-cmd where the command takes its effort");
+    if (effort_sweep && !a.reference_given)
+        throw InputError("--impl-cmd {iterations}: give --reference (the distance to it is measured per effort)");
+    const std::vector<std::uint64_t> efforts = effort_sweep ? parse_efforts(a.efforts) : std::vector<std::uint64_t>{};
+    if (effort_sweep) {
+        // The main run is the largest effort; the others are measured first.
+        FuzzArgs main = a;
+        main.impl_cmd = at_effort(a.impl_cmd, efforts.back());
+        main.efforts.clear();
+        return run_consistency_fuzz_at(main, a, efforts);
+    }
+    return run_consistency_fuzz_at(a, a, efforts);
+}
+
+int run_consistency_fuzz_at(const FuzzArgs& a, const FuzzArgs& given, const std::vector<std::uint64_t>& efforts) {
     fuzz::ConsistencyOptions o;
     for (const auto& item : tokens_of(a.require)) {
         if (item == "nonexpansive")
@@ -261,9 +324,32 @@ int run_consistency_fuzz(const FuzzArgs& a) {
         std::fprintf(stderr, "\r\033[Kimpactcert: fuzz %llu/%llu samples, %.0f/s", static_cast<unsigned long long>(done),
                      static_cast<unsigned long long>(o.samples), secs > 0 ? static_cast<double>(done) / secs : 0.0);
     };
+    // Every effort but the largest, with the same samples (the command at that effort, quietly).
+    std::vector<EffortRow> effort_rows;
+    const std::size_t ref_slot = static_cast<std::size_t>(fuzz::Property::reference);
+    for (std::size_t k = 0; k + 1 < efforts.size(); ++k) {
+        if (tty)
+            std::fprintf(stderr, "\r\033[Kimpactcert: fuzz at {iterations} = %llu", static_cast<unsigned long long>(efforts[k]));
+        const std::size_t dim = a.velocities ? s.mech.balls() : s.mech.contacts();
+        const auto impl = fuzz::command(at_effort(given.impl_cmd, efforts[k]), dim, dim, a.timeout);
+        fuzz::ConsistencyOptions oe = o;
+        oe.keep = 0;
+        const auto se = fuzz::run_consistency(s.mech, oe, *impl, nullptr);
+        const auto& slot = se.properties[ref_slot];
+        effort_rows.push_back({efforts[k], slot.count, se.samples, slot.worst ? slot.worst->score : 0.0});
+    }
     const fuzz::ConsistencySummary sum = fuzz::run_consistency(s.mech, o, *s.impl, progress);
     if (tty)
         std::fprintf(stderr, "\r\033[K");
+    std::string diagnosis;
+    if (!efforts.empty()) {
+        const auto& slot = sum.properties[ref_slot];
+        effort_rows.push_back({efforts.back(), slot.count, sum.samples, slot.worst ? slot.worst->score : 0.0});
+        diagnosis = effort_diagnosis(effort_rows);
+    }
+    // Findings the exact law does not make: solver-level, unless the effort sweep shows that more
+    // effort does not bring the answers closer to the law (model-level).
+    const std::string solver_word = diagnosis == "model-level" ? "model-level" : "solver-level";
     // Nothing checked is not a pass: a gate must not go green on an empty run.
     const bool nothing = sum.samples == 0;
     bool checked[fuzz::kProperties] = {};
@@ -342,6 +428,13 @@ int run_consistency_fuzz(const FuzzArgs& a) {
                 j["reference_sup_energy_ratio"] = to_json(reference_sup->value);
             j["levels"] = levels;
             j["worst_solver"] = worst_solver;
+            if (!effort_rows.empty()) {
+                Json rows = Json::array();
+                for (const auto& r : effort_rows)
+                    rows.push_back(Json{{"effort", r.effort}, {"samples", r.samples}, {"reference_findings", r.findings},
+                                        {"worst_distance", r.distance}});
+                j["effort"] = Json{{"command", given.impl_cmd}, {"runs", rows}, {"diagnosis", diagnosis}};
+            }
         }
         Json examples = Json::array();
         for (const auto& f : sum.examples)
@@ -360,7 +453,25 @@ int run_consistency_fuzz(const FuzzArgs& a) {
          (o.jobs == 1 ? "" : "s") + ")");
     line(std::string("  tolerance      --max-rel-error ") + rbuf + " (proofs/README.md, \"Consistency of black-box impact maps\")");
     if (s.reference)
-        line("  reference      " + s.reference_name + " (--reference: each finding law-level or solver-level)");
+        line("  reference      " + s.reference_name + " (--reference: each finding law-level or " + solver_word + ")");
+    if (!effort_rows.empty()) {
+        std::string runs;
+        for (const auto& r : effort_rows) {
+            char cell[96];
+            if (r.findings)
+                std::snprintf(cell, sizeof cell, "%llu: %llu off, worst %.3g", static_cast<unsigned long long>(r.effort),
+                              static_cast<unsigned long long>(r.findings), r.distance);
+            else
+                std::snprintf(cell, sizeof cell, "%llu: none off", static_cast<unsigned long long>(r.effort));
+            runs += (runs.empty() ? "" : "; ") + std::string(cell);
+        }
+        line("  effort         {iterations} = " + runs + " (answers farther from the reference than the tolerance)");
+        line("  diagnosis      " + diagnosis +
+             (diagnosis == "converged" ? ": at the largest effort every answer is within the tolerance of the reference"
+              : diagnosis == "solver-level" ? ": the distance to the reference shrinks with effort (more iterations help)"
+                                            : ": the distance to the reference does not shrink with effort (the engine computes another law; "
+                                              "no iteration count will fix it)"));
+    }
     line(std::string("  inputs         components 0 or of magnitude in ") + range + " (--range), some contact approaching");
     char buf[160];
     std::snprintf(buf, sizeof buf, "  samples        %llu (%llu pairs) in %.2f s, %.0f samples/s",
@@ -395,7 +506,7 @@ int run_consistency_fuzz(const FuzzArgs& a) {
             const std::uint64_t other = slot.count - slot.law - slot.solver;
             line("      against the reference law: " + std::to_string(slot.law) +
                  " law-level (the exact law breaks it there too: more iterations will not help), " +
-                 std::to_string(slot.solver) + " solver-level (the exact law does not)" +
+                 std::to_string(slot.solver) + " " + solver_word + " (the exact law does not)" +
                  (other ? ", " + std::to_string(other) + " not classified" : std::string()));
             if (prop == fuzz::Property::energy && reference_sup && reference_sup->decided) {
                 const AlgebraicValue& v = reference_sup->value;
@@ -411,7 +522,7 @@ int run_consistency_fuzz(const FuzzArgs& a) {
             if (slot.worst_solver) {
                 char off[48];
                 std::snprintf(off, sizeof off, "%.3g", slot.worst_solver->off);
-                line("      solver-level worst (sample " + std::to_string(slot.worst_solver->index) + "): " + off +
+                line("      " + solver_word + " worst (sample " + std::to_string(slot.worst_solver->index) + "): " + off +
                      " off the exact law (relative); " + slot.worst_solver->detail);
                 line("      replay: " + slot.worst_solver->replay);
             }

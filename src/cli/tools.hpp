@@ -67,6 +67,7 @@ struct FuzzArgs {
     std::string reference;   // consistency: the exact law it is meant to compute (a file, or a name)
     std::string allow;       // law mode: classes of violations that do not fail the run ("extreme")
     std::string mutant;      // law mode: --mutant ID, a mutant of the law's plain double evaluation
+    std::string efforts;     // consistency: --efforts E1,E2,...: the values of {iterations} in --impl-cmd
     std::optional<std::size_t> mutants; // --mutants N: the gate against N mutants
     std::optional<double> min_kill_rate; // with --mutants: exit 1 below this kill rate
     bool velocities = false, json = false, pair = false, pieces = false;
