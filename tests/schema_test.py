@@ -181,6 +181,15 @@ try:
         doc = run(args, expect)
         if doc:
             check("fuzz.schema.json", doc, " ".join(args[:4]))
+    # the effort sweep
+    doc = run(["fuzz", "--masses", "1,1,1", "--velocities", "--impl-cmd",
+               f"python3 {impls}/chain_engine.py threshold --iterations {{iterations}}", "--efforts", "1,8",
+               "--restitution", "1", "--reference", "approaching", "--samples", "200", "--json"], 1)
+    if doc:
+        check("fuzz.schema.json", doc, "fuzz --efforts")
+        bad = json.loads(json.dumps(doc))
+        bad["effort"]["diagnosis"] = "maybe"
+        rejects("fuzz.schema.json", bad, "an unknown diagnosis")
     # the gate's strength
     doc = run(["fuzz", "--law", os.path.join(SRC, "proofs", "newton4", "law.json"), "--mutants", "60",
                "--max-rel-error", "1e-12", "--allow", "extreme", "--range", "1e-3..1e3", "--samples", "2000",
