@@ -390,6 +390,18 @@ std::vector<Finding> ConsistencyChecker::check_exact(const Vector& x, const Vect
                     {{"T-" + part, half * s2}, {"T+" + part, half * t2}});
         }
     }
+    // Where the velocity change is not made of contact impulses (momentum), Lambda is the
+    // projection of that change onto the contacts' range: the kinetic, cone and Coulomb findings
+    // at this input describe the projection, not impulses the implementation applied.
+    bool momentum = false;
+    for (const auto& f : out)
+        momentum = momentum || f.property == Property::momentum;
+    if (momentum)
+        for (auto& f : out)
+            if (f.property == Property::kinetic || f.property == Property::friction_cone || f.property == Property::coulomb) {
+                f.projection = true;
+                f.detail += " [Lambda projected: the velocity change is not made of contact impulses here (momentum)]";
+            }
     return out;
 }
 
@@ -753,6 +765,7 @@ void classify(Finding& f, const Model* reference, const ConsistencyChecker& chec
 void record(Partial& p, Finding f, std::size_t keep) {
     auto& slot = p.sum.properties[static_cast<std::size_t>(f.property)];
     ++slot.count;
+    slot.projections += f.projection ? 1 : 0;
     slot.law += f.level == 1 ? 1 : 0;
     slot.solver += f.level == 2 ? 1 : 0;
     if (f.level == 2 && (!slot.worst_solver || f.off > slot.worst_solver->off ||
@@ -985,6 +998,7 @@ ConsistencySummary run_consistency(const Mechanics& m, const ConsistencyOptions&
             auto& into = sum.properties[p];
             const auto& from = part.sum.properties[p];
             into.count += from.count;
+            into.projections += from.projections;
             into.law += from.law;
             into.solver += from.solver;
             if (from.worst_solver && (!into.worst_solver || from.worst_solver->off > into.worst_solver->off ||

@@ -93,12 +93,16 @@ struct Finding {
     // (a pair property, or an input outside the law's cones).
     int level = 0;
     double off = 0;
+    // kinetic, friction_cone, coulomb: at an input where momentum fails, so that Lambda is the
+    // projection of a velocity change not made of contact impulses (a consequence of that finding).
+    bool projection = false;
 };
 
 struct PropertyCount {
     std::uint64_t count = 0;
     std::optional<Finding> worst;
     std::uint64_t law = 0, solver = 0;   // by level, with a reference law
+    std::uint64_t projections = 0;       // findings marked `projection`
     std::optional<Finding> worst_solver; // the solver-level finding furthest off the law
 };
 

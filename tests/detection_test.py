@@ -217,6 +217,22 @@ for args, words in [(["--impl-cmd", ENGINE + " correct", "--efforts", "1,4", "--
     if b.returncode != 2 or words not in b.stderr or len(b.stderr.strip().splitlines()) != 1:
         fail(f"{args}: exit {b.returncode}, {b.stderr!r}")
 
+# Where momentum fails, the kinetic findings are projections of a change not made of contact
+# impulses, and say so (issue 44, item 4); a consistent engine has none marked.
+SHOVE = "python3 " + os.path.join(SRC, "tests", "impls", "shove.py")
+r = run(["fuzz", "--masses", "1,1,1", "--velocities", "--impl-cmd", SHOVE, "--samples", "300", "--json"])
+try:
+    j = json.loads(r.stdout)
+    v, pr = j["violations"], j.get("projections", {})
+    if not (v["momentum"] > 0 and v["kinetic"] > 0 and pr.get("kinetic") == v["kinetic"] and
+            j["worst"]["kinetic"].get("projection") is True and "Lambda projected" in j["worst"]["kinetic"]["detail"]):
+        fail(f"shove: kinetic findings not marked as projections: {v}, {pr}, {j['worst'].get('kinetic')}")
+except (json.JSONDecodeError, KeyError) as err:
+    fail(f"shove --json: {err}\n{r.stdout[:500]}{r.stderr}")
+r = fuzz_engine("threshold", ["--json"])
+if r.stdout.startswith("{") and "projections" in json.loads(r.stdout):
+    fail("the threshold engine (momentum kept) has findings marked as projections")
+
 r = fuzz_engine("correct", ["--json"])
 j = json.loads(r.stdout) if r.stdout.startswith("{") else None
 if j is None or j["violations"]["reference"] != 0:

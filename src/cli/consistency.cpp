@@ -179,6 +179,8 @@ Json finding_json(const fuzz::Finding& f) {
         e["level"] = f.level == 1 ? "law" : "solver";
     if (f.level == 2)
         e["off"] = f.off;
+    if (f.projection)
+        e["projection"] = true;
     if (!f.input_b.empty())
         e["input_b"] = hexes(f.input_b);
     e["output"] = hexes(f.output);
@@ -410,6 +412,12 @@ int run_consistency_fuzz_at(const FuzzArgs& a, const FuzzArgs& given, const std:
         violations["refused"] = sum.refused;
         j["checked_properties"] = props;
         j["violations"] = violations;
+        Json projections = Json::object();
+        for (std::size_t p = 0; p < fuzz::kProperties; ++p)
+            if (sum.properties[p].projections)
+                projections[fuzz::property_id(static_cast<fuzz::Property>(p))] = sum.properties[p].projections;
+        if (!projections.empty())
+            j["projections"] = projections;
         j["worst"] = worst;
         if (s.reference) {
             Json levels = Json::object(), worst_solver = Json::object();
@@ -502,6 +510,9 @@ int run_consistency_fuzz_at(const FuzzArgs& a, const FuzzArgs& given, const std:
              std::to_string(slot.worst->index) + "): " + slot.worst->detail);
         out += finding_text(*slot.worst);
         line("      replay: " + slot.worst->replay);
+        if (slot.projections)
+            line("      " + std::to_string(slot.projections) + " of them where momentum fails: Lambda there is a projection of a "
+                 "velocity change not made of contact impulses (look at momentum first)");
         if (s.reference && prop != fuzz::Property::reference) {
             const std::uint64_t other = slot.count - slot.law - slot.solver;
             line("      against the reference law: " + std::to_string(slot.law) +
