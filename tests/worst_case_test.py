@@ -239,6 +239,36 @@ if "approaching-3" in certs and "approaching-5" in certs:
     forge(base5, f"pieces[{t5}].certificate",
           lambda c: w(c)["pieces"][t5].update(certificate={"method": "nonnegative-entries"}))
     forge(base5, "pieces[", lambda c: w(c)["pieces"][t5].update(piece="J1"))
-    print("12 forgeries of worst-case certificates rejected, each naming its path")
+    # The decimal a reader sees is checked (issue 40, item 1): a value edited to ~1.5, a Lipschitz
+    # decimal set to ~9, the "~" dropped from a rounded value, one digit off in the last place, an
+    # 18th digit; the five balls' algebraic value (2 + sqrt(4/5)) one unit off.
+    L = ["worst_case", "lipschitz_squared"]
+    forge(base3, "energy_ratio.value.decimal", lambda c: w(c)["value"].update(decimal="~1.5"))
+    forge(base3, "lipschitz_squared.value.decimal", lambda c: c["worst_case"]["lipschitz_squared"]["value"].update(decimal="~9"))
+    forge(base3, "energy_ratio.value.decimal", lambda c: w(c)["value"].update(decimal="1.3333333333333333"))
+    forge(base3, "energy_ratio.value.decimal", lambda c: w(c)["value"].update(decimal="~1.3333333333333334"))
+    forge(base3, "energy_ratio.value.decimal", lambda c: w(c)["value"].update(decimal="~1.33333333333333333"))
+    forge(base3, "energy_ratio.value.decimal", lambda c: w(c)["value"].update(decimal="~4/3"))
+    d5 = w(base5)["value"]["decimal"]
+    last = str((int(d5[-1]) + 1) % 10)
+    forge(base5, "energy_ratio.value.decimal", lambda c: w(c)["value"].update(decimal=d5[:-1] + last))
+    forge(base5, "energy_ratio.value.decimal", lambda c: w(c)["value"].update(decimal=d5[1:]))  # no "~"
+    # An undecided worst case the prover could not have reached (issue 40, item 2): a made-up
+    # limit, and --max-faces 3 on a law whose pieces have 2^2 - 1 = 3 faces. The prover's own
+    # undecided (--max-faces 2) is verified.
+    undecided = {"status": "undecided", "limit": "copositivity beyond --max-faces 1"}
+    forge(base3, "energy_ratio.limit", lambda c: c["worst_case"].update(energy_ratio=dict(undecided)))
+    first = base3["law"]["pieces"][0]["name"]
+    forge(base3, "energy_ratio.limit", lambda c: c["worst_case"].update(energy_ratio={
+        "status": "undecided", "limit": f"the worst case of piece {first} needs 2^2 - 1 faces (--max-faces 3)"}))
+    forge(base3, "lipschitz_squared.limit", lambda c: c["worst_case"].update(lipschitz_squared={
+        "status": "undecided", "limit": f"the worst case of piece {first} needs 2^2 - 1 faces (--max-faces 2)"}))
+    lim = os.path.join(tmp, "limited.json")
+    r = subprocess.run([CLI, "certify", "--law", os.path.join(SRC, "proofs", "classical3", "newton-approaching", "law.json"),
+                        "--worst-case", "--max-faces", "2", "-o", lim], capture_output=True, text=True)
+    rc = subprocess.run([CHECK, lim], capture_output=True, text=True)
+    if json.load(open(lim))["worst_case"]["energy_ratio"]["status"] != "undecided" or rc.returncode != 0:
+        fail(f"the prover's own undecided worst case (--max-faces 2): exit {rc.returncode} {rc.stdout}{rc.stderr}")
+    print("24 forgeries of worst-case certificates rejected, each naming its path")
 
 finish(failures)

@@ -5,6 +5,7 @@
 #include "checker.hpp"
 
 #include <algorithm>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -174,6 +175,80 @@ Poly poly_of(const Json& j, const std::string& path) {
     return p;
 }
 
+// 10^e as a rational (e of either sign).
+Q pow10(long e) {
+    mpz_class p;
+    mpz_ui_pow_ui(p.get_mpz_t(), 10, static_cast<unsigned long>(e < 0 ? -e : e));
+    return e < 0 ? Q(1) / Q(p) : Q(p);
+}
+
+// The value's "decimal" (docs/formats.md): its decimal correctly rounded to 17 significant
+// digits (ties away from zero), "~" first exactly when that is not the value itself. Read here
+// as a number d; then the value (the only root of `sqf` in [lo, hi], or `exact`) must lie within
+// half a unit of d's 17th significant digit (on the side towards zero of a power of ten, the
+// unit of the decade below), and equal d exactly when there is no "~".
+void check_decimal(const std::string& text, const Poly& sqf, const Q& lo, const Q& hi, const Q* exact,
+                   const std::string& path) {
+    std::size_t i = 0;
+    const bool rounded = text.size() > i && text[i] == '~';
+    i += rounded;
+    const bool negative = text.size() > i && text[i] == '-';
+    i += negative;
+    std::string digits, frac;
+    while (i < text.size() && text[i] >= '0' && text[i] <= '9')
+        digits += text[i++];
+    if (i < text.size() && text[i] == '.') {
+        ++i;
+        while (i < text.size() && text[i] >= '0' && text[i] <= '9')
+            frac += text[i++];
+        require(!frac.empty(), path, "is not a decimal number");
+    }
+    long exponent = 0;
+    if (i < text.size() && text[i] == 'e') {
+        ++i;
+        require(i < text.size() && (text[i] == '+' || text[i] == '-'), path, "is not a decimal number");
+        const bool neg_e = text[i++] == '-';
+        std::string e;
+        while (i < text.size() && text[i] >= '0' && text[i] <= '9' && e.size() < 6)
+            e += text[i++];
+        require(!e.empty(), path, "is not a decimal number");
+        exponent = std::stol(e) * (neg_e ? -1 : 1);
+    }
+    require(!digits.empty() && i == text.size(), path, "is not a decimal number (expected [~][-]D[.D][e+-D])");
+    std::string all = digits + frac;
+    const std::size_t first = all.find_first_not_of('0');
+    const std::size_t significant = first == std::string::npos ? 0 : all.size() - first;
+    require(significant <= 17, path, "has more than 17 significant digits");
+    const Q d = Q(mpz_class(all.empty() ? "0" : all)) * pow10(exponent - static_cast<long>(frac.size())) * (negative ? -1 : 1);
+    // The value is d exactly, or (with "~") within half a unit of d's last place.
+    const bool equal = exact ? *exact == d : (lo <= d && d <= hi && sgn(value_at(sqf, d)) == 0);
+    if (!rounded) {
+        require(equal, path, "is not the value (a rounded decimal starts with ~)");
+        return;
+    }
+    require(!equal, path, "is the value exactly: it must not start with ~");
+    require(sgn(d) != 0, path, "~0 is not a 17-digit decimal of a non-zero value");
+    Q ad = abs(d);
+    long e10 = static_cast<long>(all.size() - first) - 1 + exponent - static_cast<long>(frac.size()); // 10^e10 <= |d|
+    while (pow10(e10) > ad)
+        --e10;
+    while (pow10(e10 + 1) <= ad)
+        ++e10;
+    const Q unit = pow10(e10 - 16);
+    const Q below = ad == pow10(e10) ? unit / 10 : unit; // towards zero of a power of ten: the decade below
+    const Q down = negative ? unit : below, up = negative ? below : unit;
+    const Q a = d - down / 2, b = d + up / 2;
+    if (exact) {
+        require(a <= *exact && *exact <= b, path, "is not the value rounded to 17 significant digits");
+        // A tie rounds away from zero.
+        const Q half = (*exact > d ? up : down) / 2;
+        require(abs(*exact - d) != half || abs(d) > abs(*exact), path, "a tie is rounded away from zero");
+        return;
+    }
+    const Q l = std::max(lo, a), h = std::min(hi, b);
+    require(l <= h && roots_in(sqf, l, h) == 1, path, "is not the value rounded to 17 significant digits");
+}
+
 struct Checked {
     Poly square_free;
     Q lower, upper;
@@ -193,8 +268,28 @@ void check_bound(const Law& law, const Json& b, const std::string& path, bool en
     expect_keys(b, path, {"status"}, {"limit", "value", "piece", "point", "direction", "pieces"});
     const std::string status = str(field(b, path, "status"), at(path, "status"));
     if (status == "undecided") {
+        // Only what the prover can reach (src/worst_case.cpp): the energy ratio stops at its first
+        // piece when the law's 2^c - 1 faces exceed --max-faces N; either bound stops when the
+        // pieces' values are not separated at the prover's last precision (no option raises it).
         expect_keys(b, path, {"status", "limit"});
-        str(field(b, path, "limit"), at(path, "limit"));
+        const std::string limit = str(field(b, path, "limit"), at(path, "limit"));
+        const std::string separation = "the pieces' values were not separated with intervals of 4096 bits "
+                                       "(a bound of the prover, no option raises it)";
+        if (limit == separation)
+            return;
+        require(energy, at(path, "limit"), "is not a limit the prover can reach for the Lipschitz constant");
+        const std::string head = "the worst case of piece " + law.pieces.front().name + " needs 2^" +
+                                 std::to_string(law.c) + " - 1 faces (--max-faces ";
+        require(limit.size() > head.size() + 1 && limit.compare(0, head.size(), head) == 0 && limit.back() == ')',
+                at(path, "limit"), "is not a limit the prover can reach for this law (expected \"" + head + "N)\")");
+        const std::string n = limit.substr(head.size(), limit.size() - head.size() - 1);
+        require(!n.empty() && n.size() <= 19 && n.find_first_not_of("0123456789") == std::string::npos &&
+                    (n.size() == 1 || n[0] != '0'),
+                at(path, "limit"), "names no --max-faces value");
+        const unsigned long long max_faces = std::stoull(n);
+        require(law.c >= 63 || (1ULL << law.c) - 1 > max_faces, at(path, "limit"),
+                "the law's pieces have 2^" + std::to_string(law.c) + " - 1 faces, within --max-faces " + n +
+                    ": the prover decides the worst case");
         return;
     }
     require(status == "decided", at(path, "status"), "expected \"decided\" or \"undecided\"");
@@ -283,16 +378,19 @@ void check_bound(const Law& law, const Json& b, const std::string& path, bool en
     const std::string vp = at(path, "value");
     const Json& value = field(b, path, "value");
     expect_keys(value, vp, {"polynomial", "interval", "decimal"}, {"exact"});
-    str(field(value, vp, "decimal"), at(vp, "decimal")); // informational
+    const std::string decimal = str(field(value, vp, "decimal"), at(vp, "decimal"));
     const Vec iv = vec(field(value, vp, "interval"), at(vp, "interval"));
     require(iv.size() == 2 && iv[0] == top.lower && iv[1] == top.upper, at(vp, "interval"), "is not the top piece's [lower, upper]");
     const Poly vpoly = poly_of(field(value, vp, "polynomial"), at(vp, "polynomial"));
     require(roots_in(vpoly, iv[0], iv[1]) == 1 && roots_in(common_divisor(squarefree(vpoly), top.square_free), iv[0], iv[1]) == 1,
             at(vp, "polynomial"), "does not have the top piece's root as its only root in the interval");
+    std::optional<Q> exact;
     if (value.contains("exact")) {
         const Q x = rat(value.at("exact"), at(vp, "exact"));
         require(iv[0] <= x && x <= iv[1] && sgn(value_at(vpoly, x)) == 0, at(vp, "exact"), "is not the root");
+        exact = x;
     }
+    check_decimal(decimal, top.square_free, iv[0], iv[1], exact ? &*exact : nullptr, at(vp, "decimal"));
 }
 
 } // namespace
