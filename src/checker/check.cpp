@@ -19,7 +19,7 @@
 namespace impactcert_check {
 namespace detail {
 
-int check(const Json& cert, const Limits& limits, const std::vector<ExtraBlock>& extra) {
+int check(const Json& cert, const Limits& limits, const std::vector<ExtraBlock>& extra, const std::optional<SliceClaim>& slice) {
     if (!cert.is_object() || !cert.contains("format") || cert.at("format") != "impactcert-certificate/1")
         malformed("$.format", "not an impactcert-certificate/1 document");
     expect_keys(cert, "$", {"format", "tool", "law_sha256", "law", "verdict", "system", "obligations"}, {"worst_case"});
@@ -37,6 +37,19 @@ int check(const Json& cert, const Limits& limits, const std::vector<ExtraBlock>&
     const Json& obligations = field(cert, "$", "obligations");
     if (!obligations.is_array() || obligations.size() != ids_of(law).size())
         malformed("$.obligations", "expected the " + std::to_string(ids_of(law).size()) + " obligations");
+    if (slice) {
+        // The pairs of nonexpansive in the single run's order: each first piece (the orbit
+        // representatives the obligation lists, or every piece) against every piece.
+        std::size_t firsts = law.pieces.size();
+        for (const auto& o : obligations)
+            if (o.is_object() && o.contains("id") && o.at("id") == "nonexpansive" && o.contains("data") &&
+                o.at("data").is_object() && o.at("data").contains("first_pieces") && o.at("data").at("first_pieces").is_array())
+                firsts = o.at("data").at("first_pieces").size();
+        const std::size_t want = firsts * law.pieces.size();
+        require(slice->pairs == want, slice->path,
+                "is not the law's number of pairs (" + std::to_string(firsts) + " first pieces x " +
+                    std::to_string(law.pieces.size()) + " pieces = " + std::to_string(want) + ")");
+    }
     Checker checker(law, obligations, limits, extra);
     bool any_claimed_refuted = false, any_claimed_undecided = false;
     bool fan_holds = false, p1_holds = false; // a continuous tiling: the worst case's Lipschitz bound

@@ -227,7 +227,14 @@ class Checker {
 };
 
 // The whole document (check.cpp): 0, or throws Malformed, Rejected, Undecided or a JSON error.
-int check(const Json& cert, const Limits& limits, const std::vector<ExtraBlock>& extra = {});
+// A sharded run's claim of how many pairs nonexpansive has (every part's slice.pairs, equal):
+// checked against the law the certificate names (first pieces times pieces).
+struct SliceClaim {
+    std::size_t pairs = 0;
+    std::string path;
+};
+int check(const Json& cert, const Limits& limits, const std::vector<ExtraBlock>& extra = {},
+          const std::optional<SliceClaim>& slice = std::nullopt);
 
 // The certificate's "worst_case" (worst_case.cpp), when present; the Lipschitz bound is there
 // exactly when the law is a continuous tiling (fan and P1 hold).

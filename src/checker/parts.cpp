@@ -29,7 +29,7 @@ std::string where(const Part& p, const std::string& path) { return p.name + ": "
 
 // The nonexpansive entries of slice parts, merged in the single run's order.
 Json merge_slices(const std::vector<Part>& parts, const std::vector<const Json*>& entries, std::size_t n,
-                  std::vector<ExtraBlock>& extra) {
+                  std::vector<ExtraBlock>& extra, std::optional<SliceClaim>& claim) {
     const Json& first = *entries[0];
     const std::string p0 = where(parts[0], "$.obligations[nonexpansive].data");
     const Json& slice0 = field(field(first, p0, "data"), p0, "slice");
@@ -38,6 +38,7 @@ Json merge_slices(const std::vector<Part>& parts, const std::vector<const Json*>
     const std::size_t total = natural(field(slice0, p0, "pairs"), at(p0, "slice.pairs"));
     require(block_pairs > 0, at(p0, "slice.block_pairs"), "must be positive");
     const std::size_t blocks = (total + block_pairs - 1) / block_pairs;
+    claim = SliceClaim{total, at(p0, "slice.pairs")};
     for (std::size_t k = 0; k < parts.size(); ++k) {
         const Json& e = *entries[k];
         const std::string p = where(parts[k], "$.obligations[nonexpansive]");
@@ -179,7 +180,7 @@ Json merge_slices(const std::vector<Part>& parts, const std::vector<const Json*>
     return out;
 }
 
-Json assemble(std::vector<Part>& parts, std::vector<ExtraBlock>& extra) {
+Json assemble(std::vector<Part>& parts, std::vector<ExtraBlock>& extra, std::optional<SliceClaim>& claim) {
     const std::size_t n = parts.size();
     for (auto& part : parts) {
         const Json& d = part.doc;
@@ -240,7 +241,7 @@ Json assemble(std::vector<Part>& parts, std::vector<ExtraBlock>& extra) {
             for (std::size_t k = 0; k < n; ++k)
                 require(by_id[i][k] != nullptr, where(parts[k], "$.obligations"),
                         "the pair blocks of nonexpansive are missing from this shard");
-            entry = merge_slices(parts, by_id[i], n, extra);
+            entry = merge_slices(parts, by_id[i], n, extra, claim);
         } else {
             require(own != nullptr, where(parts[owner], "$.obligations"), "obligation " + kIds[i] + " is missing from its shard");
             for (std::size_t k = 0; k < n; ++k)
@@ -339,10 +340,11 @@ Outcome check_parts(const std::vector<std::string>& texts, const std::vector<std
         }
         return outcome_of([&] {
             std::vector<ExtraBlock> extra;
-            const Json cert = assemble(parts, extra);
+            std::optional<SliceClaim> claim;
+            const Json cert = assemble(parts, extra, claim);
             if (merged)
                 *merged = cert.dump(1) + "\n";
-            check(cert, limits, extra);
+            check(cert, limits, extra, claim);
             return cert.at("law").at("name").get<std::string>() + ": " + cert.at("verdict").get<std::string>() + ", " +
                    std::to_string(parts.size()) + (parts.size() == 1 ? " part" : " parts") + " merged";
         });

@@ -253,21 +253,48 @@ std::string fuzz_junit(const fuzz::Summary& sum, const std::string& target, cons
                           {"non-expansivity", sum.nonexpansive},
                           {"implementation failures", sum.crashed + sum.hung + sum.malformed + sum.refused},
                           {"extreme magnitudes", sum.extreme}};
-    std::string first;
-    for (const auto& v : sum.examples)
-        if (first.empty())
-            first = v.what + "; replay: " + v.replay;
+    // Each failing case quotes an example of its own class (the examples' `what` says which).
+    auto starts = [](const std::string& s, const char* p) { return s.rfind(p, 0) == 0; };
+    auto class_of = [&](const fuzz::Violation& v) -> std::string {
+        if (starts(v.what, "classification:"))
+            return "classification";
+        if (starts(v.what, "non-finite"))
+            return "non-finite outputs";
+        if (starts(v.what, "negative contact velocity"))
+            return "negative contact velocities";
+        if (starts(v.what, "energy increase"))
+            return "energy";
+        if (starts(v.what, "non-expansivity"))
+            return "non-expansivity";
+        if (starts(v.what, "the implementation") || starts(v.what, "nondeterministic") || starts(v.what, "the built-in"))
+            return "implementation failures";
+        return "accuracy";
+    };
+    auto example_of = [&](const std::string& name) {
+        for (const auto& v : sum.examples)
+            if (name == "extreme magnitudes" ? v.extreme : (class_of(v) == name && (!v.extreme || !o.allow_extreme)))
+                return v.what + "; replay: " + v.replay;
+        // A classification error is an accuracy violation too: its example stands for both.
+        if (name == "accuracy")
+            for (const auto& v : sum.examples)
+                if (class_of(v) == "classification" && (!v.extreme || !o.allow_extreme))
+                    return v.what + "; replay: " + v.replay;
+        return std::string("no example of this class among the ") + std::to_string(sum.examples.size()) +
+               " kept (raise --keep)";
+    };
     JunitSuite suite{"impactcert fuzz: " + target, {}};
     for (const auto& c : cases) {
         JunitCase t;
         t.classname = "impactcert.fuzz";
         t.name = c.name;
+        if (suite.cases.empty()) // the run's time (every class is checked on the same samples)
+            t.time = std::chrono::nanoseconds(static_cast<long long>(sum.seconds * 1e9));
         const bool allowed_class = o.allow_extreme && std::string(c.name) == "extreme magnitudes";
         if (c.count && sum.fails(o.allow_extreme) && !allowed_class) {
             t.kind = JunitCase::Kind::failed;
             t.type = "violations";
             t.message = std::to_string(c.count) + " violation(s) in " + std::to_string(sum.samples) + " samples";
-            t.text = first;
+            t.text = example_of(c.name);
         } else if (c.count) { // violations at extreme inputs, allowed
             t.system_out = std::to_string(c.count) + (allowed_class ? " sample(s) with violations at extreme magnitudes (allowed: --allow extreme)"
                                                                     : " violation(s), all at extreme magnitudes (allowed: --allow extreme)");

@@ -1,0 +1,109 @@
+#!/usr/bin/env python3
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""Reliability, round five (issue 40): what the fifth review found, each kept as a test.
+
+  3. Shard parts whose slices all claim 7 pairs (the law has 36) and drop their later blocks were
+     verified for a refuted law: a part's slice must agree with the law it names. The honest
+     parts verify; the forged ones are rejected naming slice.pairs.
+  8. fuzz JUnit (law mode and consistency): the time is the run's, not 0; a failing case quotes
+     an example of its own class, not the run's first example.
+(Items 1 and 2, the worst case's decimal and undecided: tests/worst_case_test.py; item 8's
+replays: tests/mutants_test.py.)
+Usage: reliability_round5_test.py BINDIR SOURCE_DIR"""
+import copy
+import json
+import os
+import subprocess
+import sys
+import tempfile
+import xml.etree.ElementTree as ET
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import testkit  # noqa: E402
+
+BIN, SRC = os.path.abspath(sys.argv[1]), os.path.abspath(sys.argv[2])
+CLI, CHECK = os.path.join(BIN, "impactcert"), os.path.join(BIN, "impactcert-check")
+failures = []
+fail = failures.append
+tmp = tempfile.mkdtemp(prefix="impactcert-round5-")
+
+
+def run(args, **kw):
+    return subprocess.run(args, capture_output=True, text=True, cwd=SRC, **kw)
+
+
+# ---- 3. a part's slice agrees with the law it names
+law = os.path.join(SRC, "proofs", "classical3", "newton-approaching", "law.json")
+parts = []
+for k in (1, 2, 3):
+    path = os.path.join(tmp, f"part{k}.json")
+    r = run([CLI, "certify", "--law", law, "--shard", f"{k}/3", "--shard-block", "2", "-o", path])
+    if r.returncode not in (0, 1):
+        fail(f"certify --shard {k}/3: exit {r.returncode} {r.stderr}")
+    parts.append(path)
+r = run([CHECK] + parts)
+if r.returncode != 0 or "refuted, 3 parts merged" not in r.stdout:
+    fail(f"the honest parts: exit {r.returncode} {r.stdout}{r.stderr}")
+docs = [json.load(open(p)) for p in parts]
+pairs = next(o for o in docs[0]["obligations"] if o["id"] == "nonexpansive")["data"]["slice"]["pairs"]
+if pairs != 36:
+    fail(f"the 3-ball approaching law has 6 x 6 = 36 pairs, the slice says {pairs}")
+for claimed in (7, 35, 37):
+    forged = []
+    blocks = (claimed + 1) // 2
+    for k, d in enumerate(docs):
+        d = copy.deepcopy(d)
+        o = next(o for o in d["obligations"] if o["id"] == "nonexpansive")
+        o["data"]["slice"]["pairs"] = claimed
+        o["data"]["blocks"] = [b for b in o["data"]["blocks"] if b["block"] < blocks]
+        path = os.path.join(tmp, f"forged{claimed}-{k + 1}.json")
+        json.dump(d, open(path, "w"))
+        forged.append(path)
+    r = run([CHECK] + forged)
+    if r.returncode != 1 or "slice.pairs" not in r.stdout + r.stderr or "36" not in r.stdout + r.stderr:
+        fail(f"parts claiming {claimed} pairs: exit {r.returncode} {r.stdout}{r.stderr}")
+
+# ---- 8. fuzz JUnit: the run's time
+junit = os.path.join(tmp, "fuzz.xml")
+r = run([CLI, "fuzz", "--samples", "200000", "--junit", junit])
+try:
+    root = ET.parse(junit).getroot()
+    suite = root.find("testsuite")
+    times = [float(suite.get("time"))] + [float(c.get("time")) for c in suite.findall("testcase")]
+    if r.returncode != 0 or not float(root.get("time")) > 0 or not times[0] > 0:
+        fail(f"fuzz --junit: times {root.get('time')}, {times} (exit {r.returncode})")
+except (ET.ParseError, FileNotFoundError, TypeError) as err:
+    fail(f"fuzz --junit: {err}")
+
+# ---- 8. a failing JUnit case quotes an example of its own class, not the run's first example
+junit = os.path.join(tmp, "two-sweeps.xml")
+impl = os.path.join(BIN, "tests", "libimpactcert_example_newton4.so") + ":newton4_two_sweeps"
+r = run([CLI, "fuzz", "--law", os.path.join(SRC, "proofs", "newton4", "law.json"), "--impl", impl, "--max-rel-error",
+         "1e-12", "--allow", "extreme", "--samples", "20000", "--keep", "200", "--junit", junit])
+want = {"classification": "classification:", "negative contact velocities": "negative contact velocity",
+        "energy": "energy increase", "non-expansivity": "non-expansivity", "non-finite outputs": "non-finite"}
+try:
+    failed = 0
+    for case in ET.parse(junit).getroot().iter("testcase"):
+        f = case.find("failure")
+        if f is None:
+            continue
+        failed += 1
+        prefix = want.get(case.get("name"))
+        if prefix and not (f.text or "").startswith((prefix, "no example of this class")):
+            fail(f"JUnit case {case.get('name')} quotes another class's example: {(f.text or '')[:120]}")
+    if r.returncode != 1 or failed < 3:
+        fail(f"two sweeps: exit {r.returncode}, {failed} failed JUnit cases")
+except (ET.ParseError, FileNotFoundError) as err:
+    fail(f"two sweeps --junit: {err}")
+junit = os.path.join(tmp, "consistency.xml")
+r = run([CLI, "fuzz", "--masses", "1,1,1", "--velocities", "--impl-cmd",
+         "python3 " + os.path.join(SRC, "tests", "impls", "cradle_controls.py") + " damped", "--samples", "300",
+         "--junit", junit])
+try:
+    if not float(ET.parse(junit).getroot().get("time")) > 0:
+        fail("consistency --junit: time 0")
+except (ET.ParseError, FileNotFoundError, TypeError) as err:
+    fail(f"consistency --junit: {err}")
+
+testkit.finish(failures)
