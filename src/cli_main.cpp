@@ -204,7 +204,7 @@ int main(int argc, char** argv) {
     eval_cmd->add_flag("--pair", eval_float_args.pair, "consistency: the two points are a pair (non-expansivity, continuity)");
     eval_cmd->add_option("points", eval_args, "numbers: rationals (-3/4), decimals (0.1, 2.5e-3), hex floats (0x1.8p-3)");
 
-    auto* derive_cmd = app.add_subcommand("derive", "derive an impact law from the mechanics (SPEC section 7)");
+    auto* derive_cmd = app.add_subcommand("derive", "derive an impact law from the mechanics (docs/derive.md)");
     derive_cmd->require_subcommand(1);
     DeriveArgs newton_args, poisson_args;
     auto* sequential_cmd = derive_cmd->add_subcommand("sequential", "the sequential impact law of a system (a chain by default); exit 0 law written, 1 with friction not a function or with --rule any the order matters (witness), 2 bad input, 3 a limit (--max-impacts: a sequence longer than the bound, with the point; --max-memory, --max-bits, --max-words)");
@@ -212,7 +212,7 @@ int main(int argc, char** argv) {
     auto* poisson_cmd = derive_cmd->add_subcommand("poisson", "the Poisson-type simultaneous impact law (compression and expansion LCPs), exactly; exit 0 law written, 2 bad input, 3 a limit (--max-bits, --max-memory)");
     for (auto [cmd, args] : {std::pair{sequential_cmd, &derive_args}, std::pair{newton_cmd, &newton_args}, std::pair{poisson_cmd, &poisson_args}}) {
         cmd->add_option("--masses", args->system.masses, "a chain: ball masses M1,M2,... (rationals, > 0)");
-        cmd->add_option("--walls", args->system.walls, "with --masses: fixed walls, none, left, right or both")->capture_default_str();
+        cmd->add_option("--walls", args->system.walls, "with --masses: fixed walls, none, left or right (both would jam the chain: n + 1 contacts for n velocities)")->capture_default_str();
         cmd->add_option("--system", args->system.system_path, "a system file (impactcert-system/1, or a law file's head): M or masses, and W");
         cmd->add_option("--restitution", args->restitution, "E for every contact, or one per contact, each in [0, 1] (default: a scene's, else 1)");
         cmd->add_option("--outcomes-from", args->outcomes_from, "declare the outcomes of this law file (e.g. the observed ones of proofs/newton3/law.json) instead of the simulated ones");
@@ -282,7 +282,7 @@ int main(int argc, char** argv) {
     fuzz_cmd->add_option("--max-rel-error", fuzz_args.max_rel_error, "allowed normwise error |y - S(x)| <= R |x| in the law's metric (H; M for --velocities)");
     fuzz_cmd->add_option("--keep", fuzz_options.keep, "violations kept as examples")->check(natural_text)->check(CLI::Range(std::size_t{0}, std::size_t{1000000}))->capture_default_str();
     fuzz_cmd->add_option("--masses", fuzz_args.system.masses, "without --law: check the implementation's consistency with this chain (ball masses)");
-    fuzz_cmd->add_option("--walls", fuzz_args.system.walls, "with --masses: fixed walls, none, left, right or both")->capture_default_str();
+    fuzz_cmd->add_option("--walls", fuzz_args.system.walls, "with --masses: fixed walls, none, left or right (both would jam the chain: n + 1 contacts for n velocities)")->capture_default_str();
     fuzz_cmd->add_option("--system", fuzz_args.system.system_path, "without --law: check consistency with this system (impactcert-system/1 or a law file)");
     fuzz_cmd->add_option("--float-law", fuzz_args.float_law, "consistency: test impactcert's own float implementation of this law file (contact velocities)");
     fuzz_cmd->add_option("--require", fuzz_args.require, "consistency: also check nonexpansive and/or continuity on close pairs (comma-separated)");

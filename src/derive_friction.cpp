@@ -448,7 +448,7 @@ FrictionResult derive_newton_friction(const FrictionOptions& o) {
     law.M = o.M;
     law.W = o.W;
     law.friction = o.friction;
-    law.description = std::string("Newton-type impact law with Coulomb friction (SPEC section 9; restitution on ") +
+    law.description = std::string("Newton-type impact law with Coulomb friction (docs/derive.md, \"Friction\"; restitution on ") +
                       (approaching ? "approaching contacts only" : "every contact") + ") of " + system_text(o) +
                       ", normal restitution " + list_text(o.restitution) +
                       "; derived by impactcert derive newton. Pieces are named by contact modes, one token per "

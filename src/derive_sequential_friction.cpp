@@ -235,7 +235,7 @@ DeriveResult derive_sequential_friction(const DeriveOptions& options, const Mech
         result.max_word = std::max(result.max_word, region.key.size() / 2);
     Law law;
     law.name = "sequential-friction-" + options.name;
-    law.description = "Sequential impact law with Coulomb friction (SPEC section 9) of " + system_text(options) +
+    law.description = "Sequential impact law with Coulomb friction (docs/derive.md, \"Friction\") of " + system_text(options) +
                       ", normal restitution " + list_text(options.restitution) + ", rule " + to_string(options.rule) +
                       "; derived by impactcert derive sequential. Each step is the one-contact Newton law with friction "
                       "of the contact the rule picks among the approaching normals. Pieces are named by their words: "

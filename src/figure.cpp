@@ -81,8 +81,22 @@ void convert_to_pdf(const std::string& converter, const std::string& svg_path, c
     posix_spawnattr_init(&attributes);
     posix_spawnattr_setflags(&attributes, POSIX_SPAWN_SETPGROUP);
     posix_spawnattr_setpgroup(&attributes, 0);
+    // Reproducible PDFs: cairo writes SOURCE_DATE_EPOCH as the creation date; without one in the
+    // environment, a fixed 0 (1970-01-01), so that the same figures give the same bytes.
+    std::vector<std::string> env_text;
+    bool has_epoch = false;
+    for (char** e = environ; e && *e; ++e) {
+        env_text.emplace_back(*e);
+        has_epoch = has_epoch || env_text.back().rfind("SOURCE_DATE_EPOCH=", 0) == 0;
+    }
+    if (!has_epoch)
+        env_text.emplace_back("SOURCE_DATE_EPOCH=0");
+    std::vector<char*> envp;
+    for (auto& e : env_text)
+        envp.push_back(e.data());
+    envp.push_back(nullptr);
     pid_t pid = 0;
-    const int spawned = posix_spawn(&pid, converter.c_str(), &actions, &attributes, argv, environ);
+    const int spawned = posix_spawn(&pid, converter.c_str(), &actions, &attributes, argv, envp.data());
     posix_spawn_file_actions_destroy(&actions);
     posix_spawnattr_destroy(&attributes);
     ::close(pipe_fds[1]);

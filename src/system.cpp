@@ -142,7 +142,7 @@ Walls parse_walls(const std::string& text) {
         return Walls::right;
     if (text == "both")
         return Walls::both;
-    throw InputError("--walls: expected none, left, right or both, got \"" + text + "\"");
+    throw InputError("--walls: expected none, left or right, got \"" + text + "\"");
 }
 
 const char* to_string(Walls walls) {

@@ -37,6 +37,13 @@ for page in impactcert impactcert-check impactcert-verify; do
     gzip -t "$dir/root/usr/share/man/man1/$page.1.gz"
 done
 test -f "$dir/root/usr/share/bash-completion/completions/impactcert"
+test -L "$dir/root/usr/share/bash-completion/completions/impactcert-check"
+test -L "$dir/root/usr/share/bash-completion/completions/impactcert-verify"
+# What the manual cites is installed (issue 40, item 4).
+for f in docs/formats.md docs/commands.md docs/exit-status.md docs/fuzzing.md docs/derive.md docs/ci.md \
+         docs/schemas/law.schema.json proofs/README.md; do
+    test -f "$dir/root/usr/share/doc/impactcert/$f" || { echo "FAIL: $f not installed"; exit 1; }
+done
 test -f "$dir/root/usr/share/doc/impactcert/changelog.gz"
 # lintian (one of scripts/test's packages): no error or warning but these, each by design --
 #   embedded-library gmp: the programs link GMP, MPFR and PPL statically (IMPACTCERT_STATIC_LIBS:

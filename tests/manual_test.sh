@@ -29,4 +29,20 @@ got=$(complete_words impactcert derive sequential --max-i)
 got=$(complete_words impactcert fuzz --impl)
 for o in --impl --impl-cmd --impl-timeout; do grep -qw -- "$o" <<<"$got" || fail "fuzz --impl -> $got"; done
 [ -z "$(complete_words impactcert frob)" ] || fail "a word that is no command completed"
-echo "ok: 3 pages render cleanly; completion of commands, kinds and options"
+# Option values, and the other two programs (issue 40, item 8).
+[ "$(complete_words impactcert fuzz --allow e)" = "extreme" ] || fail "fuzz --allow e -> $(complete_words impactcert fuzz --allow e)"
+[ "$(complete_words impactcert derive sequential --walls '')" = "none left right" ] || fail "--walls -> $(complete_words impactcert derive sequential --walls '')"
+[ "$(complete_words impactcert fuzz --reference app)" = "approaching" ] || fail "--reference app"
+complete_with() { # FUNCTION WORDS...
+    local fn="$1"; shift
+    bash -c 'source "$0"; fn="$1"; shift; COMP_WORDS=("${@}"); COMP_CWORD=$(( ${#COMP_WORDS[@]} - 1 )); "$fn"; echo "${COMPREPLY[*]}"' \
+        "$dir/impactcert.bash" "$fn" "$@"
+}
+[ "$(complete_with _impactcert_check impactcert-check --mer)" = "--merged" ] || fail "impactcert-check --mer -> $(complete_with _impactcert_check impactcert-check --mer)"
+grep -qw -- "--max-faces" <<<"$(complete_with _impactcert_verify impactcert-verify --max-f)" || fail "impactcert-verify --max-f"
+grep -q "complete -o filenames -F _impactcert_check impactcert-check" "$dir/impactcert.bash" || fail "no completion for impactcert-check"
+# The manual cites what the package installs (issue 40, item 4), never the developers' SPEC.
+grep -qF "docs/formats.md" <<<"$text" || fail "impactcert.1 does not cite docs/formats.md"
+grep -qF "/doc/impactcert" <<<"$text" || fail "impactcert.1 does not say where the documentation is installed"
+! grep -q "SPEC" <<<"$text" || fail "impactcert.1 cites the SPEC, which no user has"
+echo "ok: 3 pages render cleanly; completion of commands, kinds, options and their values, for the three programs"

@@ -7,6 +7,7 @@
      parts verify; the forged ones are rejected naming slice.pairs.
   8. fuzz JUnit (law mode and consistency): the time is the run's, not 0; a failing case quotes
      an example of its own class, not the run's first example.
+  9. Reports and sweep merges are byte-identical to a second run, PDFs included.
 (Items 1 and 2, the worst case's decimal and undecided: tests/worst_case_test.py; item 8's
 replays: tests/mutants_test.py.)
 Usage: reliability_round5_test.py BINDIR SOURCE_DIR"""
@@ -105,5 +106,56 @@ try:
         fail("consistency --junit: time 0")
 except (ET.ParseError, FileNotFoundError, TypeError) as err:
     fail(f"consistency --junit: {err}")
+
+# ---- 9. every output reproducible: a report written twice, and a sweep merged from its parts
+# against the same sweep in one run, are byte-identical, PDFs included (their creation date is
+# SOURCE_DATE_EPOCH, 0 when unset); a given SOURCE_DATE_EPOCH is honoured.
+import filecmp  # noqa: E402
+import shutil  # noqa: E402
+import time  # noqa: E402
+
+
+def tree(d):
+    return sorted(os.path.relpath(os.path.join(r, f), d) for r, _, fs in os.walk(d) for f in fs)
+
+
+def same_trees(a, b, label):
+    ta, tb = tree(a), tree(b)
+    if ta != tb:
+        fail(f"{label}: different files {ta} vs {tb}")
+        return
+    for f in ta:
+        if not filecmp.cmp(os.path.join(a, f), os.path.join(b, f), shallow=False):
+            fail(f"{label}: {f} differs")
+
+
+if shutil.which("rsvg-convert"):
+    r1, r2, r3 = (os.path.join(tmp, f"report{k}") for k in (1, 2, 3))
+    run([CLI, "report", "-o", r1])
+    time.sleep(1.1)
+    run([CLI, "report", "-o", r2])
+    if not any(f.endswith(".pdf") for f in tree(r1)):
+        fail(f"report wrote no PDF: {tree(r1)}")
+    same_trees(r1, r2, "report written twice")
+    env = dict(os.environ, SOURCE_DATE_EPOCH="86400")
+    run([CLI, "report", "-o", r3], env=env)
+    if b"/CreationDate (19700102000000" not in open(os.path.join(r3, "figures", "cones.pdf"), "rb").read():
+        fail("report: SOURCE_DATE_EPOCH=86400 not the PDF's creation date")
+    sweep = ["sweep", "--masses", "1,m,1", "--restitution", "1", "--vary", "m=1/2..2:3", "--jobs", "1"]
+    single, merged = os.path.join(tmp, "sweep-single"), os.path.join(tmp, "sweep-merged")
+    run([CLI] + sweep + ["-o", single])
+    parts = []
+    for k in (1, 2):
+        d = os.path.join(tmp, f"sweep-part{k}")
+        run([CLI] + sweep + ["--shard", f"{k}/2", "-o", d])
+        parts += [os.path.join(d, f) for f in os.listdir(d) if f.startswith("sweep.part-")]
+    time.sleep(1.1)
+    r = run([CLI, "sweep", "--merge"] + parts + ["-o", merged])
+    if r.returncode != 0:
+        fail(f"sweep --merge: exit {r.returncode} {r.stderr}")
+    elif not any(f.endswith(".pdf") for f in tree(single)):
+        fail(f"sweep wrote no PDF: {tree(single)}")
+    else:
+        same_trees(single, merged, "sweep merged against one run")
 
 testkit.finish(failures)

@@ -12,7 +12,7 @@
 // resolves each contact's friction (clamped to mu times the contact's current normal impulse: the
 // Coulomb box) and its normal impulse with a restitution target fixed before the iterations
 // (approaching contacts only). Converged, that is the Newton law with friction with restitution on
-// approaching contacts and e_T = 0 (SPEC section 9); `impactcert derive newton --system SCENE
+// approaching contacts and e_T = 0 (docs/derive.md, "Friction"); `impactcert derive newton --system SCENE
 // --restitution-on approaching` derives it exactly.
 //
 // Friction and restitution: set on every contact in Box2D's PreSolve from the scene (per pair of
