@@ -35,7 +35,7 @@ void note_without_pdf(bool figures) {
 }
 
 int run_report(const std::string& law_path, const std::string& dir, const Limits& limits) {
-    const Model model = load_model(law_path, limits.max_pieces, limits.max_memory_mb);
+    const Model model = load_model(law_path, limits);
     const VerifyReport report = verify_with_progress(model, limits);
     std::error_code ec;
     std::filesystem::create_directories(dir, ec);
@@ -253,8 +253,10 @@ int main(int argc, char** argv) {
     sweep_cmd->add_option("-o,--output", sweep_args.out, "directory to write sweep.csv, sweep.json, sweep.html and figures/ into")->required();
     for (auto* cmd : {certify_cmd, report_cmd, sweep_cmd})
         add_limit_options(cmd, proof);
-    for (auto* cmd : {certify_cmd, report_cmd})
+    for (auto* cmd : {certify_cmd, report_cmd}) {
+        add_claims_option(cmd, proof);
         add_jobs_option(cmd, proof);
+    }
 
     auto* fuzz_cmd = app.add_subcommand("fuzz", "fuzz a float implementation against the exact law; exit 0 no violation, 1 violation, 2 bad input, 3 undecided (no sample checked before --seconds)");
     fuzz_cmd->add_option_function<std::string>("--seed", [&](const std::string& text) {

@@ -28,6 +28,9 @@ struct Limits {
     // --shard K/N (shard.hpp): this process decides slice K of N (0-based here) of the work.
     std::size_t shard_index = 0, shard_count = 1;
     std::size_t shard_block_pairs = 1024; // --shard-block: pairs of nonexpansive per block
+    // --claims: the obligations the run holds the law to, replacing the law file's "claims"
+    // (comma-separated ids, or "all": every one that applies); empty: the law's own.
+    std::string claims;
 };
 
 struct LimitExceeded : std::runtime_error {

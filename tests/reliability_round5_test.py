@@ -7,6 +7,8 @@
      parts verify; the forged ones are rejected naming slice.pairs.
   8. fuzz JUnit (law mode and consistency): the time is the run's, not 0; a failing case quotes
      an example of its own class, not the run's first example.
+  5. Derived laws write the claims the documented rule gives (Kane's committed laws are what
+     derive writes afresh); --claims chooses them on verify and certify, checked by the checker.
   9. Reports and sweep merges are byte-identical to a second run, PDFs included.
 (Items 1 and 2, the worst case's decimal and undecided: tests/worst_case_test.py; item 8's
 replays: tests/mutants_test.py.)
@@ -106,6 +108,44 @@ try:
         fail("consistency --junit: time 0")
 except (ET.ParseError, FileNotFoundError, TypeError) as err:
     fail(f"consistency --junit: {err}")
+
+# ---- 5. which obligations a law claims: derived laws say it, --claims chooses it
+for d in ("gains", "consistent"):
+    fresh = os.path.join(tmp, f"kane-{d}.json")
+    run([CLI, "derive", "newton", "--system", os.path.join(SRC, "proofs", "kane", d, "system.json"), "--restitution", "1/2",
+         "-o", fresh])
+    if open(fresh).read() != open(os.path.join(SRC, "proofs", "kane", d, "law.json")).read():
+        fail(f"proofs/kane/{d}/law.json is not what derive writes afresh")
+    claims = json.load(open(fresh)).get("claims")
+    if claims != ["fan", "P1", "kinematic", "kinetic", "coulomb", "energetic", "outcomes"]:
+        fail(f"Kane's derived law claims {claims}")
+diss = os.path.join(tmp, "dissipative.json")
+run([CLI, "derive", "poisson", "--masses", "1,1,1", "--restitution", "1/2", "-o", diss])
+law_claims = json.load(open(diss)).get("claims", [])
+if "P2" in law_claims or "P3" in law_claims or "energetic" not in law_claims:
+    fail(f"a dissipative derived law claims {law_claims}")
+elastic = os.path.join(tmp, "elastic.json")
+run([CLI, "derive", "sequential", "--masses", "1,1,1", "-o", elastic])
+if "P2" not in json.load(open(elastic)).get("claims", []):
+    fail("an elastic derived law does not claim energy conservation")
+if run([CLI, "verify", "--law", diss]).returncode != 0 or run([CLI, "verify", "--law", diss, "--claims", "all"]).returncode != 1:
+    fail("verify --claims all does not hold the dissipative law to P2")
+cert = os.path.join(tmp, "claims.cert.json")
+r = run([CLI, "certify", "--law", diss, "--claims", "fan,P1,P2", "-o", cert])
+c = json.load(open(cert)) if os.path.exists(cert) else {}
+if r.returncode != 1 or c.get("law", {}).get("claims") != ["fan", "P1", "P2"] or c.get("verdict") != "refuted":
+    fail(f"certify --claims fan,P1,P2: exit {r.returncode}, {c.get('law', {}).get('claims')}, {c.get('verdict')}")
+rc = run([CHECK, cert])
+if rc.returncode != 0 or "refuted" not in rc.stdout:
+    fail(f"the checker on a --claims certificate: exit {rc.returncode} {rc.stdout}{rc.stderr}")
+for args, words in [(["--claims", "fan,bogus"], "not an obligation"), (["--claims", "fan,fan"], "twice"),
+                    (["--claims", "identities"], "does not apply"), (["--claims", ","], "is not an obligation")]:
+    b = run([CLI, "verify", "--law", diss] + args)
+    if b.returncode != 2 or words not in b.stderr or len(b.stderr.strip().splitlines()) != 1:
+        fail(f"verify {args}: exit {b.returncode} {b.stderr!r}")
+b = run([CLI, "verify", "--law", os.path.join(SRC, "proofs", "kane", "gains", "law.json"), "--claims", "P3"])
+if b.returncode != 2 or "does not apply" not in b.stderr:
+    fail(f"--claims P3 with friction: exit {b.returncode} {b.stderr!r}")
 
 # ---- 9. every output reproducible: a report written twice, and a sweep merged from its parts
 # against the same sweep in one run, are byte-identical, PDFs included (their creation date is

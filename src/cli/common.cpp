@@ -1,6 +1,10 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "cli/common.hpp"
 
+#include <algorithm>
+
+#include <sstream>
+
 #include "law_json.hpp"
 #include "paper_law.hpp"
 
@@ -8,12 +12,14 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <sstream>
 #include <random>
 
 namespace impactcert::cli {
@@ -97,6 +103,41 @@ std::string replay_command(const std::string& subcommand) {
     return prefix + shell_word(program) + " " + subcommand;
 }
 const std::string& program_name() { return name_storage(); }
+
+Model load_model(const std::string& law_path, const Limits& limits) {
+    if (limits.claims.empty())
+        return load_model(law_path, limits.max_pieces, limits.max_memory_mb);
+    Law law = law_path.empty() ? paper_law() : load_law_declaration(law_path);
+    if (limits.claims == "all") {
+        law.claims.reset(); // every obligation that applies
+    } else {
+        std::vector<std::string> ids;
+        std::string item;
+        std::stringstream in(limits.claims);
+        while (std::getline(in, item, ',')) {
+            if (!is_obligation_id(item) || (item == "coulomb" && law.friction.empty())) {
+                std::string names;
+                for (const char* id : obligation_ids(!law.friction.empty()))
+                    names += std::string(names.empty() ? "" : ", ") + id;
+                throw InputError("--claims: \"" + item + "\" is not an obligation of this law (" + names + ", or all)");
+            }
+            if (!law_applies(law, item))
+                throw InputError("--claims: " + item + " does not apply to this law (" +
+                                 (item == "P3" ? std::string("not with friction") : "the law declares nothing for it") + ")");
+            if (std::find(ids.begin(), ids.end(), item) != ids.end())
+                throw InputError("--claims: " + item + " given twice");
+            ids.push_back(item);
+        }
+        if (ids.empty())
+            throw InputError("--claims: no obligation given (ids separated by commas, or all)");
+        law.claims = ids;
+    }
+    try {
+        return Model(std::move(law), limits.max_pieces, limits.max_memory_mb);
+    } catch (const InputError& e) {
+        throw InputError((law_path.empty() ? std::string("the paper's law") : law_path) + ": " + e.what());
+    }
+}
 
 Model load_model(const std::string& law_path, std::size_t max_pieces, std::size_t max_memory_mb) {
     return law_path.empty() ? Model(paper_law(), max_pieces, max_memory_mb)

@@ -42,6 +42,8 @@ const std::string& program_name();
 void set_invocation(const char* argv0);
 std::string replay_command(const std::string& subcommand);
 
+// With `claims` (--claims): the law held to those obligations instead of its file's "claims".
+Model load_model(const std::string& law_path, const Limits& limits);
 Model load_model(const std::string& law_path, std::size_t max_pieces = Limits{}.max_pieces,
                  std::size_t max_memory_mb = Limits{}.max_memory_mb);
 

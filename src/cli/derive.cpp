@@ -24,6 +24,29 @@ std::string law_text(const Law& law) {
     return out.dump(2) + "\n";
 }
 
+// What a derived law claims (docs/laws.md, "What a law claims"): what a physical impact law is
+// expected to satisfy -- a function (fan), continuous (P1), no penetration (kinematic), pushing
+// impulses (kinetic; with friction inside the cone, and coulomb), no energy gain (energetic) --
+// and whatever is declared (identities, single impacts, outcomes, symmetries). Energy
+// conservation (P2) only for an elastic frictionless law (every restitution 1); non-expansivity
+// in H (nonexpansive, nonexpansive-lemma) for frictionless laws; P3 (each cone onto the orthant,
+// the paper's construction) never by default. --claims on verify, certify and report overrides.
+void set_expected_claims(Law& law, const std::vector<Rational>& restitution) {
+    const bool friction = !law.friction.empty();
+    bool elastic = !friction;
+    for (const auto& e : restitution)
+        elastic = elastic && e == Rational(1);
+    std::vector<std::string> claims;
+    for (const char* id : obligation_ids(friction)) {
+        const std::string s = id;
+        if (!law_applies(law, s) || s == "P3" || (s == "P2" && !elastic) ||
+            (friction && (s == "nonexpansive" || s == "nonexpansive-lemma")))
+            continue;
+        claims.push_back(s);
+    }
+    law.claims = claims;
+}
+
 void emit(const std::string& out_path, const std::string& text, const std::string& summary) {
     if (out_path.empty() || out_path == "-") { // "-": standard output, as the default
         write_stdout(text);
@@ -147,6 +170,7 @@ int run_derive_sequential(const DeriveArgs& a) {
         }
         return kExitUndecided;
     }
+    set_expected_claims(*r.law, o.restitution);
     emit(a.out, law_text(*r.law),
          std::to_string(r.law->pieces.size()) + " pieces, " + std::to_string(r.regions) + " regions, longest word " +
              std::to_string(r.max_word));
@@ -163,7 +187,7 @@ int run_derive_friction(const DeriveArgs& a, FrictionOptions o, const Mechanics&
         o.progress = [show](const char* phase, std::size_t done, std::size_t total) {
             show(std::string("derive ") + phase, std::to_string(done) + (total ? "/" + std::to_string(total) : ""));
         };
-    const FrictionResult r = derive_newton_friction(o);
+    FrictionResult r = derive_newton_friction(o);
     if (r.not_a_function) {
         const NotAFunction& w = *r.not_a_function;
         if (w.none)
@@ -189,6 +213,7 @@ int run_derive_friction(const DeriveArgs& a, FrictionOptions o, const Mechanics&
         return kExitRefuted;
     }
     (void)mech;
+    set_expected_claims(*r.law, o.restitution);
     emit(a.out, law_text(*r.law),
          std::to_string(r.law->pieces.size()) + " pieces, " + std::to_string(r.regions) + " mode regions, " +
              std::to_string(r.modes) + " modes, " + std::to_string(r.pairs) + " mode pairs without a second solution");
@@ -229,7 +254,8 @@ int run_derive_classical(const DeriveArgs& a, bool poisson) {
         fo.max_modes = a.max_modes;
         return run_derive_friction(a, fo, mech);
     }
-    const Law law = poisson ? derive_poisson(o) : derive_newton(o);
+    Law law = poisson ? derive_poisson(o) : derive_newton(o);
+    set_expected_claims(law, o.restitution);
     emit(a.out, law_text(law), std::to_string(law.pieces.size()) + " pieces");
     return kExitProved;
 }

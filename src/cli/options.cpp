@@ -51,6 +51,10 @@ void add_limit_options(CLI::App* cmd, ProofOptions& proof) {
     cmd->add_flag("--no-integer-kernels", proof.no_integer_kernels, "decide the pair forms over GMP alone (same verdicts; for comparison)");
 }
 
+void add_claims_option(CLI::App* cmd, ProofOptions& proof) {
+    cmd->add_option("--claims", proof.limits.claims, "the obligations to hold the law to, replacing its file's \"claims\": ids separated by commas (fan,P1,kinematic,...), or all (every one that applies); the rest are still decided and reported (docs/laws.md, \"What a law claims\")");
+}
+
 void add_jobs_option(CLI::App* cmd, ProofOptions& proof) {
     proof.jobs = std::max(1u, std::thread::hardware_concurrency());
     cmd->add_option("--jobs", proof.jobs, "threads for the pairwise checks (default: all cores); the output does not depend on it")->check(natural_text)->check(CLI::Range(1u, 256u));
@@ -72,6 +76,7 @@ void add_verify_options(CLI::App* cmd, VerifyArgs& args, ProofOptions& proof) {
     cmd->add_option("--shard", args.shard_text, "K/N: decide slice K of N only (obligation i when i mod N = K-1, and nonexpansive's pair blocks b mod N = K-1)")->check(shard_text);
     add_shard_block_option(cmd, proof);
     add_limit_options(cmd, proof);
+    add_claims_option(cmd, proof);
     add_jobs_option(cmd, proof);
 }
 

@@ -36,6 +36,7 @@ struct ProofOptions {
     Limits resolved() const; // limits with the kernels, the threads and the shard block applied
 };
 void add_limit_options(CLI::App* cmd, ProofOptions& proof);
+void add_claims_option(CLI::App* cmd, ProofOptions& proof); // --claims (verify, certify, report)
 void add_jobs_option(CLI::App* cmd, ProofOptions& proof);
 void add_shard_block_option(CLI::App* cmd, ProofOptions& proof);
 

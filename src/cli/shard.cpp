@@ -49,7 +49,7 @@ VerifyReport slice_only(VerifyReport report, const Shard& shard) {
 } // namespace
 
 int run_verify_shard(const std::string& law_path, const Shard& shard, bool json, Limits limits) {
-    const Model model = load_model(law_path, limits.max_pieces, limits.max_memory_mb);
+    const Model model = load_model(law_path, limits);
     if (model.has_friction())
         throw InputError("--shard: laws with friction are not sharded yet (verify and certify them whole)");
     limits.evidence = false;
@@ -66,7 +66,7 @@ int run_verify_shard(const std::string& law_path, const Shard& shard, bool json,
 }
 
 int run_certify_shard(const std::string& law_path, const Shard& shard, const std::string& out_path, Limits limits) {
-    const Model model = load_model(law_path, limits.max_pieces, limits.max_memory_mb);
+    const Model model = load_model(law_path, limits);
     if (model.has_friction())
         throw InputError("--shard: laws with friction are not sharded yet (verify and certify them whole)");
     VerifyReport report = decide_slice(model, shard, limits);

@@ -69,7 +69,7 @@ int worst_case_status(int status, const WorstCase& w) {
 }
 
 int run_verify(const std::string& law_path, bool json, const std::string& junit_path, bool worst, const Limits& limits) {
-    const Model model = load_model(law_path, limits.max_pieces, limits.max_memory_mb);
+    const Model model = load_model(law_path, limits);
     Limits no_evidence = limits;
     no_evidence.evidence = false; // a verdict needs no certificate
     const VerifyReport report = verify_with_progress(model, no_evidence);
@@ -133,7 +133,7 @@ int run_verify_command(const VerifyArgs& args, const Limits& limits) {
 }
 
 int run_certify(const std::string& law_path, const std::string& out_path, bool worst, const Limits& limits) {
-    const Model model = load_model(law_path, limits.max_pieces, limits.max_memory_mb);
+    const Model model = load_model(law_path, limits);
     // The header names the top verdict: a first pass without evidence gives it; the second
     // writes each obligation as it is decided (one obligation's evidence in memory at a time).
     Limits quick = limits;
