@@ -112,7 +112,8 @@ std::vector<Marked> marked_points(const VerifyReport* report, std::size_t c) {
         return parts;
     };
     for (const auto& o : report->obligations) {
-        if (o.verdict != Verdict::refuted || !o.counterexample.is_object())
+        // Only what the law claims: a property it does not claim is no counterexample to it.
+        if (o.verdict != Verdict::refuted || !o.claimed || !o.counterexample.is_object())
             continue;
         const Json& w = o.counterexample;
         Marked m{o.id, {}, {}};
@@ -294,7 +295,7 @@ std::string sphere_svg(const Model& model, const VerifyReport* report) {
                 continue;
             const auto [px, py] = project(axis);
             s += "<circle cx=\"" + fmt(px) + "\" cy=\"" + fmt(py) + "\" r=\"2.5\" fill=\"#000\"/><text x=\"" + fmt(px + 4) +
-                 "\" y=\"" + fmt(py - 4) + "\" font-size=\"11\">&#947;" + std::to_string(k + 1) + "-</text>\n";
+                 "\" y=\"" + fmt(py - 4) + "\" font-size=\"11\">" + coordinate_svg(model, k) + "-</text>\n";
         }
         // Counterexamples: their directions on the sphere (a pair joined by its chord).
         std::map<std::pair<long, long>, int> labels;
@@ -352,9 +353,11 @@ std::string angle_strip(const Model& model, double x0, double y0, double width) 
                 s += "<text x=\"" + fmt((at(lo) + at(hi)) / 2) + "\" y=\"" + fmt(y0 + height / 2 + 4) +
                      "\" text-anchor=\"middle\" font-size=\"11\" class=\"strip-label\">" + xml_escape(pieces[p].name) + "</text>\n";
     }
+    const std::string g1 = coordinate_svg(model, 0), g2 = coordinate_svg(model, 1);
+    const std::string p1 = "+" + g1, p2 = "+" + g2, m1 = "-" + g1, m2 = "-" + g2;
     const std::vector<std::pair<Vector, const char*>> ticks = {
-        {{Rational(1), Rational(0)}, "+&#947;1"}, {{Rational(0), Rational(1)}, "+&#947;2"},
-        {{Rational(-1), Rational(0)}, "-&#947;1"}, {{Rational(0), Rational(-1)}, "-&#947;2"},
+        {{Rational(1), Rational(0)}, p1.c_str()}, {{Rational(0), Rational(1)}, p2.c_str()},
+        {{Rational(-1), Rational(0)}, m1.c_str()}, {{Rational(0), Rational(-1)}, m2.c_str()},
         {{Rational(-1), Rational(-1)}, "tie"}};
     // Ticks left to right; a label closer than 30 px to the previous one goes one row lower.
     std::vector<std::pair<double, const char*>> placed;
@@ -409,8 +412,9 @@ std::string cones_svg(const Model& model, const VerifyReport* report) {
         s += "<clipPath id=\"images\"><rect x=\"" + fmt(main + 20 + cx - r) + "\" y=\"" + fmt(cy - r) +
              "\" width=\"" + fmt(2 * r) + "\" height=\"" + fmt(2 * r) + "\"/></clipPath>\n";
     s += "</defs>\n";
+    const std::string g1 = coordinate_svg(model, 0), g2 = coordinate_svg(model, 1);
     s += "<text x=\"" + fmt(cx) + "\" y=\"16\" text-anchor=\"middle\" font-size=\"14\">cones C_i, pre-impact "
-         "(&#947;1-, &#947;2-), metric H</text>\n";
+         "(" + g1 + "-, " + g2 + "-), metric H</text>\n";
     auto axes = [&](double ox, double oy, double rr, const char* x_label, const char* y_label, const std::string& clip) {
         std::string t = "<rect x=\"" + fmt(ox - rr) + "\" y=\"" + fmt(oy - rr) + "\" width=\"" + fmt(2 * rr) +
                         "\" height=\"" + fmt(2 * rr) + "\" fill=\"#fafafa\" stroke=\"#999\"/>\n";
@@ -430,7 +434,7 @@ std::string cones_svg(const Model& model, const VerifyReport* report) {
              fmt(oy - dy.y * rr * (close ? 0.6 : 0.9) + (close ? 16 : 4)) + "\" font-size=\"12\">" + y_label + "</text>\n";
         return t;
     };
-    s += axes(cx, cy, r, "&#947;1-", "&#947;2-", "main");
+    s += axes(cx, cy, r, (g1 + "-").c_str(), (g2 + "-").c_str(), "main");
     for (std::size_t p = 0; p < P; ++p) {
         const auto [a, b] = ccw(pieces[p].R.column(0), pieces[p].R.column(1));
         s += "<g><title>" + xml_escape(piece_title(pieces[p])) + "</title>" +
@@ -473,7 +477,7 @@ std::string cones_svg(const Model& model, const VerifyReport* report) {
     // The images.
     if (thumbnails) {
         s += "<text x=\"" + fmt(main + 20 + static_cast<double>(cols) * cell / 2) + "\" y=\"16\" text-anchor=\"middle\" font-size=\"14\">"
-             "images Q_i C_i (&#947;1+, &#947;2+), metric H</text>\n";
+             "images Q_i C_i (" + g1 + "+, " + g2 + "+), metric H</text>\n";
         for (std::size_t p = 0; p < P; ++p) {
             const double x0 = main + 20 + static_cast<double>(p % cols) * cell, y0 = 30 + static_cast<double>(p / cols) * cell;
             const double icx = x0 + cell / 2, icy = y0 + cell / 2, ir = cell / 2 - 5;
@@ -495,8 +499,8 @@ std::string cones_svg(const Model& model, const VerifyReport* report) {
     } else {
         const double icx = main + 20 + cx;
         s += "<text x=\"" + fmt(icx) + "\" y=\"16\" text-anchor=\"middle\" font-size=\"14\">all images Q_i C_i "
-             "(&#947;1+, &#947;2+), metric H (hover)</text>\n";
-        s += axes(icx, cy, r, "&#947;1+", "&#947;2+", "images");
+             "(" + g1 + "+, " + g2 + "+), metric H (hover)</text>\n";
+        s += axes(icx, cy, r, (g1 + "+").c_str(), (g2 + "+").c_str(), "images");
         for (std::size_t p = 0; p < P; ++p) {
             const Vector u = pieces[p].Q * pieces[p].R.column(0), v = pieces[p].Q * pieces[p].R.column(1);
             const Rational area = u[0] * v[1] - u[1] * v[0];
@@ -529,8 +533,7 @@ std::string report_markdown(const Model& model, const VerifyReport& report) {
     std::string s = "# impactcert report: " + md_escape(report.law) + "\n\n";
     s += std::string("**Verdict: ") + report.verdict() + "** — " +
          std::to_string(claimed_count(report, true)) + " of " + std::to_string(claimed_count(report, false)) +
-         " claimed obligations proved. " + std::to_string(model.balls()) + " balls, " +
-         std::to_string(model.contacts()) + (model.contacts() == 1 ? " contact, " : " contacts, ") +
+         " claimed obligations proved. " + system_words(model) + ", " +
          std::to_string(model.pieces().size()) + " pieces; law SHA-256 `" + law_hash(model) + "`.\n\n";
     s += "| obligation | claimed | verdict | exact checks | method |\n|---|---|---|---:|---|\n";
     for (const auto& o : report.obligations) {
@@ -568,7 +571,8 @@ std::string report_markdown(const Model& model, const VerifyReport& report) {
         std::string why_not;
         if (planes_svg_fits(model, &why_not))
             s += "\nreport.html draws the " + std::to_string(model.contacts()) + "-dimensional law on each plane of two "
-                 "contacts (figures/planes.svg).\n";
+                 + std::string(model.has_friction() ? "contact coordinates (normal gamma_N and tangential gamma_T)" : "contacts") +
+                 " (figures/planes.svg).\n";
         else
             s += "\nNo picture in report.html: " + md_escape(why_not) + ".\n";
     }
@@ -591,8 +595,8 @@ std::string report_html(const Model& model, const VerifyReport& report) {
     s += "<h1>impactcert report: " + xml_escape(report.law) + "</h1>\n";
     s += std::string("<p><span class=\"badge\" style=\"background:") + colour + "\">" + verdict + "</span> " + std::to_string(claimed_count(report, true)) + " of " +
          std::to_string(claimed_count(report, false)) + " claimed obligations proved; " +
-         std::to_string(model.balls()) + " balls, " + std::to_string(model.contacts()) + " contacts, " +
-         std::to_string(model.pieces().size()) + " pieces. Law SHA-256 <code>" + law_hash(model) + "</code>.</p>\n";
+         system_words(model) + ", " + std::to_string(model.pieces().size()) + " pieces. Law SHA-256 <code>" +
+         law_hash(model) + "</code>.</p>\n";
     if (model.contacts() == 2)
         s += "<figure>\n" + cones_svg(model, &report) +
              "<figcaption>Left: the cones of the law in the plane of pre-impact contact velocities (compare "

@@ -141,6 +141,7 @@ struct Sector {
     std::size_t piece;
     Vector u, v;       // exact extreme directions in the plane
     double a = 0, d = 0; // drawn: start angle and counter-clockwise span
+    std::vector<std::size_t> also; // other pieces meeting the plane in exactly this sector
 };
 
 } // namespace
@@ -161,7 +162,7 @@ std::string unit_circle_svg(const Model& model) {
         Vector u = pieces[p].R.column(0), v = pieces[p].R.column(1);
         if (sign_of(cross(u, v)) == Sign::negative)
             std::swap(u, v);
-        Sector sec{p, u, v, h_angle(H, u), 0};
+        Sector sec{p, u, v, h_angle(H, u), 0, {}};
         sec.d = sector_span(sec.a, h_angle(H, v));
         sectors.push_back(sec);
         Samples curve;
@@ -260,11 +261,25 @@ std::string planes_svg(const Model& model, std::string* why_not) {
         for (std::size_t j = i + 1; j < c; ++j) {
             Panel panel{i, j, {}, {}};
             const Matrix B = block(model.H(), i, j);
+            // Where the plane lies in a face shared by several cones, they meet it in the same
+            // sector: the first of them is drawn (one colour, one name per sector; on a face the
+            // continuous law's pieces agree), the others are named in its tooltip.
+            auto same_direction = [](const Vector& a, const Vector& b) {
+                return sign_of(cross(a, b)) == Sign::zero && sign_of(a[0] * b[0] + a[1] * b[1]) == Sign::positive;
+            };
             for (std::size_t p = 0; p < P; ++p) {
                 auto sector = plane_sector(pieces[p], i, j);
                 if (!sector)
                     continue;
-                Sector sec{p, sector->first, sector->second, 0, 0};
+                bool seen = false;
+                for (auto& other : panel.sectors)
+                    if (same_direction(other.u, sector->first) && same_direction(other.v, sector->second)) {
+                        other.also.push_back(p);
+                        seen = true;
+                    }
+                if (seen)
+                    continue;
+                Sector sec{p, sector->first, sector->second, 0, 0, {}};
                 sec.a = h_angle(B, sec.u);
                 sec.d = sector_span(sec.a, h_angle(B, sec.v));
                 std::vector<std::pair<double, double>> curve;
@@ -290,15 +305,19 @@ std::string planes_svg(const Model& model, std::string* why_not) {
         const double cx = x0 + cell / 2, cy = y0 + cell / 2 + 8;
         s += "<g class=\"plane\"><rect x=\"" + fmt(x0 + 2) + "\" y=\"" + fmt(y0 + 2) + "\" width=\"" + fmt(cell - 4) +
              "\" height=\"" + fmt(cell - 4) + "\" fill=\"#ffffff\" stroke=\"#cccccc\"/>\n";
-        s += "<text x=\"" + fmt(x0 + 8) + "\" y=\"" + fmt(y0 + 16) + "\" font-weight=\"bold\">&#947;" + std::to_string(panel.i + 1) +
-             ", &#947;" + std::to_string(panel.j + 1) + "</text>\n";
+        s += "<text x=\"" + fmt(x0 + 8) + "\" y=\"" + fmt(y0 + 16) + "\" font-weight=\"bold\">" + coordinate_svg(model, panel.i) +
+             ", " + coordinate_svg(model, panel.j) + "</text>\n";
         // Where no cone meets the plane in a sector: a grey ring underneath shows the gap.
         s += "<circle cx=\"" + fmt(cx) + "\" cy=\"" + fmt(cy) + "\" r=\"" + fmt(radius + 10) +
              "\" fill=\"none\" stroke=\"#dddddd\" stroke-width=\"12\"/>\n";
-        for (const auto& sec : panel.sectors)
+        for (const auto& sec : panel.sectors) {
+            std::string title = piece_title(pieces[sec.piece]);
+            for (std::size_t q : sec.also)
+                title += "\nalso on this sector: " + pieces[q].name;
             s += "<path d=\"" + ring_path(cx, cy, radius + 4, radius + 16, sec.a, std::max(sec.d, 1e-6)) + "\" fill=\"" +
-                 kPalette[sec.piece % 10] + "\" stroke=\"#ffffff\" stroke-width=\"0.5\"><title>" +
-                 xml_escape(piece_title(pieces[sec.piece])) + "</title></path>\n";
+                 kPalette[sec.piece % 10] + "\" stroke=\"#ffffff\" stroke-width=\"0.5\"><title>" + xml_escape(title) +
+                 "</title></path>\n";
+        }
         // Names outside the ring where the arc has room for them and no name is near (cones that
         // meet the plane in a common face would write over each other).
         std::vector<std::pair<double, double>> placed;

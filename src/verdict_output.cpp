@@ -85,16 +85,28 @@ std::string xml_escape(const std::string& s) {
     return out;
 }
 
-std::string verdict_table(const VerifyReport& report, const Model& model) {
+std::string system_words(const Model& model) {
+    const std::size_t n = model.balls(), c = model.normals(), t = model.tangents().size();
+    const bool chain = !model.law().W && !model.law().M && !model.has_friction();
+    std::string s = std::to_string(n) + (chain ? (n == 1 ? " ball, " : " balls, ") : (n == 1 ? " velocity, " : " velocities, ")) +
+                    std::to_string(c) + (c == 1 ? " contact" : " contacts");
+    if (t)
+        s += " with " + std::to_string(t) + (t == 1 ? " friction tangent" : " friction tangents");
+    return s;
+}
+
+std::string coordinate_svg(const Model& model, std::size_t k) {
     if (!model.has_friction())
-        return verdict_table(report, model.balls(), model.contacts(), model.pieces().size());
-    // With friction: velocities (not balls), the contacts and their tangents (gamma in R^d).
+        return "&#947;<tspan baseline-shift=\"sub\" font-size=\"75%\">" + std::to_string(k + 1) + "</tspan>";
+    const bool normal = k < model.normals();
+    return "&#947;<tspan baseline-shift=\"sub\" font-size=\"75%\">" + std::string(normal ? "N" : "T") +
+           std::to_string(normal ? k + 1 : k - model.normals() + 1) + "</tspan>";
+}
+
+std::string verdict_table(const VerifyReport& report, const Model& model) {
     std::string table = verdict_table(report, model.balls(), model.contacts(), model.pieces().size());
     const std::string old_head = table.substr(0, table.find('\n'));
-    const std::size_t t = model.tangents().size();
-    const std::string head = "impactcert verify: " + report.law + " (" + std::to_string(model.balls()) + " velocities, " +
-                             std::to_string(model.normals()) + (model.normals() == 1 ? " contact" : " contacts") +
-                             " with " + std::to_string(t) + (t == 1 ? " friction tangent, " : " friction tangents, ") +
+    const std::string head = "impactcert verify: " + report.law + " (" + system_words(model) + ", " +
                              std::to_string(model.pieces().size()) + " pieces)";
     return head + table.substr(old_head.size());
 }

@@ -19,6 +19,13 @@ namespace impactcert {
 inline constexpr const char* kVerdictFormat = "impactcert-verdict/1";
 
 Json verdict_json(const VerifyReport& report);
+// The law's system as it is: "3 balls, 2 contacts" for a chain of balls; otherwise its
+// velocities and contacts, and with friction its tangents ("2 velocities, 1 contact with 1
+// friction tangent").
+std::string system_words(const Model& model);
+// The name of contact coordinate k (0-based) in a figure's text: gamma1.. without friction;
+// gammaN1.., gammaT1.. with it (HTML/SVG: the letter as an entity, the index as a subscript).
+std::string coordinate_svg(const Model& model, std::size_t k);
 std::string verdict_table(const VerifyReport& report, const Model& model);
 std::string verdict_table(const VerifyReport& report, std::size_t balls, std::size_t contacts, std::size_t pieces);
 std::string verdict_junit(const VerifyReport& report);

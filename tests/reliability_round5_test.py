@@ -147,6 +147,30 @@ b = run([CLI, "verify", "--law", os.path.join(SRC, "proofs", "kane", "gains", "l
 if b.returncode != 2 or "does not apply" not in b.stderr:
     fail(f"--claims P3 with friction: exit {b.returncode} {b.stderr!r}")
 
+# ---- 6. the system named as it is: velocities, contacts and tangents, not "balls"
+r = run([CLI, "verify", "--law", os.path.join(SRC, "proofs", "kane", "gains", "law.json")])
+head = r.stdout.splitlines()[0] if r.stdout else ""
+if "(2 velocities, 1 contact with 1 friction tangent, 5 pieces)" not in head:
+    fail(f"Kane's verify header: {head}")
+rep = os.path.join(tmp, "kane-report")
+run([CLI, "report", "--law", os.path.join(SRC, "proofs", "kane", "gains", "law.json"), "-o", rep])
+md = open(os.path.join(rep, "report.md")).read() if os.path.exists(os.path.join(rep, "report.md")) else ""
+if "balls" in md or "2 velocities, 1 contact with 1 friction tangent" not in md:
+    fail("Kane's report.md does not name the system as it is")
+svg = open(os.path.join(rep, "figures", "cones.svg")).read() if os.path.exists(os.path.join(rep, "figures", "cones.svg")) else ""
+if ">N1</tspan>" not in svg or ">T1</tspan>" not in svg:
+    fail("Kane's cones figure does not label the axes gamma_N1 and gamma_T1")
+# ---- 11. no counterexample dot for an obligation the law does not claim (Kane at mu = 1/8:
+# P2 and nonexpansive refuted, not claimed; every claim proved)
+rep = os.path.join(tmp, "kane-consistent-report")
+run([CLI, "report", "--law", os.path.join(SRC, "proofs", "kane", "consistent", "law.json"), "-o", rep])
+svg = open(os.path.join(rep, "figures", "cones.svg")).read() if os.path.exists(os.path.join(rep, "figures", "cones.svg")) else "?"
+if 'class="counterexample"' in svg:
+    fail("a counterexample is drawn on the cones of a law whose every claim is proved")
+svg = open(os.path.join(tmp, "kane-report", "figures", "cones.svg")).read()
+if 'class="counterexample"' not in svg:
+    fail("the claimed energetic counterexample of Kane at mu = 1/4 is not drawn")
+
 # ---- 9. every output reproducible: a report written twice, and a sweep merged from its parts
 # against the same sweep in one run, are byte-identical, PDFs included (their creation date is
 # SOURCE_DATE_EPOCH, 0 when unset); a given SOURCE_DATE_EPOCH is honoured.
