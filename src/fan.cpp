@@ -4,6 +4,7 @@
 #include "int_kernel.hpp"
 
 #include <algorithm>
+#include <array>
 #include <map>
 #include <set>
 #include <stdexcept>
@@ -526,48 +527,181 @@ std::size_t intersection_subsets(std::size_t c) {
     return out;
 }
 
+namespace {
+
+// det of the n x n integer matrix a (n <= 5; destroyed) by Bareiss's fraction-free elimination:
+// exact in int128 while every minor of a fits (the callers' bound: entries <= 2^12).
+intk::i128 bareiss_det(intk::i128 (&a)[5][5], std::size_t n) {
+    if (n == 0)
+        return 1; // the empty determinant
+    intk::i128 prev = 1;
+    int sign = 1;
+    for (std::size_t k = 0; k < n; ++k) {
+        std::size_t p = k;
+        while (p < n && a[p][k] == 0)
+            ++p;
+        if (p == n)
+            return 0;
+        if (p != k) {
+            for (std::size_t q = 0; q < n; ++q)
+                std::swap(a[p][q], a[k][q]);
+            sign = -sign;
+        }
+        for (std::size_t r = k + 1; r < n; ++r) {
+            for (std::size_t q = k + 1; q < n; ++q)
+                a[r][q] = (a[r][q] * a[k][k] - a[r][k] * a[k][q]) / prev;
+            a[r][k] = 0;
+        }
+        prev = a[k][k];
+    }
+    return sign * a[n - 1][n - 1];
+}
+
+// An int128 as a Rational, exactly (its magnitude in two 62-bit halves).
+Rational rational_of(intk::i128 x) {
+    const bool negative = x < 0;
+    const intk::i128 m = negative ? -x : x; // |x| < 2^126 here (the callers' bound), so -x exists
+    const intk::i128 low_mask = (static_cast<intk::i128>(1) << 62) - 1;
+    Rational r = Rational(static_cast<long>(m >> 62)) * Rational(static_cast<long>(1LL << 62)) +
+                 Rational(static_cast<long>(m & low_mask));
+    return negative ? -r : r;
+}
+
+} // namespace
+
 std::vector<Vector> intersection_rays(const Model& model, std::size_t i, std::size_t j,
                                       std::size_t& subsets) {
     const std::size_t c = model.contacts();
     const Piece& a = model.pieces()[i];
     const Piece& b = model.pieces()[j];
-    // x = R_a s with s >= 0 and t = R_b^-1 R_a s >= 0: 2c constraints on s.
-    const Matrix T = b.R_inv * a.R;
+    // x = G s, s >= 0, with G = R_a (all of C_a); or, when a facet hyperplane n_k . x = 0 of C_a
+    // (n_k row k of R_a^-1) leaves C_b on its other side (n_k . r <= 0 for every ray r of C_b),
+    // C_a ∩ C_b = F ∩ C_b with F = C_a ∩ {n_k . x = 0} the facet spanned by the other c - 1 rays
+    // of C_a: G = R_a without column k, one dimension less (proofs/README.md, "P1": the same
+    // cone, so the same extreme rays, from C(2c-1, c-2) subsets instead of C(2c, c-1)).
+    Matrix G = a.R;
+    for (std::size_t k = 0; k < c && G.cols() == c; ++k) {
+        const Vector n = a.R_inv.row(k);
+        bool other_side = true;
+        for (std::size_t r = 0; r < c && other_side; ++r)
+            other_side = sign_of(dot(n, b.R.column(r))) != Sign::positive;
+        if (other_side) {
+            Matrix F(c, c - 1);
+            for (std::size_t row = 0; row < c; ++row)
+                for (std::size_t col = 0, out = 0; col < c; ++col)
+                    if (col != k)
+                        F(row, out++) = a.R(row, col);
+            G = F;
+        }
+    }
+    const std::size_t d = G.cols();
+    // s >= 0 and t = R_b^-1 G s >= 0: d + c constraints on s.
+    const Matrix T = b.R_inv * G;
     std::vector<Vector> constraints;
-    for (std::size_t k = 0; k < c; ++k)
-        constraints.push_back(unit_vector(c, k));
+    for (std::size_t k = 0; k < d; ++k)
+        constraints.push_back(unit_vector(d, k));
     for (std::size_t k = 0; k < c; ++k)
         constraints.push_back(T.row(k));
-    auto feasible = [&](const Vector& s) {
+    auto feasible = [&](const Vector& sv) {
         return std::all_of(constraints.begin(), constraints.end(),
-                           [&](const Vector& g) { return sign_of(dot(g, s)) != Sign::negative; });
+                           [&](const Vector& g) { return sign_of(dot(g, sv)) != Sign::negative; });
     };
+    // The integer path (proofs/README.md, "Integer kernels"): each constraint scaled by a positive
+    // integer (the same half-space), entries bounded (below), d <= 6. The null space of d-1 rows
+    // of rank d-1 is spanned by their signed maximal minors m (Cramer), computed by fraction-free
+    // elimination in int128, and the sign tests g . (+-m) are exact in int128. The same subsets and the same candidate directions
+    // +-m (a positive multiple of the GMP path's), so the same primitive rays and the same count.
+    // Entries at most B: every minor of order d-1 is at most (d-1)! B^(d-1), Bareiss multiplies
+    // two of them, and a sign test sums d products of an entry and a minor, all below 2^126 with
+    // B = 2^20 for d <= 4, 2^14 for d = 5 and 2^11 for d = 6.
+    const intk::i64 B = d <= 4 ? (1 << 20) : d == 5 ? (1 << 14) : (1 << 11);
+    std::vector<std::vector<intk::i64>> ints;
+    bool integer = d <= 6;
+    for (std::size_t k = 0; k < constraints.size() && integer; ++k) {
+        auto v = intk::to_int_scaled(constraints[k]);
+        integer = v.has_value();
+        if (integer && std::any_of(v->begin(), v->end(), [](intk::i64 x) { return x != 0; }))
+            intk::make_primitive(*v); // divided by a positive gcd: the same half-space
+        if (integer)
+            for (auto x : *v)
+                integer = integer && x <= B && x >= -B;
+        if (integer)
+            ints.push_back(std::move(*v));
+    }
     // Every extreme ray of the pointed cone {s : constraints >= 0} is the one-dimensional
-    // solution set of c-1 independent tight constraints: try every such subset.
+    // solution set of d-1 independent tight constraints: try every such subset.
     std::set<Vector> rays;
-    std::vector<std::size_t> pick(c - 1);
-    for (std::size_t k = 0; k + 1 < c; ++k)
+    std::set<std::array<intk::i128, 6>> directions; // the integer path's, mapped to rays at the end
+    std::vector<std::size_t> pick(d - 1);
+    for (std::size_t k = 0; k + 1 < d; ++k)
         pick[k] = k;
     const std::size_t total = constraints.size();
     while (true) {
         ++subsets;
-        std::vector<Vector> rows;
-        for (auto k : pick)
-            rows.push_back(constraints[k]);
-        const auto ns = null_space(rows, c);
-        if (ns.size() == 1)
-            for (const Vector& s : {ns[0], Rational(-1) * ns[0]})
-                if (feasible(s))
-                    rays.insert(primitive_ray(a.R * s));
-        // Next (c-1)-subset of {0..2c-1} in lexicographic order.
-        std::size_t k = c - 1;
-        while (k > 0 && pick[k - 1] == total - (c - 1) + (k - 1))
+        if (integer) {
+            // m_k = (-1)^k det(rows without column k).
+            intk::i128 m[6] = {};
+            bool zero = true;
+            for (std::size_t col = 0; col < d; ++col) {
+                intk::i128 sub[5][5];
+                for (std::size_t r = 0; r + 1 < d; ++r)
+                    for (std::size_t q = 0, out = 0; q < d; ++q)
+                        if (q != col)
+                            sub[r][out++] = ints[pick[r]][q];
+                m[col] = ((col % 2) ? -1 : 1) * bareiss_det(sub, d - 1);
+                zero = zero && m[col] == 0;
+            }
+            if (!zero)
+                for (int sign : {1, -1}) {
+                    bool ok = true;
+                    for (std::size_t g = 0; g < ints.size() && ok; ++g) {
+                        intk::i128 dt = 0;
+                        for (std::size_t q = 0; q < d; ++q)
+                            dt += static_cast<intk::i128>(ints[g][q]) * m[q];
+                        ok = sign * dt >= 0;
+                    }
+                    if (ok) {
+                        intk::i128 gcd = 0;
+                        for (std::size_t q = 0; q < d; ++q) {
+                            intk::i128 y = m[q] < 0 ? -m[q] : m[q];
+                            while (y) {
+                                const intk::i128 t = gcd % y;
+                                gcd = y;
+                                y = t;
+                            }
+                        }
+                        // Reduced and signed: one entry per direction (subsets repeat them).
+                        std::array<intk::i128, 6> key{};
+                        for (std::size_t q = 0; q < d; ++q)
+                            key[q] = sign * (m[q] / gcd);
+                        directions.insert(key);
+                    }
+                }
+        } else {
+            std::vector<Vector> rows;
+            for (auto k : pick)
+                rows.push_back(constraints[k]);
+            const auto ns = null_space(rows, d);
+            if (ns.size() == 1)
+                for (const Vector& sv : {ns[0], Rational(-1) * ns[0]})
+                    if (feasible(sv))
+                        rays.insert(primitive_ray(G * sv));
+        }
+        // Next (d-1)-subset of {0..total-1} in lexicographic order.
+        std::size_t k = d - 1;
+        while (k > 0 && pick[k - 1] == total - (d - 1) + (k - 1))
             --k;
         if (k == 0)
             break;
         ++pick[k - 1];
-        for (std::size_t l = k; l < c - 1; ++l)
+        for (std::size_t l = k; l < d - 1; ++l)
             pick[l] = pick[l - 1] + 1;
+    }
+    for (const auto& key : directions) {
+        Vector sv;
+        for (std::size_t q = 0; q < d; ++q)
+            sv.push_back(rational_of(key[q]));
+        rays.insert(primitive_ray(G * sv));
     }
     return {rays.begin(), rays.end()};
 }

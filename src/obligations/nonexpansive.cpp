@@ -173,12 +173,16 @@ Outcome Prover::nonexpansive() {
     // counts and evidence go to `checks`, `counts` and `pairs`; the first pair that is not
     // copositive gives the witness, the first beyond a limit throws it.
     const std::size_t jobs = std::max<std::size_t>(1, limits_.jobs);
-    const std::size_t block = jobs == 1 ? 1024 : 4096 * jobs;
+    // Blocks grow from 64 pairs (a refuted law is usually refuted early: the first block need
+    // not decide thousands of pairs past its witness) to 1024, or 4096 per thread. The outcome is
+    // read in order and does not depend on the blocks.
+    const std::size_t full_block = jobs == 1 ? 1024 : 4096 * jobs;
     std::vector<PairOutcome> outcomes;
     std::vector<PairKernel::Scratch> scratch(jobs);
     auto run_range = [&](std::size_t begin, std::size_t end, std::size_t& checks, std::size_t (&counts)[4],
                          Json& pairs) -> std::optional<Json> {
-        for (std::size_t start = begin; start < end; start += block) {
+        std::size_t block = std::min<std::size_t>(64, full_block);
+        for (std::size_t start = begin; start < end; start += block, block = std::min(full_block, block * 4)) {
             report_progress("nonexpansive", start, total);
             const std::size_t count = std::min(block, end - start);
             outcomes.assign(count, PairOutcome{});
