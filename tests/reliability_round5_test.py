@@ -171,6 +171,38 @@ svg = open(os.path.join(tmp, "kane-report", "figures", "cones.svg")).read()
 if 'class="counterexample"' not in svg:
     fail("the claimed energetic counterexample of Kane at mu = 1/4 is not drawn")
 
+# ---- 12. a frictional law not face to face: P1 by intersections within separating facets, in
+# int128 where it can; the checker's own full enumeration finds the same rays (the certificate
+# lists them and impactcert-check recomputes them), and a law with one matrix entry changed is
+# still refuted by P1 with a witness in both cones.
+scene = os.path.join(SRC, "examples", "scenes", "two-disks-and-a-wall.json")
+law3 = os.path.join(tmp, "wall-law.json")
+r = run([CLI, "derive", "newton", "--system", scene, "-o", law3])
+cert3 = os.path.join(tmp, "wall.cert.json")
+r = run([CLI, "certify", "--law", law3, "-o", cert3])
+doc3 = json.load(open(cert3)) if os.path.exists(cert3) else {}
+p1 = next((o for o in doc3.get("obligations", []) if o["id"] == "P1"), {})
+if p1.get("method") != "extreme rays of intersections across walls" or p1.get("verdict") != "proved":
+    fail(f"wall scene: P1 {p1.get('method')} {p1.get('verdict')}")
+rc = run([CHECK, cert3])
+if rc.returncode != 0 or "verified" not in rc.stdout:
+    fail(f"wall scene: the checker on the certificate: exit {rc.returncode} {rc.stdout}{rc.stderr}")
+from fractions import Fraction  # noqa: E402
+broken = json.load(open(law3))
+q = broken["pieces"][len(broken["pieces"]) // 2]["Q"]
+q[0][0] = str(Fraction(q[0][0]) + Fraction(1, 7))
+broken_path = os.path.join(tmp, "wall-broken.json")
+json.dump(broken, open(broken_path, "w"))
+cert4 = os.path.join(tmp, "wall-broken.cert.json")
+r = run([CLI, "certify", "--law", broken_path, "-o", cert4])
+doc4 = json.load(open(cert4)) if os.path.exists(cert4) else {}
+p1 = next((o for o in doc4.get("obligations", []) if o["id"] == "P1"), {})
+if r.returncode != 1 or p1.get("verdict") != "refuted":
+    fail(f"wall scene, one entry changed: exit {r.returncode}, P1 {p1.get('verdict')}")
+rc = run([CHECK, cert4])
+if rc.returncode != 0 or "verified" not in rc.stdout or "refuted" not in rc.stdout:
+    fail(f"wall scene, one entry changed: the checker: exit {rc.returncode} {rc.stdout}{rc.stderr}")
+
 # ---- 9. every output reproducible: a report written twice, and a sweep merged from its parts
 # against the same sweep in one run, are byte-identical, PDFs included (their creation date is
 # SOURCE_DATE_EPOCH, 0 when unset); a given SOURCE_DATE_EPOCH is honoured.
