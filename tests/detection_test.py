@@ -233,6 +233,29 @@ r = fuzz_engine("threshold", ["--json"])
 if r.stdout.startswith("{") and "projections" in json.loads(r.stdout):
     fail("the threshold engine (momentum kept) has findings marked as projections")
 
+# The reference by name with friction (issue 44, item 3): derived on the fly, as derive newton
+# --system would; the exact solver (tests/oracles, rounded) is never off it, one with its
+# tangential impulses reversed is; Poisson with friction, and --restitution with friction but no
+# named reference, are one-line refusals.
+scene = os.path.join(SRC, "examples", "scenes", "two-disks.json")
+scene_law = os.path.join("/tmp", f"impactcert-detection-{os.getpid()}-law.json")
+run(["derive", "newton", "--system", scene, "-o", scene_law])
+FRICTION = "python3 " + os.path.join(SRC, "tests", "impls", "friction_impls.py") + " " + scene_law
+for mode, off in [("exact", False), ("reversed", True)]:
+    r = run(["fuzz", "--system", scene, "--velocities", "--range", "0.01..10", "--max-rel-error", "1e-9", "--samples",
+             "60" if LIGHT else "150", "--impl-cmd", FRICTION + " " + mode + " 1/2", "--reference", "newton", "--json"])
+    try:
+        j = json.loads(r.stdout)
+        if "with Coulomb friction" not in j["reference"] or (j["violations"]["reference"] > 0) != off:
+            fail(f"--reference newton with friction, {mode}: {j['reference']}, {j['violations']['reference']} off")
+    except (json.JSONDecodeError, KeyError) as err:
+        fail(f"--reference newton with friction, {mode}: {err}\n{r.stdout[:300]}{r.stderr}")
+for args, words in [(["--reference", "poisson"], "not offered"), (["--restitution", "1/2"], "frictionless systems only")]:
+    b = run(["fuzz", "--system", scene, "--velocities", "--impl-cmd", "cat", "--samples", "5"] + args)
+    if b.returncode != 2 or words not in b.stderr or len(b.stderr.strip().splitlines()) != 1:
+        fail(f"friction {args}: exit {b.returncode} {b.stderr!r}")
+os.unlink(scene_law)
+
 r = fuzz_engine("correct", ["--json"])
 j = json.loads(r.stdout) if r.stdout.startswith("{") else None
 if j is None or j["violations"]["reference"] != 0:

@@ -4,6 +4,7 @@
 #include "cli/tools.hpp"
 
 #include "consistency.hpp"
+#include "derive.hpp"
 #include "worst_case.hpp"
 #include "json.hpp"
 #include "junit.hpp"
@@ -48,9 +49,25 @@ std::string shortest(double x) {
 Setup setup(const FuzzArgs& a) {
     Setup s{system_from(a.system), {}, nullptr, nullptr, 1e-9, {}, nullptr, {}};
     s.mech = make_mechanics(s.system);
-    if (a.restitution_given) {
-        if (s.mech.has_friction())
-            throw InputError("--restitution: the restitution property is checked on frictionless systems only");
+    // With friction, --restitution only gives the restitution of a reference law named
+    // (approaching, newton): the restitution property is checked on frictionless systems.
+    const bool named_reference = a.reference == "approaching" || a.reference == "newton" || a.reference == "poisson";
+    std::vector<Rational> reference_restitution;
+    if (a.restitution_given && s.mech.has_friction()) {
+        if (!named_reference)
+            throw InputError("--restitution: the restitution property is checked on frictionless systems only "
+                             "(with friction it gives the restitution of --reference approaching or newton)");
+        if (a.restitution.empty())
+            throw InputError("--restitution: expected E or one value per contact, got an empty text");
+        reference_restitution = restitution_list(a.restitution, s.mech.normals);
+        if (reference_restitution.size() != s.mech.normals)
+            throw InputError("--restitution: expected one value or " + std::to_string(s.mech.normals) +
+                             " (one per contact), got " + std::to_string(reference_restitution.size()));
+        for (std::size_t k = 0; k < reference_restitution.size(); ++k)
+            if (sign_of(reference_restitution[k]) == Sign::negative || reference_restitution[k] > Rational(1))
+                throw InputError("--restitution: contact " + std::to_string(k + 1) + " must be in [0, 1], got " +
+                                 to_string(reference_restitution[k]));
+    } else if (a.restitution_given) {
         if (a.restitution.empty())
             throw InputError("--restitution: expected E or one value per contact, got an empty text");
         s.restitution = restitution_list(a.restitution, s.mech.normals);
@@ -86,22 +103,38 @@ Setup setup(const FuzzArgs& a) {
         // sequential-impulse engines converge to), "newton" (on all), "poisson".
         const std::string& r = a.reference;
         if (r == "approaching" || r == "newton" || r == "poisson") {
-            if (s.mech.has_friction())
-                throw InputError("--reference " + r + ": by name for frictionless systems only; give the law file "
-                                 "(impactcert derive newton --system ... -o LAW)");
+            if (s.mech.has_friction() && r == "poisson")
+                throw InputError("--reference poisson: the Poisson-type law with friction is not offered; give "
+                                 "approaching or newton, or a law file");
             ClassicalOptions co;
             static_cast<System&>(co) = s.system;
-            co.restitution = !s.restitution.empty() ? s.restitution : s.system.restitution;
+            co.restitution = !reference_restitution.empty() ? reference_restitution
+                             : !s.restitution.empty()         ? s.restitution
+                                                              : s.system.restitution;
             if (co.restitution.empty())
                 throw InputError("--reference " + r + ": needs the restitution (give --restitution E)");
             co.on = r == "approaching" ? RestitutionOn::approaching : RestitutionOn::all;
-            s.reference = std::make_unique<Model>(r == "poisson" ? derive_poisson(co) : derive_newton(co));
+            if (s.mech.has_friction()) {
+                // The Newton law with Coulomb friction, derived here as `derive newton --system`
+                // does; a system where it is not a function has no reference by name.
+                FrictionOptions fo;
+                static_cast<ClassicalOptions&>(fo) = co;
+                FrictionResult fr = derive_newton_friction(fo);
+                if (fr.not_a_function)
+                    throw InputError("--reference " + r + ": the Newton law with friction of this system is not a function "
+                                     "at gamma- = " + short_text(fr.not_a_function->gamma_minus) +
+                                     " (impactcert derive newton --system shows both answers)");
+                s.reference = std::make_unique<Model>(std::move(*fr.law));
+            } else {
+                s.reference = std::make_unique<Model>(r == "poisson" ? derive_poisson(co) : derive_newton(co));
+            }
             std::string e;
             for (std::size_t k = 0; k < co.restitution.size(); ++k)
                 e += (k ? "," : "") + to_string(co.restitution[k]);
             s.reference_name = (r == "approaching" ? "the Newton law, restitution on approaching contacts"
                                 : r == "newton"    ? "the Newton law"
                                                    : "the Poisson law") +
+                               std::string(s.mech.has_friction() ? " with Coulomb friction" : "") +
                                std::string(", e = ") + e;
         } else {
             s.reference = std::make_unique<Model>(load_model(r));
