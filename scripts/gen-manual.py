@@ -86,12 +86,13 @@ for cmd in COMMANDS:
     key = " ".join(cmd)
     cases.append(f'        "{key}") opts="{" ".join(options(help_of(cmd)))}" ;;')
 # Option values: the fixed ones; files where an option takes one (laws and systems end in .json).
-VALUES = {"--walls": "none left right", "--allow": "extreme", "--rule": "left-first any",
-          "--restitution-on": "all approaching", "--reference": "approaching newton poisson",
+VALUES = {"--walls": "none left right", "--allow": "extreme", "--rule": "most-negative left-first right-first any",
+          "--restitution-on": "all approaching",
           "--require": "nonexpansive continuity nonexpansive,continuity"}
 JSON_FILES = ["--law", "--system", "--float-law"]
 value_cases = "\n".join(f'        {o}) COMPREPLY=($(compgen -W "{v}" -- "$cur")) ;;' for o, v in VALUES.items())
 value_cases += "\n        " + "|".join(JSON_FILES) + ') COMPREPLY=($(compgen -f -X "!*.json" -- "$cur") $(compgen -d -- "$cur")) ;;'
+value_cases += '\n        --reference) COMPREPLY=($(compgen -W "approaching newton poisson" -- "$cur") $(compgen -f -X "!*.json" -- "$cur") $(compgen -d -- "$cur")) ;;'
 value_cases += '\n        -o|--output|--junit|--merged|--impl|--impl-cmd) COMPREPLY=($(compgen -f -- "$cur")) ;;'
 check_opts = " ".join(options(subprocess.run([os.path.join(BIN, "impactcert-check"), "--help"], capture_output=True,
                                              text=True).stdout) or ["--merged", "--jobs"])

@@ -530,7 +530,7 @@ std::size_t intersection_subsets(std::size_t c) {
 namespace {
 
 // det of the n x n integer matrix a (n <= 5; destroyed) by Bareiss's fraction-free elimination:
-// exact in int128 while every minor of a fits (the callers' bound: entries <= 2^12).
+// exact in int128 while products of two minors of a fit (intersection_rays's entry bounds B).
 intk::i128 bareiss_det(intk::i128 (&a)[5][5], std::size_t n) {
     if (n == 0)
         return 1; // the empty determinant
@@ -560,7 +560,7 @@ intk::i128 bareiss_det(intk::i128 (&a)[5][5], std::size_t n) {
 // An int128 as a Rational, exactly (its magnitude in two 62-bit halves).
 Rational rational_of(intk::i128 x) {
     const bool negative = x < 0;
-    const intk::i128 m = negative ? -x : x; // |x| < 2^126 here (the callers' bound), so -x exists
+    const intk::i128 m = negative ? -x : x; // |x| < 2^125 (the callers' bound: minors below 2^70)
     const intk::i128 low_mask = (static_cast<intk::i128>(1) << 62) - 1;
     Rational r = Rational(static_cast<long>(m >> 62)) * Rational(static_cast<long>(1LL << 62)) +
                  Rational(static_cast<long>(m & low_mask));
@@ -595,6 +595,8 @@ std::vector<Vector> intersection_rays(const Model& model, std::size_t i, std::si
         }
     }
     const std::size_t d = G.cols();
+    if (d == 0) // one contact: the facet is the origin, C_a ∩ C_b = {0}, no ray
+        return {};
     // s >= 0 and t = R_b^-1 G s >= 0: d + c constraints on s.
     const Matrix T = b.R_inv * G;
     std::vector<Vector> constraints;

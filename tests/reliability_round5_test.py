@@ -139,10 +139,22 @@ rc = run([CHECK, cert])
 if rc.returncode != 0 or "refuted" not in rc.stdout:
     fail(f"the checker on a --claims certificate: exit {rc.returncode} {rc.stdout}{rc.stderr}")
 for args, words in [(["--claims", "fan,bogus"], "not an obligation"), (["--claims", "fan,fan"], "twice"),
-                    (["--claims", "identities"], "does not apply"), (["--claims", ","], "is not an obligation")]:
+                    (["--claims", "identities"], "does not apply"), (["--claims", ","], "empty obligation id")]:
     b = run([CLI, "verify", "--law", diss] + args)
     if b.returncode != 2 or words not in b.stderr or len(b.stderr.strip().splitlines()) != 1:
         fail(f"verify {args}: exit {b.returncode} {b.stderr!r}")
+for bad_claims in ("", "fan,", ",fan"):
+    b = run([CLI, "verify", "--law", diss, "--claims", bad_claims])
+    if b.returncode != 2 or len(b.stderr.strip().splitlines()) != 1:
+        fail(f"verify --claims {bad_claims!r}: exit {b.returncode} {b.stderr!r}")
+# One contact: a separating facet is the origin (a crash, exit 4, once).
+c1 = os.path.join(tmp, "c1.json")
+json.dump({"format": "impactcert-law/1", "name": "c1", "masses": ["1", "1"], "contacts": "chain",
+           "pieces": [{"name": "A", "Q": [["-1"]], "rays": [["1"]]}, {"name": "B", "Q": [["-1"]], "rays": [["1"]]},
+                      {"name": "C", "Q": [["-1/2"]], "rays": [["-1"]]}]}, open(c1, "w"))
+b = run([CLI, "verify", "--law", c1])
+if b.returncode not in (0, 1) or "internal error" in b.stderr:
+    fail(f"a one-contact law with a duplicated cone: exit {b.returncode} {b.stderr!r}")
 b = run([CLI, "verify", "--law", os.path.join(SRC, "proofs", "kane", "gains", "law.json"), "--claims", "P3"])
 if b.returncode != 2 or "does not apply" not in b.stderr:
     fail(f"--claims P3 with friction: exit {b.returncode} {b.stderr!r}")

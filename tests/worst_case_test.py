@@ -269,6 +269,26 @@ if "approaching-3" in certs and "approaching-5" in certs:
     rc = subprocess.run([CHECK, lim], capture_output=True, text=True)
     if json.load(open(lim))["worst_case"]["energy_ratio"]["status"] != "undecided" or rc.returncode != 0:
         fail(f"the prover's own undecided worst case (--max-faces 2): exit {rc.returncode} {rc.stdout}{rc.stderr}")
-    print("24 forgeries of worst-case certificates rejected, each naming its path")
+    # Values below 1 ("0.09" once read "0.11" as octal 9/100) and an exact tie at the 17th digit
+    # without "exact" (10.0000005681450625: ~10.000000568145063, away from zero); the honest
+    # certificates verify, one digit off is rejected.
+    def one_contact(q):
+        return {"format": "impactcert-law/1", "name": "one-contact", "masses": ["1", "1"], "contacts": "chain",
+                "pieces": [{"name": "A", "Q": [[q]], "rays": [["1"]]}, {"name": "B", "Q": [[q]], "rays": [["-1"]]}]}
+
+    for q, forged in (("3/10", "0.11"), ("1/2", "0.24"), ("1/3", "~0.11111111111111112"),
+                      ("316227775/100000000", "~10.000000568145062")):
+        lp, cp = os.path.join(tmp, "one.json"), os.path.join(tmp, "one.cert.json")
+        json.dump(one_contact(q), open(lp, "w"))
+        subprocess.run([CLI, "certify", "--law", lp, "--worst-case", "-o", cp], capture_output=True)
+        if not os.path.exists(cp):
+            fail(f"q = {q}: no certificate")
+            continue
+        one = json.load(open(cp))
+        r = subprocess.run([CHECK, cp], capture_output=True, text=True)
+        if r.returncode != 0:
+            fail(f"q = {q}: the honest certificate ({w(one)['value']['decimal']}) is rejected: {r.stdout}{r.stderr}")
+        forge(one, "energy_ratio.value.decimal", lambda c, f=forged: w(c)["value"].update(decimal=f))
+    print("28 forgeries of worst-case certificates rejected, each naming its path")
 
 finish(failures)

@@ -219,7 +219,8 @@ void check_decimal(const std::string& text, const Poly& sqf, const Q& lo, const 
     const std::size_t first = all.find_first_not_of('0');
     const std::size_t significant = first == std::string::npos ? 0 : all.size() - first;
     require(significant <= 17, path, "has more than 17 significant digits");
-    const Q d = Q(mpz_class(all.empty() ? "0" : all)) * pow10(exponent - static_cast<long>(frac.size())) * (negative ? -1 : 1);
+    // Base 10 explicitly: mpz_class reads a leading 0 as octal ("0.11" would be 9/100).
+    const Q d = Q(mpz_class(all.empty() ? "0" : all, 10)) * pow10(exponent - static_cast<long>(frac.size())) * (negative ? -1 : 1);
     // The value is d exactly, or (with "~") within half a unit of d's last place.
     const bool equal = exact ? *exact == d : (lo <= d && d <= hi && sgn(value_at(sqf, d)) == 0);
     if (!rounded) {
@@ -247,6 +248,9 @@ void check_decimal(const std::string& text, const Poly& sqf, const Q& lo, const 
     }
     const Q l = std::max(lo, a), h = std::min(hi, b);
     require(l <= h && roots_in(sqf, l, h) == 1, path, "is not the value rounded to 17 significant digits");
+    // A tie rounds away from zero: the value must not be the end of [a, b] away from zero.
+    const Q far = sgn(d) > 0 ? b : a;
+    require(!(lo <= far && far <= hi && sgn(value_at(sqf, far)) == 0), path, "a tie is rounded away from zero");
 }
 
 struct Checked {

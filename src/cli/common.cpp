@@ -108,6 +108,8 @@ Model load_model(const std::string& law_path, const Limits& limits) {
     if (limits.claims.empty())
         return load_model(law_path, limits.max_pieces, limits.max_memory_mb);
     Law law = law_path.empty() ? paper_law() : load_law_declaration(law_path);
+    if (limits.claims.back() == ',' || limits.claims.front() == ',')
+        throw InputError("--claims: \"" + limits.claims + "\": an empty obligation id (ids separated by commas, or all)");
     if (limits.claims == "all") {
         law.claims.reset(); // every obligation that applies
     } else {

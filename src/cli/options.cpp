@@ -52,7 +52,11 @@ void add_limit_options(CLI::App* cmd, ProofOptions& proof) {
 }
 
 void add_claims_option(CLI::App* cmd, ProofOptions& proof) {
-    cmd->add_option("--claims", proof.limits.claims, "the obligations to hold the law to, replacing its file's \"claims\": ids separated by commas (fan,P1,kinematic,...), or all (every one that applies); the rest are still decided and reported (docs/laws.md, \"What a law claims\")");
+    cmd->add_option_function<std::string>("--claims", [&proof](const std::string& text) {
+        if (text.empty())
+            throw CLI::ValidationError("--claims", "expected obligation ids separated by commas, or all; got an empty text");
+        proof.limits.claims = text;
+    }, "the obligations to hold the law to, replacing its file's \"claims\": ids separated by commas (fan,P1,kinematic,...), or all (every one that applies); the rest are still decided and reported (docs/laws.md, \"What a law claims\")");
 }
 
 void add_jobs_option(CLI::App* cmd, ProofOptions& proof) {
