@@ -810,7 +810,7 @@ ConsistencySummary run_consistency(const Mechanics& m, const ConsistencyOptions&
     // An implementation's failure at input x (answer y): counted, or, when it answered x
     // differently twice, its own finding. False when it answered (status ok).
     auto failure = [&](Partial& part, ImplStatus st, const double* x, const double* y, std::uint64_t index,
-                       const Implementation& im) {
+                       const Implementation& im, std::size_t point) {
         switch (st) {
         case ImplStatus::ok: return false;
         case ImplStatus::crashed: ++part.sum.crashed; break;
@@ -819,10 +819,10 @@ ConsistencySummary run_consistency(const Mechanics& m, const ConsistencyOptions&
         case ImplStatus::refused: ++part.sum.refused; break;
         case ImplStatus::skipped: break;
         case ImplStatus::nondeterministic: {
-            Finding f = checker.nondeterministic(x, y, im.repeated_answer());
+            const std::vector<double> second = im.repeated_answer(point);
+            Finding f = checker.nondeterministic(x, y, second);
             f.index = index;
             f.replay = twice(f);
-            const std::vector<double> second = im.repeated_answer();
             note(part, std::move(f));
             // Not a reason to stop checking: each of the differing answers is checked as given.
             for (const double* answer : {y, second.size() == d ? second.data() : nullptr}) {
@@ -868,7 +868,7 @@ ConsistencySummary run_consistency(const Mechanics& m, const ConsistencyOptions&
                                                  : "the answer to the input at rest is not " + std::to_string(d) + " numbers";
             f.replay = replay_text(o.replay_prefix, f);
             note(part, std::move(f));
-        } else if (!failure(part, st, zero.data(), y.data(), 0, *impls[0])) {
+        } else if (!failure(part, st, zero.data(), y.data(), 0, *impls[0], 0)) {
             if (auto f = checker.at_rest(y.data())) {
                 f->replay = replay_text(o.replay_prefix, *f);
                 note(part, std::move(*f));
@@ -915,7 +915,7 @@ ConsistencySummary run_consistency(const Mechanics& m, const ConsistencyOptions&
                 const std::size_t pa_i = p++;
                 const std::size_t pb_i = has_pair[s] ? p++ : pa_i;
                 auto failed = [&](std::size_t q) {
-                    return failure(part, status[q], &in[q * d], &out[q * d], indices[s], *impls[j]);
+                    return failure(part, status[q], &in[q * d], &out[q * d], indices[s], *impls[j], q);
                 };
                 if (status[pa_i] == ImplStatus::skipped)
                     continue;

@@ -20,6 +20,7 @@
 #include <unistd.h>
 #include <algorithm>
 #include <atomic>
+#include <map>
 #include <memory>
 #include <vector>
 
@@ -277,6 +278,8 @@ class CommandImpl final : public Implementation {
 
     void eval(const double* in, double* out, double*, std::size_t count, ImplStatus* status) override {
         std::size_t done = 0;
+        bool one_at_a_time = false; // after a nondeterministic answer (below)
+        repeated_.clear();
         while (done < count) {
             if (stop_flag_ && stop_flag_->load(std::memory_order_relaxed)) { // --seconds ran out
                 for (; done < count; ++done)
@@ -286,8 +289,9 @@ class CommandImpl final : public Implementation {
             if (pid_ < 0)
                 start();
             sentinel_differs_ = false;
-            const std::size_t answered = batch(in + done * in_dim_, out + done * out_dim_, count - done, status + done);
-            if (failure_ == ImplStatus::malformed && answered == count - done) {
+            const std::size_t asked = one_at_a_time ? 1 : count - done;
+            const std::size_t answered = batch(in + done * in_dim_, out + done * out_dim_, asked, status + done);
+            if (failure_ == ImplStatus::malformed && answered == asked) {
                 // The repeated first input answered otherwise, or more lines than inputs: every
                 // answer of this batch may belong to another input -- or the map is not a
                 // function of its input. A fresh process answers the first input twice: a
@@ -317,14 +321,22 @@ class CommandImpl final : public Implementation {
                     }
                     stop();
                 }
-                for (std::size_t i = done; i < count; ++i)
-                    status[i] = nondeterministic ? ImplStatus::skipped : ImplStatus::malformed;
-                if (nondeterministic) {
-                    status[done] = ImplStatus::nondeterministic;
-                    std::copy(first.begin(), first.end(), out + done * out_dim_);
-                    repeated_ = second;
+                if (!nondeterministic) {
+                    for (std::size_t i = done; i < count; ++i)
+                        status[i] = ImplStatus::malformed;
+                    return;
                 }
-                return;
+                // Nondeterminism is a finding, not a reason to stop checking. The batch's other
+                // answers cannot be attributed (a nondeterministic map may also have shifted its
+                // lines), so the rest of the batch is asked again one input at a time, each with
+                // its own repeated input: every answer is then checked as given, and each input
+                // answered differently is a finding of its own.
+                status[done] = ImplStatus::nondeterministic;
+                std::copy(first.begin(), first.end(), out + done * out_dim_);
+                repeated_[done] = second;
+                ++done;
+                one_at_a_time = true;
+                continue;
             }
             done += answered;
             if (done < count && failure_ == ImplStatus::skipped)
@@ -351,7 +363,10 @@ class CommandImpl final : public Implementation {
     std::string describe() const override { return cmd_; }
     std::size_t batch_samples() const override { return 2048; }
     std::string replay_flags() const override { return "--impl-cmd " + shell_quote(cmd_); }
-    std::vector<double> repeated_answer() const override { return repeated_; }
+    std::vector<double> repeated_answer(std::size_t point) const override {
+        const auto it = repeated_.find(point);
+        return it == repeated_.end() ? std::vector<double>{} : it->second;
+    }
 
     // Why the last process ended (for the probe's error message).
     std::string last_exit() const { return last_exit_; }
@@ -371,7 +386,7 @@ class CommandImpl final : public Implementation {
     bool pid_reaped_ = false;
     bool sentinel_differs_ = false; // batch(): the repeated first input was answered otherwise
     double sentinel_[64] = {};      // ... with this
-    std::vector<double> repeated_;  // the other answer of the last nondeterministic point
+    std::map<std::size_t, std::vector<double>> repeated_; // per nondeterministic point of the last eval(): its other answer
     pid_t guardian_ = -1;    // see start_guardian()
     int guardian_pipe_ = -1; // its write end, held by the fuzzer only
     const std::atomic<bool>* stop_flag_ = nullptr;

@@ -38,7 +38,7 @@ namespace impactcert::fuzz {
 // nondeterministic: the same input was answered differently (a process only: the batch's first
 // input is sent again at its end; when the answers differ and a fresh process answers it twice
 // differently too, or otherwise than the batch did, the map is not a function of its input). The
-// point's `out` is its first answer; repeated_answer() the other.
+// point's `out` is its first answer; repeated_answer(point) the other.
 enum class ImplStatus : std::uint8_t { ok, crashed, hung, malformed, refused, skipped, nondeterministic };
 
 // What an implementation run as a process wrote on its standard error: collected in one file for
@@ -63,8 +63,9 @@ class Implementation {
     virtual std::unique_ptr<Implementation> clone() const = 0;
     virtual std::string describe() const = 0;
     virtual std::string replay_flags() const = 0;
-    // After eval() marked a point nondeterministic: the other answer it gave to the same input.
-    virtual std::vector<double> repeated_answer() const { return {}; }
+    // After eval() marked point `point` (of that call) nondeterministic: the other answer it gave
+    // to the same input.
+    virtual std::vector<double> repeated_answer(std::size_t /*point*/) const { return {}; }
     // A process's standard error, collected (nothing for in-process implementations).
     virtual std::optional<StderrSummary> stderr_summary() const { return std::nullopt; }
 };

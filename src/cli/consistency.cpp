@@ -620,7 +620,7 @@ int run_consistency_eval(const FuzzArgs& a, const std::vector<std::vector<std::s
             continue; // the rest of a nondeterministic batch
         text += "input  " + decimals(xs[i]) + "\n";
         if (status[i] == fuzz::ImplStatus::nondeterministic) {
-            const auto f = checker.nondeterministic(&in[i * d], &out[i * d], s.impl->repeated_answer());
+            const auto f = checker.nondeterministic(&in[i * d], &out[i * d], s.impl->repeated_answer(i));
             text += "  " + std::string(fuzz::property_title(f.property)) + ": " + f.detail + "\n";
             violated = true;
             continue;
