@@ -34,18 +34,22 @@ void note_without_pdf(bool figures) {
         std::cerr << "impactcert: note: " << why << "\n";
 }
 
-int run_report(const std::string& law_path, const std::string& dir, const Limits& limits) {
+int run_report(const std::string& law_path, const std::string& dir, const Limits& limits, bool with_worst) {
     const Model model = load_model(law_path, limits);
     const VerifyReport report = verify_with_progress(model, limits);
+    std::optional<WorstCase> worst;
+    if (with_worst)
+        worst = worst_case_of(model, report, limits);
+    const WorstCase* w = worst ? &*worst : nullptr;
     std::error_code ec;
     std::filesystem::create_directories(dir, ec);
     if (ec)
         throw InputError(dir + ": cannot create directory: " + ec.message());
     std::vector<std::string> written = {dir + "/report.md", dir + "/report.html", dir + "/law.tex", dir + "/verdicts.tex"};
-    write_file(written[0], report_markdown(model, report));
-    write_file(written[1], report_html(model, report));
+    write_file(written[0], report_markdown(model, report, w));
+    write_file(written[1], report_html(model, report, w));
     write_file(written[2], law_latex(model));
-    write_file(written[3], verdicts_latex(model, report));
+    write_file(written[3], verdicts_latex(model, report, w));
     for (const auto& path : write_report_figures(model, report, dir + "/figures"))
         written.push_back(path);
     for (const auto& path : written)
@@ -173,6 +177,8 @@ int main(int argc, char** argv) {
     auto* report_cmd = app.add_subcommand("report", "write report.md (CI job summary), a self-contained report.html with pictures of the law, LaTeX tables (law.tex, verdicts.tex) and standalone figures (figures/*.svg, and *.pdf with rsvg-convert)");
     report_cmd->add_option("--law", law_path, "law file (impactcert-law/1); default: the paper's 3-ball law");
     report_cmd->add_option("-o,--output", out_path, "directory to write the report into (created)")->required();
+    bool report_worst = false;
+    report_cmd->add_flag("--worst-case", report_worst, "also the law's exact worst case (sup T+/T- and, for a continuous tiling, the Lipschitz constant in H) in report.md, report.html and verdicts.tex");
 
     auto* smt_cmd = app.add_subcommand("smt", "write one SMT-LIB2 file per universal claim (the claim negated: unsat = holds)");
     smt_cmd->add_option("--law", law_path, "law file (impactcert-law/1); default: the paper's 3-ball law");
@@ -344,7 +350,7 @@ int main(int argc, char** argv) {
                                           : run_certify_shard(law_path, parse_shard(shard_text), out_path, limits);
             }
             if (report_cmd->parsed())
-                return run_report(law_path, out_path, limits);
+                return run_report(law_path, out_path, limits, report_worst);
             if (smt_cmd->parsed())
                 return run_smt(law_path, out_path);
             if (sequential_cmd->parsed())

@@ -529,7 +529,28 @@ std::string law_hash(const Model& m) { return sha256_hex(law_to_json(m.law()).du
 
 } // namespace
 
-std::string report_markdown(const Model& model, const VerifyReport& report) {
+std::vector<std::string> worst_case_words(const WorstCase& w, const Model& model) {
+    std::vector<std::string> out;
+    auto one = [&](const char* what, const LawBound& b, const char* where) {
+        if (!b.decided) {
+            out.push_back(std::string(what) + ": undecided (" + b.limit + ")");
+            return;
+        }
+        std::string point;
+        for (const auto& e : b.pieces[b.top].point)
+            point += (point.empty() ? "" : ", ") + to_string(e);
+        out.push_back(std::string(what) + " = " + value_text(b.value) + (b.value.exact ? ", attained" : ", approached") +
+                      " in piece " + model.pieces()[b.pieces[b.top].piece].name + " at " + where + " (" + point + ")");
+    };
+    one("sup T+/T-", w.energy, "gamma- =");
+    if (w.lipschitz)
+        one("Lipschitz^2 in H", *w.lipschitz, "direction");
+    else
+        out.push_back("Lipschitz^2 in H: not computed (fan and P1 are not both proved: no continuous tiling)");
+    return out;
+}
+
+std::string report_markdown(const Model& model, const VerifyReport& report, const WorstCase* worst) {
     std::string s = "# impactcert report: " + md_escape(report.law) + "\n\n";
     s += std::string("**Verdict: ") + report.verdict() + "** — " +
          std::to_string(claimed_count(report, true)) + " of " + std::to_string(claimed_count(report, false)) +
@@ -556,6 +577,11 @@ std::string report_markdown(const Model& model, const VerifyReport& report) {
     for (const auto& o : report.obligations)
         if (o.verdict == Verdict::undecided)
             s += "\n`" + o.id + "` is undecided: " + md_escape(o.limit) + "\n";
+    if (worst) {
+        s += "\n## Worst case (exact)\n\n";
+        for (const auto& line : worst_case_words(*worst, model))
+            s += "- " + md_escape(line) + "\n";
+    }
     // A law of more than 100 pieces: the summary only (GitHub's job summary stops at 1 MiB; a
     // 1,775-piece law made 791 KB); every piece is in report.html.
     constexpr std::size_t kPiecesInMarkdown = 100;
@@ -581,7 +607,7 @@ std::string report_markdown(const Model& model, const VerifyReport& report) {
     return s;
 }
 
-std::string report_html(const Model& model, const VerifyReport& report) {
+std::string report_html(const Model& model, const VerifyReport& report, const WorstCase* worst) {
     const std::string verdict = report.verdict();
     const char* colour = verdict == "proved" ? "#007a5a" : verdict == "refuted" ? "#b34700" : "#8a5a00"; // Okabe-Ito hues, darkened for white text
     std::string s = "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>impactcert: " +
@@ -619,6 +645,12 @@ std::string report_html(const Model& model, const VerifyReport& report) {
             s += "<figure>\n" + planes + "<figcaption>" + kPlanesCaption + "</figcaption>\n</figure>\n";
         else
             s += "<p>" + xml_escape("No plane view: " + why_not) + ". The table of pieces below can be filtered.</p>\n";
+    }
+    if (worst) {
+        s += "<h2>Worst case (exact)</h2>\n<ul>\n";
+        for (const auto& line : worst_case_words(*worst, model))
+            s += "<li>" + xml_escape(line) + "</li>\n";
+        s += "</ul>\n";
     }
     s += "<h2>Obligations</h2>\n<table>\n<tr><th>obligation</th><th>claimed</th><th>verdict</th><th>exact "
          "checks</th><th>method</th></tr>\n";

@@ -19,6 +19,7 @@
 #pragma once
 
 #include "obligations.hpp"
+#include "worst_case.hpp"
 
 #include <string>
 #include <vector>
@@ -52,7 +53,7 @@ inline constexpr const char* kPlanesCaption =
 // LaTeX tables for papers (report_tex.cpp): the pieces (rays and Q, exact fractions; longtable
 // beyond 40 pieces) and the obligations with their verdicts. Names are escaped for \texttt.
 std::string law_latex(const Model& model);
-std::string verdicts_latex(const Model& model, const VerifyReport& report);
+std::string verdicts_latex(const Model& model, const VerifyReport& report, const WorstCase* worst = nullptr);
 
 // Standalone figures into dir (created; figure.hpp): cones (c = 2, 3), unit-circle (c = 2) and
 // planes (when planes_svg draws), each STEM.svg and, with rsvg-convert, STEM.pdf, with a title,
@@ -69,7 +70,10 @@ inline constexpr const char* kConesCaption2 =
 inline constexpr const char* kConesCaption3 =
     "The cones on the unit sphere of pre-impact contact velocities, in two orthographic hemispheres (seen from "
     "(1,1,1) and from (-1,-1,-1)), each labelled at its centre; black dots: counterexamples.";
-std::string report_markdown(const Model& model, const VerifyReport& report);
-std::string report_html(const Model& model, const VerifyReport& report);
+// With `worst` (report --worst-case): the law's exact worst case too.
+std::string report_markdown(const Model& model, const VerifyReport& report, const WorstCase* worst = nullptr);
+std::string report_html(const Model& model, const VerifyReport& report, const WorstCase* worst = nullptr);
+// The worst case in words, one line per bound ("sup T+/T- = 4/3, attained in piece ... at ...").
+std::vector<std::string> worst_case_words(const WorstCase& w, const Model& model);
 
 } // namespace impactcert

@@ -106,13 +106,24 @@ std::string law_latex(const Model& model) {
     return s + "\\bottomrule\n\\end{" + env + "}\n";
 }
 
-std::string verdicts_latex(const Model& model, const VerifyReport& report) {
+std::string verdicts_latex(const Model& model, const VerifyReport& report, const WorstCase* worst) {
     std::string s = header(model, "The obligations and their verdicts", "booktabs");
     s += "\\begin{tabular}{llrl}\n\\toprule\nObligation & Claimed & Exact checks & Verdict \\\\\n\\midrule\n";
     for (const auto& o : report.obligations)
         s += "\\texttt{" + tex_escape(o.id) + "} & " + (o.claimed ? "yes" : "no") + " & " + std::to_string(o.checks) + " & " +
              to_string(o.verdict) + " \\\\\n";
-    return s + "\\midrule\n\\multicolumn{4}{l}{Gate: " + report.verdict() + "} \\\\\n\\bottomrule\n\\end{tabular}\n";
+    s += std::string("\\midrule\n\\multicolumn{4}{l}{Gate: ") + report.verdict() + "} \\\\\n";
+    if (worst) // report --worst-case: one row per bound, the value as the report gives it
+        for (const auto& line : worst_case_words(*worst, model)) {
+            // The quantity in mathematics, the rest as text.
+            std::string text = tex_escape(line);
+            for (const auto& [plain, math] : {std::pair<std::string, std::string>{"sup T+/T-", "$\\sup T^+/T^-$"},
+                                              {tex_escape("Lipschitz^2 in H"), "$L^2$ in $H$"}})
+                if (text.rfind(plain, 0) == 0)
+                    text = math + text.substr(plain.size());
+            s += "\\multicolumn{4}{l}{\\small " + text + "} \\\\\n";
+        }
+    return s + "\\bottomrule\n\\end{tabular}\n";
 }
 
 std::vector<std::string> write_report_figures(const Model& model, const VerifyReport& report, const std::string& dir) {
@@ -125,9 +136,9 @@ std::vector<std::string> write_report_figures(const Model& model, const VerifyRe
     std::filesystem::create_directories(dir, ec);
     if (ec)
         throw InputError(dir + ": cannot create directory: " + ec.message());
-    bool refuted = false;
+    bool refuted = false; // a counterexample drawn: claimed obligations only (cones_svg)
     for (const auto& o : report.obligations)
-        refuted = refuted || o.verdict == Verdict::refuted;
+        refuted = refuted || (o.verdict == Verdict::refuted && o.claimed);
     const std::string name = model.law().name;
     // A legend of the cones' colours where each colour names one cone (the palette has 7 hues).
     std::vector<LegendItem> cones;

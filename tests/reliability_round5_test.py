@@ -215,6 +215,20 @@ rc = run([CHECK, cert4])
 if rc.returncode != 0 or "verified" not in rc.stdout or "refuted" not in rc.stdout:
     fail(f"wall scene, one entry changed: the checker: exit {rc.returncode} {rc.stdout}{rc.stderr}")
 
+# ---- 11. report --worst-case: the exact worst case in report.md, report.html and verdicts.tex
+rep = os.path.join(tmp, "worst-report")
+law_ap = os.path.join(SRC, "proofs", "classical3", "newton-approaching", "law.json")
+r = run([CLI, "report", "--law", law_ap, "--worst-case", "-o", rep])
+texts = {f: open(os.path.join(rep, f)).read() for f in ("report.md", "report.html", "verdicts.tex")
+         if os.path.exists(os.path.join(rep, f))}
+if r.returncode != 0 or len(texts) != 3 or "sup T+/T- = 4/3, attained in piece J12/e1" not in texts["report.md"] \
+        or "4/3" not in texts["report.html"] or "$\\sup T^+/T^-$ = 4/3" not in texts["verdicts.tex"]:
+    fail(f"report --worst-case: exit {r.returncode}, {[f for f in texts]}")
+plain = os.path.join(tmp, "plain-report")
+run([CLI, "report", "--law", law_ap, "-o", plain])
+if "Worst case" in open(os.path.join(plain, "report.md")).read():
+    fail("report without --worst-case shows a worst case")
+
 # ---- 9. every output reproducible: a report written twice, and a sweep merged from its parts
 # against the same sweep in one run, are byte-identical, PDFs included (their creation date is
 # SOURCE_DATE_EPOCH, 0 when unset); a given SOURCE_DATE_EPOCH is honoured.
