@@ -637,12 +637,14 @@ std::string report_html(const Model& model, const VerifyReport& report, const Wo
              "orthographic hemispheres (seen from (1,1,1) and from (-1,-1,-1)), each labelled at its centre; "
              "black dots: counterexamples.</figcaption>\n</figure>\n";
     if (model.contacts() == 2)
-        s += "<figure>\n" + unit_circle_svg(model) + "<figcaption>" + kUnitCircleCaption + "</figcaption>\n</figure>\n";
+        s += "<figure>\n" + unit_circle_svg(model) + "<figcaption>" + kUnitCircleCaption +
+             (model.has_friction() ? std::string(" ") + kModeKey : std::string()) + "</figcaption>\n</figure>\n";
     if (model.contacts() >= 3) {
         std::string why_not;
         const std::string planes = planes_svg(model, &why_not);
         if (!planes.empty())
-            s += "<figure>\n" + planes + "<figcaption>" + kPlanesCaption + "</figcaption>\n</figure>\n";
+            s += "<figure>\n" + planes + "<figcaption>" + kPlanesCaption +
+                 (model.has_friction() ? std::string(" ") + kModeKey : std::string()) + "</figcaption>\n</figure>\n";
         else
             s += "<p>" + xml_escape("No plane view: " + why_not) + ". The table of pieces below can be filtered.</p>\n";
     }

@@ -40,6 +40,10 @@ std::string unit_circle_svg(const Model& model);
 std::string planes_svg(const Model& model, std::string* why_not = nullptr);
 bool planes_svg_fits(const Model& model, std::string* why_not = nullptr); // planes_svg draws
 
+// Laws with friction: the key to the contact modes in their pieces' names.
+inline constexpr const char* kModeKey =
+    "Piece names give the contact modes, one token per contact: o open, c closed (frictionless), and per tangent "
+    "s stick, f slip forward, b slip backward (docs/derive.md, \"Friction\").";
 inline constexpr const char* kUnitCircleCaption =
     "S along the unit circle of the metric H (dashed: ‖γ⁻‖_H = 1, unit pre-impact kinetic energy of the "
     "contacts). Left: the image S(γ⁻), coloured by the cone of γ⁻. Right: the ratio ‖S(γ⁻)‖_H / ‖γ⁻‖_H in the "

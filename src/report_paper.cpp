@@ -150,18 +150,22 @@ std::vector<std::string> write_report_figures(const Model& model, const VerifyRe
         for (auto& path : write_figure(dir + "/" + stem, svg))
             written.push_back(std::move(path));
     };
+    // With friction the pieces are named by contact modes: the key goes with every caption.
+    auto caption = [&](const char* base) {
+        return std::string(base) + (model.has_friction() ? std::string(" ") + kModeKey : std::string());
+    };
     if (c == 2 || c == 3) {
         std::vector<LegendItem> legend = cones;
         if (refuted)
             legend.push_back({"#000000", "counterexample", LegendItem::Shape::dot});
-        add("cones", standalone_figure(name + ": the cones of the law", c == 2 ? kConesCaption2 : kConesCaption3,
+        add("cones", standalone_figure(name + ": the cones of the law", caption(c == 2 ? kConesCaption2 : kConesCaption3),
                                        cones_svg(model, &report), legend));
     }
     if (c == 2) {
         std::vector<LegendItem> legend = {{"#000000", "‖γ⁻‖_H = 1", LegendItem::Shape::dashed},
                                           {"#000000", "S(γ⁻) and the ratio, coloured by cone", LegendItem::Shape::line}};
         legend.insert(legend.end(), cones.begin(), cones.end());
-        add("unit-circle", standalone_figure(name + ": S along the unit circle of the metric H", kUnitCircleCaption,
+        add("unit-circle", standalone_figure(name + ": S along the unit circle of the metric H", caption(kUnitCircleCaption),
                                              unit_circle_svg(model), legend));
     }
     if (planes) {
@@ -169,7 +173,9 @@ std::vector<std::string> write_report_figures(const Model& model, const VerifyRe
                                           {"#000000", "‖S(γ⁻)‖_H / ‖γ⁻‖_H", LegendItem::Shape::line},
                                           {"#dddddd", "no cone in a sector", LegendItem::Shape::square}};
         legend.insert(legend.end(), cones.begin(), cones.end());
-        add("planes", standalone_figure(name + ": the law on the planes of two contacts", kPlanesCaption,
+        add("planes", standalone_figure(name + (model.has_friction() ? ": the law on the planes of two contact coordinates"
+                                                                     : ": the law on the planes of two contacts"),
+                                        caption(kPlanesCaption),
                                         planes_svg(model), legend));
     }
     return written;

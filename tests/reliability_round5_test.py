@@ -172,6 +172,8 @@ if "balls" in md or "2 velocities, 1 contact with 1 friction tangent" not in md:
 svg = open(os.path.join(rep, "figures", "cones.svg")).read() if os.path.exists(os.path.join(rep, "figures", "cones.svg")) else ""
 if ">N1</tspan>" not in svg or ">T1</tspan>" not in svg:
     fail("Kane's cones figure does not label the axes gamma_N1 and gamma_T1")
+if "s stick, f slip forward, b slip backward" not in svg:
+    fail("Kane's cones figure does not explain the mode names (issue 40, item 11)")
 # ---- 11. no counterexample dot for an obligation the law does not claim (Kane at mu = 1/8:
 # P2 and nonexpansive refuted, not claimed; every claim proved)
 rep = os.path.join(tmp, "kane-consistent-report")
