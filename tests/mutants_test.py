@@ -47,7 +47,8 @@ def outside(x_hex, y_hex):
 
 
 def mutants(extra):
-    r = run(["fuzz", "--law", LAW, "--mutants", "400", "--max-rel-error", "1e-12", "--json"] + extra)
+    # --light (the sanitizer run): the first 80 mutants, taken one operator after another
+    r = run(["fuzz", "--law", LAW, "--mutants", "80" if LIGHT else "400", "--max-rel-error", "1e-12", "--json"] + extra)
     try:
         return r, json.loads(r.stdout)
     except json.JSONDecodeError:
@@ -67,7 +68,7 @@ def check_witness(m, label):
         fail(f"{label} {m['id']}: the control is off at the witness too (exit {rc.returncode})\n{rc.stdout}")
 
 
-samples = "5000" if LIGHT else "20000"
+samples = "2000" if LIGHT else "20000"
 r, j = mutants(["--allow", "extreme", "--samples", samples])
 if j is not None:
     if r.returncode != 0 or j["verdict"] != "measured" or j["control"]["violations"]:
@@ -95,7 +96,7 @@ if j is not None:
     equivalent = [m for m in j["mutants"] if m["result"] == "equivalent"]
     if not equivalent:
         fail("no equivalent mutant recognised (the 4-ball law's Q have zero entries)")
-    for m in equivalent:
+    for m in equivalent[: 5 if LIGHT else len(equivalent)]:
         why = {"sign": "the entry is 0", "constant-digits": "already has at most 6 significant digits"}
         if "samples" in m or why.get(m["id"].split(":")[0], "?") not in m["why"]:
             fail(f"equivalent {m}")
@@ -117,7 +118,7 @@ if j is not None:
             check_witness(surv[mid], "--range 1e-3..1e3")
     if j["kill_rate"] >= 1 or j["counts"]["killed"] < 30:
         fail(f"--range 1e-3..1e3: kill rate {j['kill_rate']}, counts {j['counts']}")
-    t = run(["fuzz", "--law", LAW, "--mutants", "400", "--max-rel-error", "1e-12", "--allow", "extreme",
+    t = run(["fuzz", "--law", LAW, "--mutants", "80" if LIGHT else "400", "--max-rel-error", "1e-12", "--allow", "extreme",
              "--range", "1e-3..1e3", "--samples", "3000"])
     if t.returncode != 0 or "  survivor       dead-zone:1e-06: contact velocities of magnitude below 1e-06" not in t.stdout \
             or "kill rate      " not in t.stdout:
