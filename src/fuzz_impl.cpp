@@ -9,6 +9,7 @@
 #include <chrono>
 #include <cmath>
 #include <csignal>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <dlfcn.h>
@@ -72,6 +73,16 @@ char* hex_to(double x, char* out) {
     while (nd)
         *out++ = digits[--nd];
     return out;
+}
+
+std::string shortest_decimal(double x) {
+    char buf[40];
+    for (int digits = 1; digits <= 17; ++digits) {
+        std::snprintf(buf, sizeof buf, "%.*g", digits, x);
+        if (std::strtod(buf, nullptr) == x)
+            break;
+    }
+    return buf;
 }
 
 std::string hex(double x) {

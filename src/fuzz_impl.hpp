@@ -86,6 +86,9 @@ std::string shell_quote(const std::string& s);
 // NaN: what matters for one input is the value, not its last bits of text.
 bool same_values(const double* a, const double* b, std::size_t n);
 
+// The shortest decimal ("%.Ng", N = 1..17) that reads back as x: a tolerance, a mutant's
+// parameter or a replay's option says exactly the run's double.
+std::string shortest_decimal(double x);
 // "%a"-style hex text of a double, fast (parseable by strtod and Python's float.fromhex).
 std::string hex(double x);
 char* hex_to(double x, char* out); // writes at out, returns the end (no terminator)

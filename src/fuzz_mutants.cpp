@@ -43,17 +43,6 @@ const char* op_name(Mutation::Op op) {
     return "?";
 }
 
-// The shortest decimal that reads back as x: a mutant's ID names exactly its parameter.
-std::string param_text(double x) {
-    char buf[40];
-    for (int digits = 1; digits <= 17; ++digits) {
-        std::snprintf(buf, sizeof buf, "%.*g", digits, x);
-        if (std::strtod(buf, nullptr) == x)
-            break;
-    }
-    return buf;
-}
-
 // A double from a decimal of 6 significant digits (the constant-digits mutation).
 double six_digits(double x) {
     char buf[40];
@@ -125,8 +114,30 @@ class PlainLaw final : public Implementation {
     bool tested(std::size_t p, std::size_t k) const {
         return !(m_.op == Mutation::Op::facet_drop && m_.p == p && m_.i == k);
     }
-    bool passes(std::size_t p, std::size_t k, double t, double allowance) const {
+    template <class T> bool passes(std::size_t p, std::size_t k, T t, T allowance) const {
         return m_.op == Mutation::Op::facet_flip && m_.p == p && m_.i == k ? t <= allowance : t >= -allowance;
+    }
+    // `if (gamma in cone 0) ... else` the last piece, in T (double, or float for float32): a
+    // cone test allows rel times its row's absolute sum plus `tiny`, above the rounding of t_k.
+    template <class T>
+    std::size_t choose_piece(const T* g, std::vector<T> Piece::*rinv, T rel, T tiny) const {
+        for (std::size_t p = 0; p + 1 < pieces_.size(); ++p) {
+            const std::vector<T>& r = pieces_[p].*rinv;
+            bool inside = true;
+            for (std::size_t k = 0; k < c_ && inside; ++k) {
+                T t = 0, a = 0;
+                for (std::size_t j = 0; j < c_; ++j) {
+                    const T term = r[k * c_ + j] * g[j];
+                    t += term;
+                    a += std::fabs(term);
+                }
+                if (tested(p, k) && !passes(p, k, t, a * rel + tiny))
+                    inside = false;
+            }
+            if (inside)
+                return p;
+        }
+        return pieces_.size() - 1;
     }
     std::size_t formula_of(std::size_t p) const { return m_.op == Mutation::Op::formula && m_.p == p ? m_.q : p; }
 
@@ -159,28 +170,9 @@ class PlainLaw final : public Implementation {
             for (std::size_t j = 0; j < c_; ++j)
                 g[j] /= norm;
         }
-        // if (in cone 0) ... else if (in cone 1) ... else the last piece: the cone tests allow
-        // their own rounding (2^-46 of the row's absolute sum, plus an underflow term), so that a
-        // point is never pushed out of its own cone by rounding alone.
-        std::size_t chosen = pieces_.size() - 1;
-        for (std::size_t p = 0; p + 1 < pieces_.size(); ++p) {
-            const Piece& pc = pieces_[p];
-            bool inside = true;
-            for (std::size_t k = 0; k < c_ && inside; ++k) {
-                double t = 0, a = 0;
-                for (std::size_t j = 0; j < c_; ++j) {
-                    const double term = pc.rinv[k * c_ + j] * g[j];
-                    t += term;
-                    a += std::fabs(term);
-                }
-                if (tested(p, k) && !passes(p, k, t, a * 0x1p-46 + 0x1p-1069))
-                    inside = false;
-            }
-            if (inside) {
-                chosen = p;
-                break;
-            }
-        }
+        // The cone tests allow their own rounding (2^-46 of the row's absolute sum, plus an
+        // underflow term), so that a point is never pushed out of its own cone by rounding alone.
+        const std::size_t chosen = choose_piece(g, &Piece::rinv, 0x1p-46, 0x1p-1069);
         const Piece& f = pieces_[formula_of(chosen)];
         for (std::size_t i = 0; i < c_; ++i) {
             double y = 0;
@@ -200,25 +192,7 @@ class PlainLaw final : public Implementation {
         float g[kMaxDim];
         for (std::size_t j = 0; j < c_; ++j)
             g[j] = to_float(in[j]);
-        std::size_t chosen = pieces_.size() - 1;
-        for (std::size_t p = 0; p + 1 < pieces_.size(); ++p) {
-            const Piece& pc = pieces_[p];
-            bool inside = true;
-            for (std::size_t k = 0; k < c_ && inside; ++k) {
-                float t = 0, a = 0;
-                for (std::size_t j = 0; j < c_; ++j) {
-                    const float term = pc.rinv32[k * c_ + j] * g[j];
-                    t += term;
-                    a += std::fabs(term);
-                }
-                if (!(t >= -(a * 0x1p-17f + 0x1p-140f)))
-                    inside = false;
-            }
-            if (inside) {
-                chosen = p;
-                break;
-            }
-        }
+        const std::size_t chosen = choose_piece(g, &Piece::rinv32, 0x1p-17f, 0x1p-140f);
         const Piece& f = pieces_[chosen];
         for (std::size_t i = 0; i < c_; ++i) {
             float y = 0;
@@ -262,7 +236,7 @@ std::string Mutation::id() const {
     switch (op) {
     case Op::dead_zone:
     case Op::slow_contact:
-        return name + ":" + param_text(param);
+        return name + ":" + shortest_decimal(param);
     case Op::facet_flip:
     case Op::facet_drop:
         return name + ":" + std::to_string(p) + ":" + std::to_string(i);
@@ -284,9 +258,9 @@ std::string Mutation::what(const Model& model) const {
     case Op::none:
         return "no mutation (the control)";
     case Op::dead_zone:
-        return "contact velocities of magnitude below " + param_text(param) + " read as 0 (a velocity threshold)";
+        return "contact velocities of magnitude below " + shortest_decimal(param) + " read as 0 (a velocity threshold)";
     case Op::slow_contact:
-        return "contact velocities below " + param_text(param) + " times the largest read as 0 (a relative tolerance)";
+        return "contact velocities below " + shortest_decimal(param) + " times the largest read as 0 (a relative tolerance)";
     case Op::facet_flip:
         return piece(p) + ": cone test " + std::to_string(i + 1) + " reversed";
     case Op::facet_drop:
@@ -536,7 +510,7 @@ bool exact_violation(const Model& model, const Options& options, const double* x
                 const Rational R = exact_double(options.max_rel_error, "exact_violation");
                 off = bilinear(e, metric, e) > R * R * bilinear(gx, metric, gx) + bilinear(a, habs, a);
                 if (off && what)
-                    *what = std::string(velocities ? "|y - S(x)|_M > " : "|y - S(x)|_H > ") + param_text(options.max_rel_error) +
+                    *what = std::string(velocities ? "|y - S(x)|_M > " : "|y - S(x)|_H > ") + shortest_decimal(options.max_rel_error) +
                             (velocities ? " |x|_M" : " |x|_H") + " (exactly)";
             }
         } else {

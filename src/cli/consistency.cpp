@@ -35,17 +35,6 @@ struct Setup {
     std::string reference_name;        // as the summary names it
 };
 
-// The shortest decimal that reads back as x.
-std::string shortest(double x) {
-    char buf[40];
-    for (int precision = 1; precision <= 17; ++precision) {
-        std::snprintf(buf, sizeof buf, "%.*g", precision, x);
-        if (std::strtod(buf, nullptr) == x)
-            break;
-    }
-    return buf;
-}
-
 Setup setup(const FuzzArgs& a) {
     Setup s{system_from(a.system), {}, nullptr, nullptr, 1e-9, {}, nullptr, {}};
     s.mech = make_mechanics(s.system);
@@ -346,7 +335,7 @@ int run_consistency_fuzz_at(const FuzzArgs& a, const FuzzArgs& given, const std:
     o.velocities = a.velocities;
     o.restitution = s.restitution;
     o.reference = s.reference.get();
-    const std::string rbuf = shortest(s.R);
+    const std::string rbuf = fuzz::shortest_decimal(s.R);
     o.replay_prefix = replay_command("eval --float ") + system_flags(a.system) + (a.velocities ? " --velocities " : " ") +
                       (s.law ? "--float-law " + fuzz::shell_quote(a.float_law) : s.impl->replay_flags()) +
                       " --max-rel-error " + rbuf +

@@ -28,17 +28,6 @@ namespace impactcert::cli {
 
 namespace {
 
-// The shortest decimal that reads back as x (a replay's tolerance, exactly the run's).
-std::string shortest_decimal(double x) {
-    char buf[40];
-    for (int digits = 1; digits <= 17; ++digits) {
-        std::snprintf(buf, sizeof buf, "%.*g", digits, x);
-        if (std::strtod(buf, nullptr) == x)
-            break;
-    }
-    return buf;
-}
-
 // One point: c contact velocities, or n ball velocities with --velocities.
 std::string evaluate_point(const Model& model, const Vector& x, bool velocities, const std::string& where,
                            bool show_pieces = false) {
@@ -159,7 +148,7 @@ int run_eval_float(const FuzzArgs& a, const std::vector<std::vector<std::string>
         }
         if (off && a.max_rel_error)
             std::printf("not within --max-rel-error %s of the exact value in the law's metric\n",
-                        shortest_decimal(*a.max_rel_error).c_str());
+                        fuzz::shortest_decimal(*a.max_rel_error).c_str());
         else if (off)
             std::printf("not within %llu ulp of the correctly rounded value (--max-ulps)\n",
                         static_cast<unsigned long long>(allowed));
@@ -312,7 +301,7 @@ std::string fuzz_junit(const fuzz::Summary& sum, const std::string& target, cons
 }
 
 std::string tolerance_text(const fuzz::Options& o) {
-    return o.tolerance == fuzz::Tolerance::relative ? "--max-rel-error " + shortest_decimal(o.max_rel_error)
+    return o.tolerance == fuzz::Tolerance::relative ? "--max-rel-error " + fuzz::shortest_decimal(o.max_rel_error)
            : o.tolerance == fuzz::Tolerance::ulps   ? "--max-ulps " + std::to_string(o.max_ulps)
                                                     : "the implementation's stated bound";
 }
@@ -361,11 +350,11 @@ int run_mutants_gate(const FuzzArgs& a, const Model& model, const fuzz::LawRefer
                                                                     : kExitProved;
     char rate[64];
     std::snprintf(rate, sizeof rate, "%.1f%%", 100 * rep.kill_rate());
-    std::string budget = o.seconds > 0 ? "at most " + shortest_decimal(o.seconds) + " s or " : "";
+    std::string budget = o.seconds > 0 ? "at most " + fuzz::shortest_decimal(o.seconds) + " s or " : "";
     budget += std::to_string(o.samples) + " samples";
     std::string range = "the whole double range";
     if (o.range_hi > 0)
-        range = shortest_decimal(o.range_lo) + ".." + shortest_decimal(o.range_hi);
+        range = fuzz::shortest_decimal(o.range_lo) + ".." + fuzz::shortest_decimal(o.range_hi);
     if (a.json) {
         Json j;
         j["format"] = "impactcert-mutants/1";
@@ -549,7 +538,7 @@ int run_fuzz(FuzzArgs a) {
     if (options.tolerance == fuzz::Tolerance::ulps && options.max_ulps > 0)
         options.replay_prefix += " --max-ulps " + std::to_string(options.max_ulps);
     if (options.tolerance == fuzz::Tolerance::relative)
-        options.replay_prefix += " --max-rel-error " + shortest_decimal(options.max_rel_error);
+        options.replay_prefix += " --max-rel-error " + fuzz::shortest_decimal(options.max_rel_error);
     if (!a.law_path.empty())
         options.replay_prefix += " --law " + fuzz::shell_quote(a.law_path);
     if (a.velocities)
