@@ -34,7 +34,7 @@ void note_without_pdf(bool figures) {
         std::cerr << "impactcert: note: " << why << "\n";
 }
 
-int run_report(const std::string& law_path, const std::string& dir, const Limits& limits, bool with_worst) {
+int run_report(const std::string& law_path, const std::string& dir, const Limits& limits, bool with_worst, bool bare) {
     const Model model = load_model(law_path, limits);
     const VerifyReport report = verify_with_progress(model, limits);
     std::optional<WorstCase> worst;
@@ -50,7 +50,7 @@ int run_report(const std::string& law_path, const std::string& dir, const Limits
     write_file(written[1], report_html(model, report, w));
     write_file(written[2], law_latex(model));
     write_file(written[3], verdicts_latex(model, report, w));
-    for (const auto& path : write_report_figures(model, report, dir + "/figures"))
+    for (const auto& path : write_report_figures(model, report, dir + "/figures", bare))
         written.push_back(path);
     for (const auto& path : written)
         std::cout << path << "\n";
@@ -178,6 +178,8 @@ int main(int argc, char** argv) {
     report_cmd->add_option("--law", law_path, "law file (impactcert-law/1); default: the paper's 3-ball law");
     report_cmd->add_option("-o,--output", out_path, "directory to write the report into (created)")->required();
     bool report_worst = false;
+    bool report_bare = false;
+    report_cmd->add_flag("--bare-figures", report_bare, "figures without their title and caption, for a paper that sets them in LaTeX (the legend stays; report.html has the captions)");
     report_cmd->add_flag("--worst-case", report_worst, "also the law's exact worst case (sup T+/T- and, for a continuous tiling, the Lipschitz constant in H) in report.md, report.html and verdicts.tex");
 
     auto* smt_cmd = app.add_subcommand("smt", "write one SMT-LIB2 file per universal claim (the claim negated: unsat = holds)");
@@ -350,7 +352,7 @@ int main(int argc, char** argv) {
                                           : run_certify_shard(law_path, parse_shard(shard_text), out_path, limits);
             }
             if (report_cmd->parsed())
-                return run_report(law_path, out_path, limits, report_worst);
+                return run_report(law_path, out_path, limits, report_worst, report_bare);
             if (smt_cmd->parsed())
                 return run_smt(law_path, out_path);
             if (sequential_cmd->parsed())

@@ -243,6 +243,37 @@ std::vector<Finding> ConsistencyChecker::check_exact(const Vector& x, const Vect
                         std::to_string(*worst + 1) + " = " + exact_text(gm[*worst]) + ")",
                     {{"gamma+_" + std::to_string(*worst + 1), gp[*worst]}, {"gamma-_" + std::to_string(*worst + 1), gm[*worst]}});
     }
+    // restitution with friction (Newton's law with Coulomb friction, proofs/README.md): an
+    // approaching contact k that pushes, Lambda_N,k > (R s + A) sqrt(H_kk), pushes in every
+    // consistent answer within R s + A, whose xi_N,k = gamma+_k + e_k gamma-_k is then 0; so
+    // xi_N,k^2 > (R s + A)^2 G_kk is a violation. The worst contact is reported.
+    if (!e_.empty() && m_.has_friction()) {
+        std::optional<std::size_t> worst;
+        double worst_score = 0;
+        for (std::size_t k = 0; k < c; ++k) {
+            if (sign_of(gm[k]) != Sign::negative || sign_of(lambda[k]) != Sign::positive ||
+                !(lambda[k] * lambda[k] > tol2 * m_.H(k, k)))
+                continue;
+            const Rational xi = gp[k] + e_[k] * gm[k];
+            const double score = ratio(xi * xi, m_.G(k, k) * s2);
+            if (xi * xi > tol2 * m_.G(k, k) && (!worst || score > worst_score)) {
+                worst = k;
+                worst_score = score;
+            }
+        }
+        if (worst) {
+            const std::size_t k = *worst;
+            finding(Property::restitution, std::sqrt(worst_score),
+                    "gamma+_" + std::to_string(k + 1) + " = " + exact_text(gp[k]) + ", not -e gamma-_" +
+                        std::to_string(k + 1) + " = " + exact_text(-(e_[k] * gm[k])) + " (e = " + to_string(e_[k]) +
+                        "; contact " + std::to_string(k + 1) + " approaches and pushes, Lambda_" + std::to_string(k + 1) +
+                        " = " + exact_text(lambda[k]) + ": Newton's law with friction leaves it at -e gamma-)",
+                    {{"gamma+_" + std::to_string(k + 1), gp[k]},
+                     {"gamma-_" + std::to_string(k + 1), gm[k]},
+                     {"Lambda_" + std::to_string(k + 1), lambda[k]},
+                     {"e", e_[k]}});
+        }
+    }
     // restitution: exactly one normal contact k approaches, and the single impact at k leaves every
     // other normal contact not approaching; then every law gives gamma+_k = -e_k gamma-_k.
     if (!e_.empty() && !m_.has_friction()) {
@@ -398,7 +429,8 @@ std::vector<Finding> ConsistencyChecker::check_exact(const Vector& x, const Vect
         momentum = momentum || f.property == Property::momentum;
     if (momentum)
         for (auto& f : out)
-            if (f.property == Property::kinetic || f.property == Property::friction_cone || f.property == Property::coulomb) {
+            if (f.property == Property::kinetic || f.property == Property::friction_cone || f.property == Property::coulomb ||
+                (f.property == Property::restitution && m_.has_friction())) {
                 f.projection = true;
                 f.detail += " [Lambda projected: the velocity change is not made of contact impulses here (momentum)]";
             }

@@ -28,7 +28,9 @@
 //       restitution (frictionless, the restitution given) where exactly one normal contact k
 //                   approaches and the single impact at k leaves every other contact not
 //                   approaching -- every impact law then gives gamma+_k = -e_k gamma-_k --
-//                   (gamma+_k + e_k gamma-_k)^2 > (R s + A)^2 G_kk
+//                   (gamma+_k + e_k gamma-_k)^2 > (R s + A)^2 G_kk;
+//                   with friction (Newton's law with Coulomb friction): where an approaching
+//                   contact k pushes, Lambda_N,k^2 > (R s + A)^2 H_kk, the same inequality
 //       reference   (with --reference) |y - y*| > R s + A, y* the reference law's exact answer
 //   - The probe: the input at rest is evaluated once before the samples; an answer that moves
 //     (beyond the underflow allowance), a non-finite one, a crash, a hang or a malformed answer

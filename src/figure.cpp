@@ -213,7 +213,9 @@ std::string standalone_figure(const std::string& full_title, const std::string& 
         legend_w += label_width(item);
     const double inner = std::max({w, 480.0, std::min(legend_w, 900.0)});
     const auto lines = wrap(caption, static_cast<std::size_t>(inner / 6.0));
-    const double title_h = 26, caption_h = 15 * static_cast<double>(lines.size()), top = margin + title_h + caption_h + 6;
+    // Without a title (report --bare-figures) neither title nor caption is drawn: a paper sets them.
+    const double title_h = title.empty() ? 0 : 26, caption_h = 15 * static_cast<double>(lines.size()),
+                 top = title.empty() && lines.empty() ? margin : margin + title_h + caption_h + 6;
     // Legend rows no wider than the figure.
     std::vector<std::vector<const LegendItem*>> rows(legend.empty() ? 0 : 1);
     double row_w = 0;
@@ -230,8 +232,9 @@ std::string standalone_figure(const std::string& full_title, const std::string& 
     std::string s = "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" + px(width) + "\" height=\"" + px(height) +
                     "\" viewBox=\"0 0 " + px(width) + " " + px(height) + "\" font-family=\"sans-serif\">\n";
     s += "<rect width=\"100%\" height=\"100%\" fill=\"#ffffff\"/>\n";
-    s += "<text x=\"" + px(margin) + "\" y=\"" + px(margin + 16) + "\" font-size=\"15\" font-weight=\"bold\" fill=\"#000000\">" +
-         xml_escape(title) + "</text>\n";
+    if (!title.empty())
+        s += "<text x=\"" + px(margin) + "\" y=\"" + px(margin + 16) + "\" font-size=\"15\" font-weight=\"bold\" fill=\"#000000\">" +
+             xml_escape(title) + "</text>\n";
     for (std::size_t k = 0; k < lines.size(); ++k)
         s += "<text x=\"" + px(margin) + "\" y=\"" + px(margin + title_h + 8 + 15 * static_cast<double>(k)) +
              "\" font-size=\"11\" fill=\"#333333\" class=\"caption\">" + xml_escape(lines[k]) + "</text>\n";
@@ -248,7 +251,7 @@ std::string standalone_figure(const std::string& full_title, const std::string& 
         for (const LegendItem* item : rows[r]) {
             using Shape = LegendItem::Shape;
             if (item->shape == Shape::dot)
-                s += "<circle cx=\"" + px(x + 12) + "\" cy=\"" + px(y + 7) + "\" r=\"4\" fill=\"#ffffff\" stroke=\"#000000\"/>";
+                s += "<circle cx=\"" + px(x + 12) + "\" cy=\"" + px(y + 7) + "\" r=\"4\" fill=\"" + xml_escape(item->colour) + "\" stroke=\"#000000\"/>";
             else if (item->shape == Shape::square)
                 s += "<rect x=\"" + px(x + 5) + "\" y=\"" + px(y) + "\" width=\"14\" height=\"14\" fill=\"" + xml_escape(item->colour) +
                      "\" stroke=\"#555555\" stroke-width=\"0.5\"/>";

@@ -6,7 +6,8 @@
 //   - standalone_figure: wraps a drawing (an SVG document whose first tag has width and height in
 //     pixels) into one SVG document with a white background, a title, an optional caption line
 //     wrapped to the drawing's width, and a legend row (squares, dots, lines), sized to hold all
-//     of them and scalable (viewBox). The title is cut at 120 bytes and legend labels at 40
+//     of them and scalable (viewBox). An empty title and caption give the drawing and its legend
+//     alone (report --bare-figures: a paper sets title and caption in LaTeX). The title is cut at 120 bytes and legend labels at 40
 //     ("..."), whatever the names in the law file.
 //     Every text is escaped as XML. The result is valid XML.
 //   - write_figure(stem, svg): writes STEM.svg and, when `rsvg-convert` (Debian: librsvg2-bin) is
@@ -26,7 +27,7 @@ namespace impactcert {
 
 struct LegendItem {
     enum class Shape { square, dot, line, dashed };
-    std::string colour; // "#009E73": a square of it, or a line of it; a dot is white with a black rim
+    std::string colour; // "#009E73": a square, a line or a dot (with a black rim) of it
     std::string label;
     Shape shape = Shape::square;
 };

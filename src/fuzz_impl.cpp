@@ -297,51 +297,51 @@ class CommandImpl final : public Implementation {
                     status[done] = ImplStatus::skipped;
                 return;
             }
+            if (one_at_a_time) {
+                // After a nondeterministic answer the batch's other answers cannot be attributed
+                // (a nondeterministic map may also have shifted its lines): each remaining input
+                // is asked on its own, repeated in a fresh process, and checked as given.
+                std::vector<double> first, second;
+                const ImplStatus st = ask_repeated(in + done * in_dim_, first, second);
+                if (st != ImplStatus::ok) {
+                    status[done] = st;
+                    for (std::size_t j = 0; j < out_dim_; ++j)
+                        out[done * out_dim_ + j] = NAN;
+                } else if (!same_values(first.data(), second.data(), out_dim_)) {
+                    status[done] = ImplStatus::nondeterministic;
+                    std::copy(first.begin(), first.end(), out + done * out_dim_);
+                    repeated_[done] = second;
+                } else {
+                    status[done] = ImplStatus::ok;
+                    std::copy(second.begin(), second.end(), out + done * out_dim_);
+                }
+                ++done;
+                continue;
+            }
             if (pid_ < 0)
                 start();
             sentinel_differs_ = false;
-            const std::size_t asked = one_at_a_time ? 1 : count - done;
+            const std::size_t asked = count - done;
             const std::size_t answered = batch(in + done * in_dim_, out + done * out_dim_, asked, status + done);
             if (failure_ == ImplStatus::malformed && answered == asked) {
                 // The repeated first input answered otherwise, or more lines than inputs: every
                 // answer of this batch may belong to another input -- or the map is not a
-                // function of its input. A fresh process answers the first input twice: a
-                // deterministic map gives the batch's first answer both times (the difference was
-                // a shift of lines: malformed); anything else is nondeterminism, its own finding.
+                // function of its input. A fresh process answers the first input repeatedly: a
+                // deterministic map gives the same answers (the difference was a shift of lines:
+                // malformed); anything else is nondeterminism, its own finding.
                 const bool differs = sentinel_differs_ && status[done] == ImplStatus::ok;
                 stop();
-                bool nondeterministic = false;
                 std::vector<double> first, second;
-                if (differs) {
-                    // The fresh process gets the first input kRepeats times. A deterministic map
-                    // whose lines are shifted (a header line, a line too many) answers the later
-                    // repetitions alike, whatever the shift (up to kRepeats - 2 lines); only an
-                    // answer that changes between the last two is nondeterminism.
-                    constexpr std::size_t kRepeats = 7;
-                    start();
-                    std::vector<double> again_in, again(kRepeats * out_dim_, 0.0);
-                    for (std::size_t r = 0; r < kRepeats; ++r)
-                        again_in.insert(again_in.end(), in + done * in_dim_, in + (done + 1) * in_dim_);
-                    std::vector<ImplStatus> st(kRepeats, ImplStatus::ok);
-                    const std::size_t n = batch(again_in.data(), again.data(), kRepeats, st.data());
-                    if (n == kRepeats && st[kRepeats - 2] == ImplStatus::ok && st[kRepeats - 1] == ImplStatus::ok) {
-                        first.assign(again.begin() + static_cast<std::ptrdiff_t>((kRepeats - 2) * out_dim_),
-                                     again.begin() + static_cast<std::ptrdiff_t>((kRepeats - 1) * out_dim_));
-                        second.assign(again.begin() + static_cast<std::ptrdiff_t>((kRepeats - 1) * out_dim_), again.end());
-                        nondeterministic = !same_values(first.data(), second.data(), out_dim_);
-                    }
-                    stop();
-                }
+                const bool nondeterministic = differs && ask_repeated(in + done * in_dim_, first, second) == ImplStatus::ok &&
+                                              !same_values(first.data(), second.data(), out_dim_);
                 if (!nondeterministic) {
                     for (std::size_t i = done; i < count; ++i)
                         status[i] = ImplStatus::malformed;
                     return;
                 }
-                // Nondeterminism is a finding, not a reason to stop checking. The batch's other
-                // answers cannot be attributed (a nondeterministic map may also have shifted its
-                // lines), so the rest of the batch is asked again one input at a time, each with
-                // its own repeated input: every answer is then checked as given, and each input
-                // answered differently is a finding of its own.
+                // Nondeterminism is a finding, not a reason to stop checking: the rest of the
+                // batch is asked one input at a time (above), so every answer is checked as given
+                // and each input answered differently is a finding of its own.
                 status[done] = ImplStatus::nondeterministic;
                 std::copy(first.begin(), first.end(), out + done * out_dim_);
                 repeated_[done] = second;
@@ -377,6 +377,30 @@ class CommandImpl final : public Implementation {
     std::vector<double> repeated_answer(std::size_t point) const override {
         const auto it = repeated_.find(point);
         return it == repeated_.end() ? std::vector<double>{} : it->second;
+    }
+
+    // A fresh process gets input x kRepeats times; `first` and `second` receive its last two
+    // answers. A deterministic map whose lines are shifted (a header line, a line too many)
+    // answers the later repetitions alike whatever the shift (up to kRepeats - 2 lines), so only
+    // an answer that changes between the last two is nondeterminism. Not ok: the process
+    // crashed, hung or answered malformed lines there.
+    ImplStatus ask_repeated(const double* x, std::vector<double>& first, std::vector<double>& second) {
+        constexpr std::size_t kRepeats = 7;
+        stop();
+        start();
+        std::vector<double> again_in, again(kRepeats * out_dim_, 0.0);
+        for (std::size_t r = 0; r < kRepeats; ++r)
+            again_in.insert(again_in.end(), x, x + in_dim_);
+        std::vector<ImplStatus> st(kRepeats, ImplStatus::ok);
+        const std::size_t n = batch(again_in.data(), again.data(), kRepeats, st.data());
+        const ImplStatus why = failure_;
+        stop();
+        if (n != kRepeats || st[kRepeats - 2] != ImplStatus::ok || st[kRepeats - 1] != ImplStatus::ok)
+            return why == ImplStatus::ok ? ImplStatus::malformed : why;
+        first.assign(again.begin() + static_cast<std::ptrdiff_t>((kRepeats - 2) * out_dim_),
+                     again.begin() + static_cast<std::ptrdiff_t>((kRepeats - 1) * out_dim_));
+        second.assign(again.begin() + static_cast<std::ptrdiff_t>((kRepeats - 1) * out_dim_), again.end());
+        return ImplStatus::ok;
     }
 
     // Why the last process ended (for the probe's error message).

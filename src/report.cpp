@@ -21,36 +21,6 @@ namespace {
 using namespace draw;
 
 
-
-
-// A direction in double at any scale: the vector is first multiplied exactly by the power of two
-// that brings its largest component near 1 (the binary exponent from the bit lengths of numerator
-// and denominator), so no component overflows and the direction is kept (a component below 2^-1074
-// of the largest becomes 0). A zero vector gives zeros. (18.8: diag(2^1000, 2^-1000) drew "-nan".)
-std::vector<double> scaled_doubles(const Vector& v) {
-    long top = LONG_MIN;
-    for (const auto& q : v)
-        if (sign_of(q) != Sign::zero)
-            top = std::max(top, static_cast<long>(mpz_sizeinbase(mpq_numref(q.mpq()), 2)) -
-                                    static_cast<long>(mpz_sizeinbase(mpq_denref(q.mpq()), 2)));
-    std::vector<double> out;
-    for (const auto& q : v) {
-        // A fresh number: a copy of q would share q's GMP value (CGAL's Gmpq is a reference-counted
-        // handle), and writing into it would change the caller's law (it did: the rays of the
-        // Model and, once H was drawn too, H itself, which verify then found non-symmetric).
-        Rational r;
-        if (top > 0)
-            mpq_div_2exp(r.mpq(), q.mpq(), static_cast<mp_bitcnt_t>(top));
-        else if (top != LONG_MIN && top < 0)
-            mpq_mul_2exp(r.mpq(), q.mpq(), static_cast<mp_bitcnt_t>(-top));
-        else
-            mpq_set(r.mpq(), q.mpq());
-        out.push_back(mpq_get_d(r.mpq())); // |r| < 4 for the largest: finite
-    }
-    return out;
-}
-
-
 // A wedge from direction a counter-clockwise to b (angle < pi), centred at (cx, cy) with
 // radius r (drawn long and clipped by the panel).
 std::string wedge(Dir a, Dir b, double cx, double cy, double r, const std::string& fill, const std::string& clip,
@@ -76,61 +46,6 @@ std::pair<Vector, Vector> ccw(const Vector& a, const Vector& b) {
 
 std::string verdict_word(const ObligationResult& o) { return to_string(o.verdict); }
 
-
-// The points of a refuted obligation's counterexample: one point, or a pair (to be joined).
-struct Marked {
-    std::string id;
-    std::vector<std::vector<double>> points;
-    std::vector<Vector> exact; // the same points, exactly
-};
-
-std::vector<Marked> marked_points(const VerifyReport* report, std::size_t c) {
-    std::vector<Marked> out;
-    if (!report)
-        return out;
-    auto read = [&](const Json& j) {
-        Vector v;
-        for (const auto& x : j) {
-            std::string why;
-            const auto q = parse_rational(x.get<std::string>(), &why);
-            v.push_back(q ? *q : Rational(0));
-        }
-        return v;
-    };
-    // The points of one mark scaled together (a pair keeps its relative lengths), exactly.
-    auto scaled = [](const std::vector<Vector>& pts) {
-        Vector all;
-        for (const auto& p : pts)
-            all.insert(all.end(), p.begin(), p.end());
-        const auto d = scaled_doubles(all);
-        std::vector<std::vector<double>> parts;
-        std::size_t k = 0;
-        for (const auto& p : pts) {
-            parts.emplace_back(d.begin() + static_cast<std::ptrdiff_t>(k), d.begin() + static_cast<std::ptrdiff_t>(k + p.size()));
-            k += p.size();
-        }
-        return parts;
-    };
-    for (const auto& o : report->obligations) {
-        // Only what the law claims: a property it does not claim is no counterexample to it.
-        if (o.verdict != Verdict::refuted || !o.claimed || !o.counterexample.is_object())
-            continue;
-        const Json& w = o.counterexample;
-        Marked m{o.id, {}, {}};
-        if (w.contains("gamma_a") && w.contains("gamma_b")) {
-            m.exact = {read(w["gamma_a"]), read(w["gamma_b"])};
-        } else if (w.contains("gamma") && w["gamma"].is_array()) {
-            m.exact = {read(w["gamma"])};
-        } else if (w.contains("ray") && w["ray"].is_array()) {
-            m.exact = {read(w["ray"])};
-        }
-        if (!m.exact.empty())
-            m.points = scaled(m.exact);
-        if (!m.points.empty() && m.points[0].size() == c)
-            out.push_back(std::move(m));
-    }
-    return out;
-}
 
 // Text from a law (names) or a method in Markdown: one line (control characters become
 // blanks) with every character that Markdown, GitHub's tables, HTML or math could act on
@@ -170,157 +85,10 @@ std::string md_json(const Json& j) {
 
 namespace {
 
-// Counterexample marks at picture coordinates: the points, joined when there are two.
-// `labels` counts the labels already written at each (rounded) place: the next one there goes a
-// line lower, so that several counterexamples at one point do not overwrite each other's names.
-std::string marks_svg(const std::vector<std::pair<double, double>>& shown, const std::string& id,
-                      std::map<std::pair<long, long>, int>& labels) {
-    std::string s;
-    if (shown.size() == 2)
-        s += "<line x1=\"" + fmt(shown[0].first) + "\" y1=\"" + fmt(shown[0].second) + "\" x2=\"" +
-             fmt(shown[1].first) + "\" y2=\"" + fmt(shown[1].second) + "\" stroke=\"#000\" stroke-width=\"2\"/>\n";
-    for (const auto& [px, py] : shown)
-        s += "<circle cx=\"" + fmt(px) + "\" cy=\"" + fmt(py) + "\" r=\"4\" fill=\"#000\" stroke=\"#fff\" class=\"counterexample\"><title>" +
-             xml_escape(id + " counterexample") + "</title></circle>\n";
-    if (!shown.empty()) {
-        int& line = labels[{std::lround(shown[0].first / 4), std::lround(shown[0].second / 4)}];
-        s += "<text x=\"" + fmt(shown[0].first + 6) + "\" y=\"" + fmt(shown[0].second + 12 + 11 * line) +
-             "\" font-size=\"10\" fill=\"#000\">" + xml_escape(id) + "</text>\n";
-        ++line;
-    }
-    return s;
-}
-
-// ---- c = 3: the cones on the unit sphere, in two orthographic hemispheres.
-
-using P3 = std::array<double, 3>;
-
-P3 unit(P3 v) {
-    const double n = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-    if (!(n > 0 && std::isfinite(n)))
-        return {0, 0, 1};
-    return {v[0] / n, v[1] / n, v[2] / n};
-}
-double dot3(const P3& a, const P3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
-P3 to_p3(const Vector& v) {
-    const auto d = scaled_doubles(v);
-    return unit({d[0], d[1], d[2]});
-}
-
-// The spherical triangle of three unit rays as a dense closed polyline (great-circle edges).
-std::vector<P3> spherical_triangle(const P3& a, const P3& b, const P3& c) {
-    std::vector<P3> out;
-    const P3 corners[3] = {a, b, c};
-    for (int e = 0; e < 3; ++e) {
-        const P3& u = corners[e];
-        const P3& v = corners[(e + 1) % 3];
-        for (int k = 0; k < 24; ++k) {
-            const double t = k / 24.0;
-            out.push_back(unit({u[0] * (1 - t) + v[0] * t, u[1] * (1 - t) + v[1] * t, u[2] * (1 - t) + v[2] * t}));
-        }
-    }
-    return out;
-}
-
-// Clip a closed polyline on the sphere to the hemisphere n . x >= 0 (Sutherland-Hodgman against
-// the plane, then back onto the sphere).
-std::vector<P3> clip_hemisphere(const std::vector<P3>& poly, const P3& n) {
-    std::vector<P3> out;
-    for (std::size_t i = 0; i < poly.size(); ++i) {
-        const P3& p = poly[i];
-        const P3& q = poly[(i + 1) % poly.size()];
-        const double dp = dot3(n, p), dq = dot3(n, q);
-        if (dp >= 0)
-            out.push_back(p);
-        if ((dp >= 0) != (dq >= 0)) {
-            const double t = dp / (dp - dq);
-            P3 x{p[0] + (q[0] - p[0]) * t, p[1] + (q[1] - p[1]) * t, p[2] + (q[2] - p[2]) * t};
-            const double len = std::sqrt(dot3(x, x));
-            out.push_back(len > 1e-12 ? P3{x[0] / len, x[1] / len, x[2] / len} : x);
-        }
-    }
-    return out;
-}
-
-std::string sphere_svg(const Model& model, const VerifyReport* report) {
-    const auto& pieces = model.pieces();
-    const double r = 170, gap = 40, width = 4 * r + gap + 40, height = 2 * r + 70;
-    // View from (1,1,1) and from (-1,-1,-1); e1, e2 span the picture plane.
-    const P3 front = unit({1, 1, 1});
-    const P3 e1 = unit({1, -1, 0}), e2 = unit({-1, -1, 2});
-    std::string s = "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" + fmt(width) + "\" height=\"" +
-                    fmt(height) + "\" viewBox=\"0 0 " + fmt(width) + " " + fmt(height) +
-                    "\" font-family=\"sans-serif\" role=\"img\" aria-label=\"cones of " + xml_escape(model.law().name) +
-                    "\">\n<title>" + xml_escape(model.law().name) +
-                    ": the cones C_i on the unit sphere of (gamma1-, gamma2-, gamma3-), two hemispheres</title>\n";
-    const std::array<std::pair<double, const char*>, 2> views = {std::make_pair(1.0, "seen from (1, 1, 1)"),
-                                                                 std::make_pair(-1.0, "seen from (-1, -1, -1)")};
-    for (std::size_t v = 0; v < views.size(); ++v) {
-        const double sign = views[v].first;
-        const P3 n{front[0] * sign, front[1] * sign, front[2] * sign};
-        const P3 a1{e1[0] * sign, e1[1] * sign, e1[2] * sign}; // mirrored so the back is seen from behind
-        const double cx = 20 + r + static_cast<double>(v) * (2 * r + gap), cy = 30 + r;
-        auto project = [&](const P3& x) { return std::make_pair(cx + dot3(x, a1) * r, cy - dot3(x, e2) * r); };
-        s += "<text x=\"" + fmt(cx) + "\" y=\"18\" text-anchor=\"middle\" font-size=\"14\">" + std::string(views[v].second) + "</text>\n";
-        s += "<circle cx=\"" + fmt(cx) + "\" cy=\"" + fmt(cy) + "\" r=\"" + fmt(r) + "\" fill=\"#fafafa\" stroke=\"#999\"/>\n";
-        for (std::size_t p = 0; p < pieces.size(); ++p) {
-            const auto poly = clip_hemisphere(spherical_triangle(to_p3(pieces[p].R.column(0)), to_p3(pieces[p].R.column(1)),
-                                                                 to_p3(pieces[p].R.column(2))),
-                                              n);
-            if (poly.size() < 3)
-                continue;
-            std::string pts;
-            for (const auto& x : poly) {
-                const auto [px, py] = project(x);
-                pts += fmt(px) + "," + fmt(py) + " ";
-            }
-            s += "<polygon points=\"" + pts + "\" fill=\"" + kPalette[p % 10] +
-                 "\" fill-opacity=\"0.55\" stroke=\"#222\" stroke-width=\"0.8\"/>\n";
-        }
-        // Labels at the centroid direction of each cone, in the hemisphere that shows it.
-        for (std::size_t p = 0; p < pieces.size(); ++p) {
-            const Vector sum = pieces[p].R.column(0) + pieces[p].R.column(1) + pieces[p].R.column(2);
-            const P3 m = to_p3(sum);
-            if (dot3(m, n) <= 0.05)
-                continue;
-            const auto [px, py] = project(m);
-            s += "<text x=\"" + fmt(px) + "\" y=\"" + fmt(py + 4) + "\" text-anchor=\"middle\" font-size=\"10\" class=\"cone-label\">" +
-                 xml_escape(pieces[p].name) + "</text>\n";
-        }
-        // The axes gamma_k- (positive directions) where visible.
-        for (std::size_t k = 0; k < 3; ++k) {
-            P3 axis{0, 0, 0};
-            axis[k] = 1;
-            if (dot3(axis, n) <= 0)
-                continue;
-            const auto [px, py] = project(axis);
-            s += "<circle cx=\"" + fmt(px) + "\" cy=\"" + fmt(py) + "\" r=\"2.5\" fill=\"#000\"/><text x=\"" + fmt(px + 4) +
-                 "\" y=\"" + fmt(py - 4) + "\" font-size=\"11\">" + coordinate_svg(model, k) + "-</text>\n";
-        }
-        // Counterexamples: their directions on the sphere (a pair joined by its chord).
-        std::map<std::pair<long, long>, int> labels;
-        for (const auto& mk : marked_points(report, 3)) {
-            std::vector<std::pair<double, double>> shown;
-            for (const auto& pt : mk.points) {
-                const P3 x = unit({pt[0], pt[1], pt[2]});
-                if (dot3(x, n) > 0)
-                    shown.push_back(project(x));
-            }
-            s += marks_svg(shown, mk.id, labels);
-        }
-    }
-    return s + "</svg>\n";
-}
 
 } // namespace
 
 namespace {
-
-
-
-
-
-
 
 
 // The cones unrolled on a strip: the H-angle from -pi to pi left to right, one band per cone with
@@ -333,6 +101,7 @@ std::string angle_strip(const Model& model, double x0, double y0, double width) 
     s += "<rect x=\"" + fmt(x0) + "\" y=\"" + fmt(y0) + "\" width=\"" + fmt(width) + "\" height=\"" + fmt(height) +
          "\" fill=\"#fafafa\" stroke=\"#999\"/>\n";
     const auto& pieces = model.pieces();
+    const auto colours = piece_colours(model);
     for (std::size_t p = 0; p < pieces.size(); ++p) {
         const auto [ra, rb] = ccw(pieces[p].R.column(0), pieces[p].R.column(1));
         const double a = h_angle(model.H(), ra), d = span(a, h_angle(model.H(), rb));
@@ -346,7 +115,7 @@ std::string angle_strip(const Model& model, double x0, double y0, double width) 
         s += "<g class=\"cone-band\"><title>" + xml_escape(piece_title(pieces[p])) + "</title>";
         for (const auto& [lo, hi] : bands)
             s += "<rect x=\"" + fmt(at(lo)) + "\" y=\"" + fmt(y0) + "\" width=\"" + fmt(std::max(at(hi) - at(lo), 0.6)) +
-                 "\" height=\"" + fmt(height) + "\" fill=\"" + kPalette[p % 10] + "\" fill-opacity=\"0.7\" stroke=\"#fff\" stroke-width=\"0.5\"/>";
+                 "\" height=\"" + fmt(height) + "\" fill=\"" + colours[p] + "\" fill-opacity=\"0.7\" stroke=\"#fff\" stroke-width=\"0.5\"/>";
         s += "</g>\n";
         for (const auto& [lo, hi] : bands)
             if ((at(hi) - at(lo)) >= 7.0 * static_cast<double>(pieces[p].name.size()) + 4)
@@ -380,10 +149,11 @@ std::string angle_strip(const Model& model, double x0, double y0, double width) 
 
 std::string cones_svg(const Model& model, const VerifyReport* report) {
     if (model.contacts() == 3)
-        return sphere_svg(model, report);
+        return draw::sphere_svg(model, report);
     if (model.contacts() != 2)
         return "";
     const auto& pieces = model.pieces();
+    const auto colours = piece_colours(model);
     const Matrix& H = model.H();
     // Up to 12 pieces: one thumbnail per image; more: all images in one panel (hover for names).
     const std::size_t P = pieces.size(), cols = 3;
@@ -438,7 +208,7 @@ std::string cones_svg(const Model& model, const VerifyReport* report) {
     for (std::size_t p = 0; p < P; ++p) {
         const auto [a, b] = ccw(pieces[p].R.column(0), pieces[p].R.column(1));
         s += "<g><title>" + xml_escape(piece_title(pieces[p])) + "</title>" +
-             wedge(h_direction(H, a), h_direction(H, b), cx, cy, r, kPalette[p % 10], "main", 0.55) + "</g>\n";
+             wedge(h_direction(H, a), h_direction(H, b), cx, cy, r, colours[p], "main", 0.55) + "</g>\n";
     }
     for (const auto& ray : model.rays())
         s += ray_line(h_direction(H, ray), cx, cy, r, "main");
@@ -488,7 +258,7 @@ std::string cones_svg(const Model& model, const VerifyReport* report) {
             if (sign_of(area) != Sign::zero) {
                 const auto [a, b] = ccw(u, v);
                 s += "<g><title>" + xml_escape("image of " + pieces[p].name) + "</title>" +
-                     wedge(h_direction(H, a), h_direction(H, b), icx, icy, ir, kPalette[p % 10], clip, 0.7) + "</g>\n";
+                     wedge(h_direction(H, a), h_direction(H, b), icx, icy, ir, colours[p], clip, 0.7) + "</g>\n";
             }
             for (const Vector* w : {&u, &v})
                 if (!is_zero(*w))
@@ -508,7 +278,7 @@ std::string cones_svg(const Model& model, const VerifyReport* report) {
                 continue;
             const auto [a, b] = ccw(u, v);
             s += "<g><title>" + xml_escape("image of " + piece_title(pieces[p])) + "</title>" +
-                 wedge(h_direction(H, a), h_direction(H, b), icx, cy, r, kPalette[p % 10], "images", 0.45) + "</g>\n";
+                 wedge(h_direction(H, a), h_direction(H, b), icx, cy, r, colours[p], "images", 0.45) + "</g>\n";
         }
     }
     s += angle_strip(model, 20, strip_y, width - 40);
@@ -633,9 +403,8 @@ std::string report_html(const Model& model, const VerifyReport& report, const Wo
              "where they fit; hover any cone for its word, rays and matrix.</figcaption>\n</figure>\n";
     if (model.contacts() == 3)
         s += "<figure>\n" + cones_svg(model, &report) +
-             "<figcaption>The cones of the law on the unit sphere of pre-impact contact velocities, in two "
-             "orthographic hemispheres (seen from (1,1,1) and from (-1,-1,-1)), each labelled at its centre; "
-             "black dots: counterexamples.</figcaption>\n</figure>\n";
+             "<figcaption>" + std::string(kConesCaption3) + " Hover a cone for its name, rays and matrix." +
+             (model.has_friction() ? std::string(" ") + kModeKey : std::string()) + "</figcaption>\n</figure>\n";
     if (model.contacts() == 2)
         s += "<figure>\n" + unit_circle_svg(model) + "<figcaption>" + kUnitCircleCaption +
              (model.has_friction() ? std::string(" ") + kModeKey : std::string()) + "</figcaption>\n</figure>\n";

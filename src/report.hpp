@@ -61,11 +61,11 @@ std::string verdicts_latex(const Model& model, const VerifyReport& report, const
 
 // Standalone figures into dir (created; figure.hpp): cones (c = 2, 3), unit-circle (c = 2) and
 // planes (when planes_svg draws), each STEM.svg and, with rsvg-convert, STEM.pdf, with a title,
-// a caption and a legend. Returns the paths written; none when there is no picture.
-std::vector<std::string> write_report_figures(const Model& model, const VerifyReport& report, const std::string& dir);
+// a caption and a legend (bare: the legend alone, without title and caption). Returns the paths
+// written; none when there is no picture.
+std::vector<std::string> write_report_figures(const Model& model, const VerifyReport& report, const std::string& dir,
+                                              bool bare = false);
 
-// The colour of piece p in every picture (Okabe-Ito, report_draw.hpp).
-std::string draw_palette(std::size_t p);
 
 inline constexpr const char* kConesCaption2 =
     "The cones in the plane of pre-impact contact velocities (compare Leine & Winandy, Fig. 1(b)), drawn in the "
@@ -73,7 +73,9 @@ inline constexpr const char* kConesCaption2 =
     "counterexamples. Right: each cone's image under its matrix. Below: the cones unrolled by angle.";
 inline constexpr const char* kConesCaption3 =
     "The cones on the unit sphere of pre-impact contact velocities, in two orthographic hemispheres (seen from "
-    "(1,1,1) and from (-1,-1,-1)), each labelled at its centre; black dots: counterexamples.";
+    "(1,1,1) and from (-1,-1,-1)); edges are great-circle arcs. Each cone is numbered where it shows best (inside "
+    "it, or by a leader line) and named in the key; neighbouring cones have different colours; black dots: "
+    "counterexamples.";
 // With `worst` (report --worst-case): the law's exact worst case too.
 std::string report_markdown(const Model& model, const VerifyReport& report, const WorstCase* worst = nullptr);
 std::string report_html(const Model& model, const VerifyReport& report, const WorstCase* worst = nullptr);

@@ -2,16 +2,21 @@
 #include "report_draw.hpp"
 
 #include "report.hpp"
+#include "law_json.hpp"
+#include "rational.hpp"
+#include "verdict_output.hpp"
 
+#include <algorithm>
+#include <climits>
 #include <cmath>
 #include <cstdio>
 
 namespace impactcert::draw {
 
 // Okabe & Ito's colour-blind-safe palette (without black and vermillion, kept for the marks);
-// grey as an eighth. Counterexamples are black on a white outline.
-const char* const kPalette[10] = {"#E69F00", "#56B4E9", "#009E73", "#F0E442", "#0072B2", "#CC79A7", "#999999",
-                                "#E69F00", "#56B4E9", "#009E73"};
+// grey as a seventh. Counterexamples are black on a white outline.
+const char* const kPalette[7] = {"#E69F00", "#56B4E9", "#009E73", "#F0E442", "#0072B2", "#CC79A7", "#999999"};
+
 
 std::string fmt(double x) {
     char buf[32];
@@ -88,8 +93,104 @@ std::string piece_title(const Piece& p) {
     return p.name + ": rays " + rays_text(p) + "; Q = " + matrix_text(p.Q);
 }
 
+// A direction in double at any scale: the vector is first multiplied exactly by the power of two
+// that brings its largest component near 1 (the binary exponent from the bit lengths of numerator
+// and denominator), so no component overflows and the direction is kept (a component below 2^-1074
+// of the largest becomes 0). A zero vector gives zeros. (18.8: diag(2^1000, 2^-1000) drew "-nan".)
+std::vector<double> scaled_doubles(const Vector& v) {
+    long top = LONG_MIN;
+    for (const auto& q : v)
+        if (sign_of(q) != Sign::zero)
+            top = std::max(top, static_cast<long>(mpz_sizeinbase(mpq_numref(q.mpq()), 2)) -
+                                    static_cast<long>(mpz_sizeinbase(mpq_denref(q.mpq()), 2)));
+    std::vector<double> out;
+    for (const auto& q : v) {
+        // A fresh number: a copy of q would share q's GMP value (CGAL's Gmpq is a reference-counted
+        // handle), and writing into it would change the caller's law (it did: the rays of the
+        // Model and, once H was drawn too, H itself, which verify then found non-symmetric).
+        Rational r;
+        if (top > 0)
+            mpq_div_2exp(r.mpq(), q.mpq(), static_cast<mp_bitcnt_t>(top));
+        else if (top != LONG_MIN && top < 0)
+            mpq_mul_2exp(r.mpq(), q.mpq(), static_cast<mp_bitcnt_t>(-top));
+        else
+            mpq_set(r.mpq(), q.mpq());
+        out.push_back(mpq_get_d(r.mpq())); // |r| < 4 for the largest: finite
+    }
+    return out;
+}
+
+
+std::vector<Marked> marked_points(const VerifyReport* report, std::size_t c) {
+    std::vector<Marked> out;
+    if (!report)
+        return out;
+    auto read = [&](const Json& j) {
+        Vector v;
+        for (const auto& x : j) {
+            std::string why;
+            const auto q = parse_rational(x.get<std::string>(), &why);
+            v.push_back(q ? *q : Rational(0));
+        }
+        return v;
+    };
+    // The points of one mark scaled together (a pair keeps its relative lengths), exactly.
+    auto scaled = [](const std::vector<Vector>& pts) {
+        Vector all;
+        for (const auto& p : pts)
+            all.insert(all.end(), p.begin(), p.end());
+        const auto d = scaled_doubles(all);
+        std::vector<std::vector<double>> parts;
+        std::size_t k = 0;
+        for (const auto& p : pts) {
+            parts.emplace_back(d.begin() + static_cast<std::ptrdiff_t>(k), d.begin() + static_cast<std::ptrdiff_t>(k + p.size()));
+            k += p.size();
+        }
+        return parts;
+    };
+    for (const auto& o : report->obligations) {
+        // Only what the law claims: a property it does not claim is no counterexample to it.
+        if (o.verdict != Verdict::refuted || !o.claimed || !o.counterexample.is_object())
+            continue;
+        const Json& w = o.counterexample;
+        Marked m{o.id, {}, {}};
+        if (w.contains("gamma_a") && w.contains("gamma_b")) {
+            m.exact = {read(w["gamma_a"]), read(w["gamma_b"])};
+        } else if (w.contains("gamma") && w["gamma"].is_array()) {
+            m.exact = {read(w["gamma"])};
+        } else if (w.contains("ray") && w["ray"].is_array()) {
+            m.exact = {read(w["ray"])};
+        }
+        if (!m.exact.empty())
+            m.points = scaled(m.exact);
+        if (!m.points.empty() && m.points[0].size() == c)
+            out.push_back(std::move(m));
+    }
+    return out;
+}
+
+// Counterexample marks at picture coordinates: the points, joined when there are two.
+// `labels` counts the labels already written at each (rounded) place: the next one there goes a
+// line lower, so that several counterexamples at one point do not overwrite each other's names.
+std::string marks_svg(const std::vector<std::pair<double, double>>& shown, const std::string& id,
+                      std::map<std::pair<long, long>, int>& labels, double left_beyond) {
+    std::string s;
+    if (shown.size() == 2)
+        s += "<line x1=\"" + fmt(shown[0].first) + "\" y1=\"" + fmt(shown[0].second) + "\" x2=\"" +
+             fmt(shown[1].first) + "\" y2=\"" + fmt(shown[1].second) + "\" stroke=\"#000\" stroke-width=\"2\"/>\n";
+    for (const auto& [px, py] : shown)
+        s += "<circle cx=\"" + fmt(px) + "\" cy=\"" + fmt(py) + "\" r=\"4\" fill=\"#000\" stroke=\"#fff\" class=\"counterexample\"><title>" +
+             xml_escape(id + " counterexample") + "</title></circle>\n";
+    if (!shown.empty()) {
+        int& line = labels[{std::lround(shown[0].first / 4), std::lround(shown[0].second / 4)}];
+        const bool left = shown[0].first > left_beyond;
+        s += "<text x=\"" + fmt(shown[0].first + (left ? -6 : 6)) + "\" y=\"" + fmt(shown[0].second + 12 + 11 * line) +
+             "\"" + (left ? " text-anchor=\"end\"" : "") + " font-size=\"10\" fill=\"#000\" stroke=\"#fff\" "
+             "stroke-width=\"2.5\" paint-order=\"stroke\">" + xml_escape(id) + "</text>\n";
+        ++line;
+    }
+    return s;
+}
+
 } // namespace impactcert::draw
 
-namespace impactcert {
-std::string draw_palette(std::size_t p) { return draw::kPalette[p % 10]; }
-} // namespace impactcert

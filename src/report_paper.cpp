@@ -5,6 +5,7 @@
 
 #include "figure.hpp"
 #include "rational.hpp"
+#include "report_draw.hpp"
 
 #include <cstdio>
 #include <filesystem>
@@ -126,7 +127,8 @@ std::string verdicts_latex(const Model& model, const VerifyReport& report, const
     return s + "\\bottomrule\n\\end{tabular}\n";
 }
 
-std::vector<std::string> write_report_figures(const Model& model, const VerifyReport& report, const std::string& dir) {
+std::vector<std::string> write_report_figures(const Model& model, const VerifyReport& report, const std::string& dir,
+                                              bool bare) {
     const std::size_t c = model.contacts();
     std::string why_not;
     const bool planes = planes_svg_fits(model, &why_not);
@@ -140,11 +142,13 @@ std::vector<std::string> write_report_figures(const Model& model, const VerifyRe
     for (const auto& o : report.obligations)
         refuted = refuted || (o.verdict == Verdict::refuted && o.claimed);
     const std::string name = model.law().name;
-    // A legend of the cones' colours where each colour names one cone (the palette has 7 hues).
+    // A legend of the cones' colours where each colour names one cone (the palette has 7 hues);
+    // the sphere of a law with 3 contacts numbers its cones and has its own key.
     std::vector<LegendItem> cones;
+    const auto colours = draw::piece_colours(model);
     if (model.pieces().size() <= 7)
         for (std::size_t p = 0; p < model.pieces().size(); ++p)
-            cones.push_back({draw_palette(p), model.pieces()[p].name, LegendItem::Shape::square});
+            cones.push_back({colours[p], model.pieces()[p].name, LegendItem::Shape::square});
     std::vector<std::string> written;
     auto add = [&](const std::string& stem, const std::string& svg) {
         for (auto& path : write_figure(dir + "/" + stem, svg))
@@ -154,18 +158,22 @@ std::vector<std::string> write_report_figures(const Model& model, const VerifyRe
     auto caption = [&](const char* base) {
         return std::string(base) + (model.has_friction() ? std::string(" ") + kModeKey : std::string());
     };
+    auto figure = [&](const std::string& title, const std::string& text, const std::string& drawing,
+                      const std::vector<LegendItem>& legend) {
+        return bare ? standalone_figure("", "", drawing, legend) : standalone_figure(title, text, drawing, legend);
+    };
     if (c == 2 || c == 3) {
-        std::vector<LegendItem> legend = cones;
+        std::vector<LegendItem> legend = c == 3 ? std::vector<LegendItem>{} : cones;
         if (refuted)
             legend.push_back({"#000000", "counterexample", LegendItem::Shape::dot});
-        add("cones", standalone_figure(name + ": the cones of the law", caption(c == 2 ? kConesCaption2 : kConesCaption3),
+        add("cones", figure(name + ": the cones of the law", caption(c == 2 ? kConesCaption2 : kConesCaption3),
                                        cones_svg(model, &report), legend));
     }
     if (c == 2) {
         std::vector<LegendItem> legend = {{"#000000", "‖γ⁻‖_H = 1", LegendItem::Shape::dashed},
                                           {"#000000", "S(γ⁻) and the ratio, coloured by cone", LegendItem::Shape::line}};
         legend.insert(legend.end(), cones.begin(), cones.end());
-        add("unit-circle", standalone_figure(name + ": S along the unit circle of the metric H", caption(kUnitCircleCaption),
+        add("unit-circle", figure(name + ": S along the unit circle of the metric H", caption(kUnitCircleCaption),
                                              unit_circle_svg(model), legend));
     }
     if (planes) {
@@ -173,7 +181,7 @@ std::vector<std::string> write_report_figures(const Model& model, const VerifyRe
                                           {"#000000", "‖S(γ⁻)‖_H / ‖γ⁻‖_H", LegendItem::Shape::line},
                                           {"#dddddd", "no cone in a sector", LegendItem::Shape::square}};
         legend.insert(legend.end(), cones.begin(), cones.end());
-        add("planes", standalone_figure(name + (model.has_friction() ? ": the law on the planes of two contact coordinates"
+        add("planes", figure(name + (model.has_friction() ? ": the law on the planes of two contact coordinates"
                                                                      : ": the law on the planes of two contacts"),
                                         caption(kPlanesCaption),
                                         planes_svg(model), legend));

@@ -8,6 +8,8 @@
 #include "verdict_output.hpp"
 
 #include <algorithm>
+#include <map>
+#include <set>
 #include <cmath>
 
 namespace impactcert {
@@ -150,6 +152,7 @@ std::string unit_circle_svg(const Model& model) {
     if (model.contacts() != 2 || model.pieces().empty())
         return "";
     const auto& pieces = model.pieces();
+    const auto colours = piece_colours(model);
     const Matrix& H = model.H();
     struct Samples {
         std::vector<std::pair<double, double>> image; // angle of S(g), |S(g)|_H / |g|_H
@@ -186,7 +189,7 @@ std::string unit_circle_svg(const Model& model) {
         // The cones, lightly, out to the panel's edge.
         for (const auto& sec : sectors)
             s += "<path d=\"" + ring_path(cx, cy, 0.001, 185, sec.a, std::max(sec.d, 1e-6)) + "\" fill=\"" +
-                 kPalette[sec.piece % 10] + "\" fill-opacity=\"0.22\" stroke=\"#ffffff\" stroke-width=\"0.6\"><title>" +
+                 colours[sec.piece] + "\" fill-opacity=\"0.22\" stroke=\"#ffffff\" stroke-width=\"0.6\"><title>" +
                  xml_escape(piece_title(pieces[sec.piece])) + "</title></path>\n";
         // The axes of gamma1 and gamma2, drawn in the metric H.
         const std::vector<std::pair<Vector, std::string>> axes = {{{Rational(1), Rational(0)}, "+&#947;1"},
@@ -210,7 +213,7 @@ std::string unit_circle_svg(const Model& model) {
             s += "<g class=\"" + std::string(panel == 0 ? "image-curve" : "ratio-curve") + "\"><title>" +
                  xml_escape(pieces[k].name) + "</title><polyline points=\"" + pts +
                  "\" fill=\"none\" stroke=\"#000000\" stroke-width=\"3.6\" stroke-linejoin=\"round\"/><polyline points=\"" + pts +
-                 "\" fill=\"none\" stroke=\"" + kPalette[k % 10] + "\" stroke-width=\"2\" stroke-linejoin=\"round\"/></g>\n";
+                 "\" fill=\"none\" stroke=\"" + colours[k] + "\" stroke-width=\"2\" stroke-linejoin=\"round\"/></g>\n";
         }
         // Names at the middle of each cone wide enough for them.
         for (const auto& sec : sectors) {
@@ -248,6 +251,7 @@ std::string planes_svg(const Model& model, std::string* why_not) {
     const std::size_t c = model.contacts(), P = model.pieces().size();
     const std::size_t planes = c * (c - 1) / 2;
     const auto& pieces = model.pieces();
+    const auto colours = piece_colours(model);
     const int per_row = static_cast<int>(std::min<std::size_t>(planes, c <= 4 ? 3 : 5));
     const double cell = 200, radius = 58;
     struct Panel {
@@ -315,7 +319,7 @@ std::string planes_svg(const Model& model, std::string* why_not) {
             for (std::size_t q : sec.also)
                 title += "\nalso on this sector: " + pieces[q].name;
             s += "<path d=\"" + ring_path(cx, cy, radius + 4, radius + 16, sec.a, std::max(sec.d, 1e-6)) + "\" fill=\"" +
-                 kPalette[sec.piece % 10] + "\" stroke=\"#ffffff\" stroke-width=\"0.5\"><title>" + xml_escape(title) +
+                 colours[sec.piece] + "\" stroke=\"#ffffff\" stroke-width=\"0.5\"><title>" + xml_escape(title) +
                  "</title></path>\n";
         }
         // Names outside the ring where the arc has room for them and no name is near (cones that
@@ -348,6 +352,97 @@ std::string planes_svg(const Model& model, std::string* why_not) {
         s += "</g>\n";
     }
     return s + "</svg>\n";
+}
+
+std::vector<std::string> draw::piece_colours(const Model& model) {
+    using draw::kPalette;
+    const auto& pieces = model.pieces();
+    const std::size_t P = pieces.size(), c = model.contacts(), K = 7;
+    std::vector<std::string> out(P);
+    if (P > 20000 || c < 2) {
+        for (std::size_t p = 0; p < P; ++p)
+            out[p] = kPalette[p % K];
+        return out;
+    }
+    // Neighbours in a picture: for c <= 3 pieces sharing c - 1 rays (a facet of simplicial cones:
+    // touching on the circle or the sphere). Beyond, no picture shows facets, and a cone has
+    // dozens of facet neighbours; only the rings below count.
+    std::map<std::size_t, std::vector<std::size_t>> by_ray;
+    for (std::size_t p = 0; p < P && c <= 3; ++p)
+        for (const auto id : pieces[p].ray_ids)
+            by_ray[id].push_back(p);
+    std::vector<std::map<std::size_t, std::size_t>> shared(P);
+    for (const auto& [id, list] : by_ray)
+        for (std::size_t i = 0; i < list.size(); ++i)
+            for (std::size_t j = i + 1; j < list.size(); ++j) {
+                ++shared[list[i]][list[j]];
+                ++shared[list[j]][list[i]];
+            }
+    std::vector<std::set<std::size_t>> near(P);
+    for (std::size_t p = 0; p < P; ++p)
+        for (const auto& [q, n] : shared[p])
+            if (n + 1 >= c)
+                near[p].insert(q);
+    // And pieces whose sectors follow each other on a ring of the plane view (c >= 3): there
+    // they touch although they may share only a lower face.
+    if (c >= 3 && planes_svg_fits(model)) {
+        auto same_direction = [](const Vector& a, const Vector& b) {
+            return sign_of(cross(a, b)) == Sign::zero && sign_of(a[0] * b[0] + a[1] * b[1]) == Sign::positive;
+        };
+        for (std::size_t i = 0; i < c; ++i)
+            for (std::size_t j = i + 1; j < c; ++j) {
+                std::vector<std::pair<std::size_t, std::pair<Vector, Vector>>> ring;
+                for (std::size_t p = 0; p < P; ++p)
+                    if (auto sector = plane_sector(pieces[p], i, j))
+                        ring.emplace_back(p, std::move(*sector));
+                for (const auto& [p, a] : ring)
+                    for (const auto& [q, b] : ring)
+                        if (p != q && same_direction(a.second, b.first)) {
+                            near[p].insert(q);
+                            near[q].insert(p);
+                        }
+            }
+    }
+    std::vector<std::vector<std::size_t>> adj(P);
+    for (std::size_t p = 0; p < P; ++p)
+        adj[p].assign(near[p].begin(), near[p].end());
+    // Smallest-last order: repeatedly remove a piece of least remaining degree; colour in reverse.
+    std::vector<std::size_t> degree(P), order;
+    std::vector<bool> removed(P, false);
+    for (std::size_t p = 0; p < P; ++p)
+        degree[p] = adj[p].size();
+    std::map<std::pair<std::size_t, std::size_t>, bool> queue; // (degree, piece)
+    for (std::size_t p = 0; p < P; ++p)
+        queue[{degree[p], p}] = true;
+    while (!queue.empty()) {
+        const std::size_t p = queue.begin()->first.second;
+        queue.erase(queue.begin());
+        removed[p] = true;
+        order.push_back(p);
+        for (const auto q : adj[p])
+            if (!removed[q]) {
+                queue.erase({degree[q], q});
+                queue[{--degree[q], q}] = true;
+            }
+    }
+    std::vector<int> colour(P, -1);
+    for (auto it = order.rbegin(); it != order.rend(); ++it) {
+        const std::size_t p = *it;
+        std::vector<std::size_t> used(K, 0);
+        for (const auto q : adj[p])
+            if (colour[q] >= 0)
+                ++used[static_cast<std::size_t>(colour[q])];
+        // The first free colour, counted from the piece's own index so that laws without
+        // neighbours (or with few) keep the palette's order; else the least used.
+        std::size_t best = p % K;
+        for (std::size_t k = 0; k < K; ++k)
+            if (used[(p + k) % K] < used[best])
+                best = (p + k) % K;
+        colour[p] = static_cast<int>(best);
+    }
+    for (std::size_t p = 0; p < P; ++p)
+        out[p] = kPalette[static_cast<std::size_t>(colour[p])];
+    return out;
 }
 
 } // namespace impactcert

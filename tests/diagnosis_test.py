@@ -22,6 +22,7 @@ import json
 import os
 import subprocess
 import sys
+import tempfile
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import testkit  # noqa: E402
@@ -42,8 +43,8 @@ def fail(msg):
     print("FAIL:", msg)
 
 
-def fuzz(impl, *extra):
-    p = subprocess.run([CLI, "fuzz", "--masses", "1,1,1", "--velocities", "--impl-cmd", impl, "--samples", SAMPLES,
+def fuzz(impl, *extra, samples=SAMPLES):
+    p = subprocess.run([CLI, "fuzz", "--masses", "1,1,1", "--velocities", "--impl-cmd", impl, "--samples", samples,
                         "--json"] + list(extra), capture_output=True, text=True)
     return p.returncode, json.loads(p.stdout) if p.stdout.startswith("{") else None, p.stderr
 
@@ -99,13 +100,49 @@ for impl, e in ((CONTROLS + " sort", "1"), (ENGINE + " --restitution 0.5 --itera
 status, j, err = fuzz(CONTROLS + " sort")
 if not j or j["checked_properties"]["restitution"]:
     fail("restitution checked without --restitution")
-p = subprocess.run([CLI, "fuzz", "--system", os.path.join(SRC, "proofs", "kane", "gains", "system.json"), "--impl-cmd",
-                    "cat", "--restitution", "1/2"], capture_output=True, text=True)
-if p.returncode != 2 or "--restitution" not in p.stderr:
-    fail(f"--restitution with friction: exit {p.returncode}: {p.stderr.strip()}")
+# With friction the property is Newton's (proofs/README.md, Lemma EF): the Newton law with friction
+# rounded to doubles raises nothing; the same law at e/2 is reported where an approaching contact
+# pushes, and the worst case is recomputed in fractions (xi = gamma+ + e gamma- != 0, Lambda > 0).
+FRICTION_IMPL = "python3 " + os.path.join(SRC, "tests", "impls", "friction_impls.py")
+two_disks_law = os.path.join(tempfile.mkdtemp(prefix="impactcert-diagnosis-"), "two-disks.json")
+p = subprocess.run([CLI, "derive", "newton", "--system", os.path.join(SRC, "examples", "scenes", "two-disks.json"),
+                    "--restitution", "1/2", "-o", two_disks_law], capture_output=True, text=True)
+if p.returncode != 0:
+    fail(f"derive the two disks: {p.stderr.strip()}")
+for system, law in ((os.path.join(SRC, "proofs", "kane", "gains", "system.json"),
+                     os.path.join(SRC, "proofs", "kane", "gains", "law.json")),
+                    (os.path.join(SRC, "examples", "scenes", "two-disks.json"), two_disks_law)):
+    name = os.path.basename(os.path.dirname(law)) if "kane" in law else "two disks"
+    for mode in ("exact", "half-e"):
+        p = subprocess.run([CLI, "fuzz", "--system", system, "--velocities", "--impl-cmd",
+                            f"{FRICTION_IMPL} {law} {mode} 1/2", "--restitution", "1/2", "--samples", "300",
+                            "--max-rel-error", "1e-9", "--json"], capture_output=True, text=True)
+        try:
+            j = json.loads(p.stdout)
+        except json.JSONDecodeError:
+            fail(f"{name} {mode}: exit {p.returncode}: {p.stderr.strip()[-300:]}")
+            continue
+        found = j["violations"]["restitution"]
+        if not j["checked_properties"]["restitution"]:
+            fail(f"{name} {mode}: restitution not checked with friction")
+        elif mode == "exact" and found:
+            fail(f"{name}: the Newton law with friction rounded has {found} restitution findings: "
+                 f"{j['worst']['restitution']['detail']}")
+        elif mode == "half-e" and not found:
+            fail(f"{name}: a solver at e/2 passes the restitution property ({j['violations']})")
+        elif mode == "half-e":
+            ex = dict(j["worst"]["restitution"]["exact"])
+            k = next(key for key in ex if key.startswith("gamma+_"))[len("gamma+_"):]
+            gp, gm, lam, e = (F(ex["gamma+_" + k]), F(ex["gamma-_" + k]), F(ex["Lambda_" + k]), F(ex["e"]))
+            if not (gm < 0 and lam > 0 and gp + e * gm != 0):
+                fail(f"{name}: the worst restitution finding is no violation: {ex}")
+            else:
+                print(f"{name}: restitution with friction, {found} findings at e/2 (worst xi = {float(gp + e * gm):.3g}, "
+                      f"Lambda = {float(lam):.3g}); none for the Newton law rounded")
 
 # --- nondeterministic
-status, j, err = fuzz(CONTROLS + " jitter")
+# (Every input of this driver is asked on its own in a fresh process: 300 samples suffice.)
+status, j, err = fuzz(CONTROLS + " jitter", samples="300")
 if status != 1 or not j or j["violations"]["nondeterministic"] == 0 or j["violations"]["malformed"] != 0:
     fail(f"jitter: exit {status}, {j and j['violations']}")
 else:

@@ -472,4 +472,116 @@ for script, what in [("#!/bin/sh\necho half a PDF\nexit 1\n", "exited with statu
     if left != ["cones.svg"]:
         fail(f"a converter that fails ({what}): left {left} (no PDF, no temporary file)")
 
+# ---------------------------------------------------------------------------------------------
+# c = 3: the sphere (issue 40, item 10). Each cone is clipped to its hemisphere along great-circle
+# arcs and the rim (no chords across the disk: every drawn segment is short and every point lies
+# on the disk), numbered once, and every number's place is located by a second route: the point
+# is lifted back onto the sphere with the views' axes and solved exactly for the cone's
+# coordinates (R lambda = x, lambda >= 0 up to the drawing's rounding). Neighbouring cones (two
+# rays in common) have different colours; the key names every cone.
+
+def sphere_checks(law_path, out):
+    law = json.load(open(law_path))
+    run(["report", "--law", law_path, "-o", out])
+    root = ET.parse(os.path.join(out, "figures", "cones.svg")).getroot()
+    inner = next(e for e in root.iter(SVG + "svg") if e is not root)
+    disks = {}
+    for cp in inner.iter(SVG + "clipPath"):
+        circle = next(cp.iter(SVG + "circle"))
+        disks[cp.attrib["id"]] = (float(circle.attrib["cx"]), float(circle.attrib["cy"]), float(circle.attrib["r"]))
+    if sorted(disks) != ["hemisphere0", "hemisphere1"]:
+        fail(f"{law_path}: the sphere has no two hemispheres: {sorted(disks)}")
+        return
+    s2, s3, s6 = math.sqrt(2), math.sqrt(3), math.sqrt(6)
+    axes = {"hemisphere0": ((1 / s2, -1 / s2, 0), (-1 / s6, -1 / s6, 2 / s6), (1 / s3, 1 / s3, 1 / s3)),
+            "hemisphere1": ((-1 / s2, 1 / s2, 0), (-1 / s6, -1 / s6, 2 / s6), (-1 / s3, -1 / s3, -1 / s3))}
+    pieces = law["pieces"]
+    colour = {}
+    longest = 0.0
+    for g in inner.iter(SVG + "g"):
+        clip = g.attrib.get("clip-path", "")
+        if not clip.startswith("url(#hemisphere"):
+            continue
+        cx, cy, r = disks[clip[5:-1]]
+        for poly in g.iter(SVG + "polygon"):
+            pts = [tuple(map(float, xy.split(","))) for xy in poly.attrib["points"].split()]
+            number = int("".join(poly.find(SVG + "title").itertext()).split(".")[0])
+            colour.setdefault(number, set()).add(poly.attrib["fill"])
+            for k, (x, y) in enumerate(pts):
+                if math.hypot(x - cx, y - cy) > r + 0.6:
+                    fail(f"{law_path}: cone {number} spills outside its hemisphere at ({x}, {y})")
+                    break
+                x2, y2 = pts[(k + 1) % len(pts)]
+                longest = max(longest, math.hypot(x2 - x, y2 - y) / r)
+    if longest > 0.12:
+        fail(f"{law_path}: a cone's outline has a straight segment of {longest:.2f} r (a chord, not an arc)")
+    if any(len(fills) != 1 for fills in colour.values()) or sorted(colour) != list(range(1, len(pieces) + 1)):
+        fail(f"{law_path}: cones drawn {sorted(colour)}, colours {colour}")
+        return
+
+    def direction(ray):
+        v = [F(x) for x in ray]
+        top = max(abs(x) for x in v)
+        return tuple(x / top for x in v)
+    rays = [[direction(ray) for ray in p["rays"]] for p in pieces]
+    for a in range(len(pieces)):
+        for b in range(a + 1, len(pieces)):
+            if len(set(rays[a]) & set(rays[b])) >= 2 and colour[a + 1] == colour[b + 1]:
+                fail(f"{law_path}: neighbouring cones {a + 1} and {b + 1} share the colour {colour[a + 1]}")
+    # The numbers, each once, each inside its cone (lifted to the sphere, solved for lambda).
+    elements = list(inner.iter())
+    seen = []
+    for i, e in enumerate(elements):
+        if e.tag != SVG + "text" or e.attrib.get("class") != "cone-label":
+            continue
+        number = int("".join(e.itertext()))
+        seen.append(number)
+        if elements[i - 2].tag == SVG + "polyline":
+            x, y = map(float, elements[i - 2].attrib["points"].split()[0].split(","))
+        else:
+            x, y = float(e.attrib["x"]), float(e.attrib["y"]) - 3.8
+        view = next((v for v, (cx, cy, r) in disks.items() if math.hypot(x - cx, y - cy) < r), None)
+        if view is None:
+            fail(f"{law_path}: number {number} at ({x}, {y}) lies on no hemisphere")
+            continue
+        cx, cy, r = disks[view]
+        a1, a2, n = axes[view]
+        p, q = (x - cx) / r, -(y - cy) / r
+        h = math.sqrt(max(0.0, 1 - p * p - q * q))
+        X = [p * a1[k] + q * a2[k] + h * n[k] for k in range(3)]
+        R = [[float(F(pieces[number - 1]["rays"][j][i])) for j in range(3)] for i in range(3)]
+        # lambda = R^-1 X by Cramer's rule
+        def det(m):
+            return (m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
+                    + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]))
+        d = det(R)
+        lam = [det([[X[i] if j == col else R[i][j] for j in range(3)] for i in range(3)]) / d for col in range(3)]
+        scale = max(abs(v) for v in lam)
+        if min(lam) < -0.02 * scale:
+            fail(f"{law_path}: number {number} is drawn outside cone {number} (lambda = {lam})")
+    if sorted(seen) != list(range(1, len(pieces) + 1)):
+        fail(f"{law_path}: numbers drawn {sorted(seen)}, not each of 1..{len(pieces)} once")
+    texts = ["".join(t.itertext()) for t in inner.iter(SVG + "text")]
+    for k, p in enumerate(pieces):
+        if f"{k + 1}  {p['name']}" not in texts:
+            fail(f"{law_path}: the key lacks {k + 1}  {p['name']}")
+    if not failures:
+        print(f"sphere of {law['name']}: {len(pieces)} cones inside their hemispheres, arcs no longer than "
+              f"{longest:.3f} r, numbered inside their cones, neighbours coloured apart")
+
+
+sphere_checks(os.path.join(HERE, "..", "proofs", "newton4", "law.json"), os.path.join(tmp, "sphere-newton4"))
+sphere_checks(derive("newton", "--masses", "1,1,1,1", "--restitution", "1", "--restitution-on", "approaching"),
+              os.path.join(tmp, "sphere-approaching4"))
+# Bare figures (--bare-figures): no title and no caption drawn, the legend kept.
+run(["report", "--law", os.path.join(HERE, "..", "proofs", "newton4", "law.json"), "--bare-figures", "-o",
+     os.path.join(tmp, "bare")])
+bare = ET.parse(os.path.join(tmp, "bare", "figures", "cones.svg")).getroot()
+outer = ["".join(e.itertext()) for e in bare if e.tag == SVG + "text"]
+if any(t.startswith("newton4-sort") or t.startswith("The cones") for t in outer):
+    fail(f"--bare-figures: a title or caption is drawn: {[t[:40] for t in outer]}")
+full = ET.parse(os.path.join(tmp, "sphere-newton4", "figures", "cones.svg")).getroot()
+if not any("".join(e.itertext()).startswith("newton4-sort") for e in full if e.tag == SVG + "text"):
+    fail("without --bare-figures the figure has no title (the negative control of the check above)")
+
 finish(failures)

@@ -158,9 +158,12 @@ TEST_CASE("report: the HTML page is self-contained and embeds the SVG for c = 2 
     const Model four(load_law_file(source_path("proofs/newton4/law.json")));
     const std::string four_html = report_html(four, verify(four));
     CHECK(four_html.find("<svg") != std::string::npos);
-    // Every one of the 24 cones is labelled on the sphere (in one hemisphere or both).
-    for (const auto& p : four.pieces())
-        CHECK(four_html.find(">" + xml_escape(p.name) + "</text>") != std::string::npos);
+    // Every one of the 24 cones is numbered on the sphere and named in its key.
+    for (std::size_t k = 0; k < four.pieces().size(); ++k) {
+        const std::string number = std::to_string(k + 1);
+        CHECK(four_html.find("class=\"cone-label\">" + number + "</text>") != std::string::npos);
+        CHECK(four_html.find(">" + number + "  " + xml_escape(four.pieces()[k].name) + "</text>") != std::string::npos);
+    }
     const Model five(test::sorting_law(5));
     CHECK(cones_svg(five).empty()); // c = 4: no picture
 }

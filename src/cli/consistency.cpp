@@ -38,25 +38,10 @@ struct Setup {
 Setup setup(const FuzzArgs& a) {
     Setup s{system_from(a.system), {}, nullptr, nullptr, 1e-9, {}, nullptr, {}};
     s.mech = make_mechanics(s.system);
-    // With friction, --restitution only gives the restitution of a reference law named
-    // (approaching, newton): the restitution property is checked on frictionless systems.
-    const bool named_reference = a.reference == "approaching" || a.reference == "newton" || a.reference == "poisson";
-    std::vector<Rational> reference_restitution;
-    if (a.restitution_given && s.mech.has_friction()) {
-        if (!named_reference)
-            throw InputError("--restitution: the restitution property is checked on frictionless systems only "
-                             "(with friction it gives the restitution of --reference approaching or newton)");
-        if (a.restitution.empty())
-            throw InputError("--restitution: expected E or one value per contact, got an empty text");
-        reference_restitution = restitution_list(a.restitution, s.mech.normals);
-        if (reference_restitution.size() != s.mech.normals)
-            throw InputError("--restitution: expected one value or " + std::to_string(s.mech.normals) +
-                             " (one per contact), got " + std::to_string(reference_restitution.size()));
-        for (std::size_t k = 0; k < reference_restitution.size(); ++k)
-            if (sign_of(reference_restitution[k]) == Sign::negative || reference_restitution[k] > Rational(1))
-                throw InputError("--restitution: contact " + std::to_string(k + 1) + " must be in [0, 1], got " +
-                                 to_string(reference_restitution[k]));
-    } else if (a.restitution_given) {
+    // --restitution: the restitution property (frictionless: wherever every impact law agrees;
+    // with friction: Newton's, at every approaching contact that pushes) and the restitution of a
+    // reference law named (approaching, newton).
+    if (a.restitution_given) {
         if (a.restitution.empty())
             throw InputError("--restitution: expected E or one value per contact, got an empty text");
         s.restitution = restitution_list(a.restitution, s.mech.normals);
@@ -97,9 +82,7 @@ Setup setup(const FuzzArgs& a) {
                                  "approaching or newton, or a law file");
             ClassicalOptions co;
             static_cast<System&>(co) = s.system;
-            co.restitution = !reference_restitution.empty() ? reference_restitution
-                             : !s.restitution.empty()         ? s.restitution
-                                                              : s.system.restitution;
+            co.restitution = !s.restitution.empty() ? s.restitution : s.system.restitution;
             if (co.restitution.empty())
                 throw InputError("--reference " + r + ": needs the restitution (give --restitution E)");
             co.on = r == "approaching" ? RestitutionOn::approaching : RestitutionOn::all;
@@ -522,7 +505,8 @@ int run_consistency_fuzz_at(const FuzzArgs& a, const FuzzArgs& given, const std:
             else if (prop == fuzz::Property::reference)
                 line(head + "not checked (give --reference)");
             else if (prop == fuzz::Property::restitution)
-                line(head + (s.mech.has_friction() ? "not checked (with friction)" : "not checked (give --restitution E)"));
+                line(head + (s.mech.has_friction() ? "not checked (give --restitution E: Newton's, with friction)"
+                                                    : "not checked (give --restitution E)"));
             continue;
         }
         if (!slot.count) {

@@ -11,6 +11,7 @@ The system (M, W, friction) is read from the file's head; the Newton law with fr
   reversed    the tangential impulses of the exact answer reversed (friction pushes the slip)
   excess      the tangential impulses doubled (beyond mu Lambda_N where the contact slides)
   frictionless the tangential impulses dropped (a sliding contact without friction)
+  half-e      the Newton law with friction at restitution E/2 (a solver that halves restitution)
   contact-tangent-off  in contact velocities (square W: u- = W^-T gamma-): the exact gamma+ with
                its tangential components 1% too large (the normals exact), for law-mode fuzzing
 """
@@ -60,13 +61,13 @@ def main():
                 sys.stdout.write(" ".join(x.hex() for x in out) + "\n")
             sys.stdout.flush()
             continue
-        sols = S.solutions(u, [e] * N, approaching=approaching)
+        sols = S.solutions(u, [e / 2 if mode == "half-e" else e] * N, approaching=approaching)
         if len(sols) != 1:
             sys.stdout.write("not a function here\n")
             sys.stdout.flush()
             continue
         up = sols[0]
-        if mode != "exact":
+        if mode not in ("exact", "half-e"):
             # impulse in generalized coordinates: M (u+ - u-) = W Lambda; split off the tangents'.
             du = [a - b for a, b in zip(up, u)]
             Mdu = [sum(S.M[i][j] * du[j] for j in range(S.n)) for i in range(S.n)]
