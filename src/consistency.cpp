@@ -9,6 +9,7 @@
 #include <gmp.h>
 
 #include <algorithm>
+#include <set>
 #include <atomic>
 #include <cfenv>
 #include <chrono>
@@ -174,6 +175,24 @@ bool ConsistencyChecker::approaching(const double* x) const {
     const Vector gamma = velocities_ ? transpose(m_.W) * v : v;
     return std::any_of(gamma.begin(), gamma.begin() + static_cast<std::ptrdiff_t>(m_.normals),
                        [](const Rational& g) { return sign_of(g) == Sign::negative; });
+}
+
+std::uint64_t ConsistencyChecker::approach_pattern(const double* x, Vector* gamma) const {
+    Vector v(dim());
+    for (std::size_t i = 0; i < v.size(); ++i) {
+        auto r = exact_of(x[i]);
+        if (!r)
+            return 0;
+        v[i] = *r;
+    }
+    Vector g = velocities_ ? transpose(m_.W) * v : v;
+    std::uint64_t bits = 0;
+    for (std::size_t k = 0; k < m_.normals && k < 64; ++k)
+        if (sign_of(g[k]) == Sign::negative)
+            bits |= std::uint64_t{1} << k;
+    if (gamma)
+        *gamma = std::move(g);
+    return bits;
 }
 
 std::vector<Finding> ConsistencyChecker::check(const double* xd, const double* yd) const {
@@ -702,9 +721,22 @@ void consistency_sample(const Mechanics& m, const ConsistencyOptions& o, std::ui
             case 2: // independent magnitudes over the whole range
                 v = (splitmix(st) & 1 ? 1 : -1) * magnitude(st, o.range_lo, o.range_hi);
                 break;
-            default: // zeros and repeated values (contacts at rest, balls moving together)
-                v = below(st, 3) == 0 ? 0 : (i > 0 && below(st, 2) == 0 ? a[i - 1] : (2 * unit(st) - 1) * scale);
+            default: { // zeros, repeated values (contacts at rest, balls moving together) and near-ties
+                const std::uint64_t r = below(st, 4);
+                if (r == 0)
+                    v = 0;
+                else if (i > 0 && r == 1)
+                    v = a[i - 1];
+                else if (i > 0 && r == 2 && a[i - 1] != 0) {
+                    // 1 to 2^20 ulps from the previous component, either way: the orderings and
+                    // thresholds that exact ties hide.
+                    const double ulp = std::ldexp(1.0, std::ilogb(a[i - 1]) - 52);
+                    const double k = std::ldexp(1.0, static_cast<int>(below(st, 21)));
+                    v = a[i - 1] + (below(st, 2) == 0 ? k : -k) * ulp;
+                } else
+                    v = (2 * unit(st) - 1) * scale;
                 break;
+            }
             }
             if (v != 0 && std::fabs(v) < o.range_lo)
                 v = 0;
@@ -752,6 +784,9 @@ std::string replay_text(const std::string& prefix, const Finding& f) {
 struct Partial {
     ConsistencySummary sum;
     std::vector<Finding> examples;
+    std::set<std::uint64_t> patterns; // coverage (ConsistencySummary)
+    std::set<int> decades;
+    std::vector<char> reference_hit;
 };
 
 // Law-level or solver-level (ConsistencyOptions::reference): the reference law's exact answer at
@@ -871,6 +906,22 @@ ConsistencySummary run_consistency(const Mechanics& m, const ConsistencyOptions&
         }
         return true;
     };
+    // Coverage of a checked input: its pattern of approaching contacts, its decade, and the
+    // reference law's pieces that contain it (exactly). Presentation only: no verdict uses it.
+    auto cover = [&](Partial& part, const double* x) {
+        Vector gamma;
+        part.patterns.insert(checker.approach_pattern(x, &gamma));
+        double top = 0;
+        for (std::size_t i = 0; i < d; ++i)
+            top = std::max(top, std::fabs(x[i]));
+        if (top > 0)
+            part.decades.insert(static_cast<int>(std::floor(std::log10(top))));
+        if (o.reference && gamma.size() == o.reference->contacts()) {
+            part.reference_hit.resize(o.reference->pieces().size(), 0);
+            for (const auto p : o.reference->pieces_containing(gamma))
+                part.reference_hit[p] = 1;
+        }
+    };
     const unsigned jobs = std::max(1u, o.jobs);
     const std::size_t block = std::max<std::size_t>(1, impl.batch_samples());
     // (samples + block - 1) / block would wrap for samples near 2^64 (reliability round four, 5)
@@ -952,6 +1003,7 @@ ConsistencySummary run_consistency(const Mechanics& m, const ConsistencyOptions&
                 if (status[pa_i] == ImplStatus::skipped)
                     continue;
                 ++part.sum.samples;
+                cover(part, &in[pa_i * d]);
                 if (failed(pa_i))
                     continue;
                 for (auto& f : checked(&in[pa_i * d], &out[pa_i * d])) {
@@ -1048,6 +1100,36 @@ ConsistencySummary run_consistency(const Mechanics& m, const ConsistencyOptions&
     if (examples.size() > o.keep)
         examples.resize(o.keep);
     sum.examples = std::move(examples);
+    std::set<std::uint64_t> patterns;
+    std::set<int> decades;
+    std::vector<char> hit(o.reference ? o.reference->pieces().size() : 0, 0);
+    for (const auto& part : partials) {
+        patterns.insert(part.patterns.begin(), part.patterns.end());
+        decades.insert(part.decades.begin(), part.decades.end());
+        for (std::size_t p = 0; p < part.reference_hit.size() && p < hit.size(); ++p)
+            hit[p] = hit[p] || part.reference_hit[p];
+    }
+    patterns.erase(0); // an input with no approaching contact is skipped, never checked
+    sum.patterns_hit = patterns.size();
+    sum.patterns = m.normals <= 20 ? (std::uint64_t{1} << m.normals) - 1 : 0;
+    sum.decades = decades.size();
+    if (!decades.empty()) {
+        sum.decade_lo = *decades.begin();
+        sum.decade_hi = *decades.rbegin();
+    }
+    // Only pieces with an approaching input count: a cone with every ray's normal components
+    // >= 0 holds no input the run may check.
+    for (std::size_t p = 0; p < hit.size(); ++p) {
+        const Piece& piece = o.reference->pieces()[p];
+        bool approaches = false;
+        for (std::size_t r = 0; r < piece.R.cols() && !approaches; ++r)
+            for (std::size_t k = 0; k < m.normals && !approaches; ++k)
+                approaches = sign_of(piece.R(k, r)) == Sign::negative;
+        if (approaches) {
+            ++sum.reference_pieces;
+            sum.reference_pieces_hit += hit[p] ? 1 : 0;
+        }
+    }
     return sum;
 }
 

@@ -111,6 +111,11 @@ struct PropertyCount {
 struct ConsistencySummary {
     std::uint64_t samples = 0, pairs = 0, skipped = 0;
     double seconds = 0;
+    // Coverage of the checked inputs: the patterns of approaching normal contacts met (of
+    // 2^normals - 1; patterns 0 beyond 20 contacts), the decades of their largest components, and
+    // with a reference law its pieces with an approaching direction, and those whose cone held one.
+    std::uint64_t patterns_hit = 0, patterns = 0, reference_pieces_hit = 0, reference_pieces = 0, decades = 0;
+    int decade_lo = 0, decade_hi = 0;
     std::array<PropertyCount, kProperties> properties;
     std::uint64_t crashed = 0, hung = 0, malformed = 0, refused = 0;
     std::vector<Finding> examples; // the first `keep` by sample index
@@ -133,6 +138,8 @@ class ConsistencyChecker {
                                     bool nonexpansive, bool continuity) const;
     // True when some contact approaches at x (exact).
     bool approaching(const double* x) const;
+    // Bit k set when normal contact k < 64 approaches at x (exact); gamma- into `gamma` if given.
+    std::uint64_t approach_pattern(const double* x, Vector* gamma = nullptr) const;
     // The probe (SPEC section 8, "Diagnosis", at-rest): the answer y to the input at rest must be
     // at rest, |y| <= A (the underflow allowance); a finding otherwise (a non-finite y too).
     std::optional<Finding> at_rest(const double* y) const;

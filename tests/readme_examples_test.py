@@ -11,7 +11,9 @@ build/ is the build directory; /tmp/ is a scratch directory too. Times and rates
 `cd` into the scratch directory reads `cd ~/impactcert` (a checkout), nothing else. Blocks
 marked `<!-- heavy: REASON -->` are left out of the sanitizer build's run (--light), and said so. A block may be excluded only by
 a `<!-- not-run: REASON -->` line right before it, and the reason is printed.
-Usage: readme_examples_test.py BUILD_DIR SOURCE_DIR [--light]"""
+With --update (for a developer, never in CI), the shown output of every command that differs
+and has no `...` line is replaced in the file by the output of the run (unmasked).
+Usage: readme_examples_test.py BUILD_DIR SOURCE_DIR [--light] [--update]"""
 import glob
 import os
 import re
@@ -22,6 +24,8 @@ import tempfile
 
 BUILD, SRC = os.path.abspath(sys.argv[1]), os.path.abspath(sys.argv[2])
 LIGHT = "--light" in sys.argv[3:]
+UPDATE = "--update" in sys.argv[3:]
+updates = {}  # path -> [(first line index, end index, new lines)]
 MASKS = [(re.compile(r" +[0-9]+\.[0-9]+ ms\b"), " T ms"),
          (re.compile(r"in [0-9]+\.[0-9]+ s, [0-9]+ samples/s"), "in T s, R samples/s"),
          (re.compile(r"\b[0-9]+ jobs?\)"), "J jobs)"),
@@ -98,24 +102,30 @@ try:
             if skip:
                 print(f"not run: {rel}:{line_no}: {skip}")
                 continue
-            commands, expected = [], []
+            commands, expected, starts = [], [], []
             continued = False
-            for line in body:
+            for k, line in enumerate(body):
                 if continued:  # a command continued with a backslash
                     commands[-1] = commands[-1][:-1] + " " + line.strip()
+                    starts[-1] = line_no + k + 1
                 elif line.startswith("$ "):
                     commands.append(line[2:])
                     expected.append([])
+                    starts.append(line_no + k + 1)  # 0-based index of the first output line
                 else:
                     expected[-1].append(line)
                 continued = bool(commands) and commands[-1].endswith("\\") and not expected[-1]
-            for cmd, want in zip(commands, expected):
+            for cmd, want, start in zip(commands, expected, starts):
                 real = cmd.replace("/tmp/", scratch + "/")
                 p = subprocess.run(["bash", "-c", "{ " + real + "\n} 2>&1"], capture_output=True, text=True, cwd=work,
                                    timeout=900)
-                got = [mask(x.replace(scratch + "/", "/tmp/").replace("cd " + work + " && ", "cd ~/impactcert && "))
+                raw = [x.replace(scratch + "/", "/tmp/").replace("cd " + work + " && ", "cd ~/impactcert && ").rstrip()
                        for x in p.stdout.splitlines()]
+                got = [mask(x) for x in raw]
+                shown = want
                 want = [mask(x) for x in want]
+                if UPDATE and not matches(got, want) and not any(w.strip() == "..." for w in shown):
+                    updates.setdefault(path, []).append((start, start + len(shown), raw))
                 commands_run += 1
                 if not matches(got, want):
                     failures += 1
@@ -125,5 +135,11 @@ try:
                             print(f"  shown: {w}\n  run:   {g}")
 finally:
     shutil.rmtree(tmp, ignore_errors=True)
+for path, edits in updates.items():
+    lines = open(path).read().splitlines()
+    for first, end, new_lines in sorted(edits, reverse=True):
+        lines[first:end] = new_lines
+    open(path, "w").write("\n".join(lines) + "\n")
+    print(f"updated: {os.path.relpath(path, SRC)} ({len(edits)} outputs)")
 print(f"{commands_run} commands of README.md and docs/ run, {failures} differ")
 sys.exit(1 if failures or commands_run < 30 else 0)

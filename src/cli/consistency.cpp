@@ -195,6 +195,31 @@ Json finding_json(const fuzz::Finding& f) {
     return e;
 }
 
+// The coverage line (text, JSON and JUnit alike), and what the checked inputs never had.
+std::string coverage_text(const fuzz::ConsistencySummary& sum) {
+    auto u = [](std::uint64_t x) { return std::to_string(x); };
+    std::string s = "approach patterns " + u(sum.patterns_hit) +
+                    (sum.patterns ? "/" + u(sum.patterns) : std::string()) + " (which contacts approach)";
+    if (sum.reference_pieces)
+        s += ", reference pieces " + u(sum.reference_pieces_hit) + "/" + u(sum.reference_pieces) + " hit";
+    if (sum.decades)
+        s += ", scales 1e" + std::to_string(sum.decade_lo) + "..1e" + std::to_string(sum.decade_hi) + " (" +
+             u(sum.decades) + (sum.decades == 1 ? " decade)" : " decades)");
+    return s;
+}
+
+std::vector<std::string> coverage_gaps(const fuzz::ConsistencySummary& sum) {
+    auto u = [](std::uint64_t x) { return std::to_string(x); };
+    std::vector<std::string> out;
+    if (sum.patterns && sum.patterns_hit < sum.patterns)
+        out.push_back(u(sum.patterns - sum.patterns_hit) + " of " + u(sum.patterns) +
+                      " patterns of approaching contacts never checked (raise --samples)");
+    if (sum.reference_pieces_hit < sum.reference_pieces)
+        out.push_back(u(sum.reference_pieces - sum.reference_pieces_hit) + " of " + u(sum.reference_pieces) +
+                      " pieces of the reference law never held a checked input");
+    return out;
+}
+
 std::string junit(const fuzz::ConsistencySummary& sum, const std::string& target, const bool* checked) {
     JunitSuite suite{"impactcert fuzz (consistency): " + target, {}};
     auto add = [&](const std::string& name, std::uint64_t count, const std::string& message) {
@@ -219,6 +244,13 @@ std::string junit(const fuzz::ConsistencySummary& sum, const std::string& target
             slot.worst ? slot.worst->detail + "; replay: " + slot.worst->replay : "");
     }
     add("implementation failures", sum.crashed + sum.hung + sum.malformed + sum.refused, "");
+    JunitCase cov;
+    cov.classname = "impactcert.consistency";
+    cov.name = "coverage";
+    cov.system_out = coverage_text(sum);
+    for (const auto& gap : coverage_gaps(sum))
+        cov.system_out += "\nnot tested: " + gap;
+    suite.cases.push_back(std::move(cov));
     return junit_xml(suite);
 }
 
@@ -405,6 +437,13 @@ int run_consistency_fuzz_at(const FuzzArgs& a, const FuzzArgs& given, const std:
         j["skipped_not_approaching"] = sum.skipped;
         j["seconds"] = sum.seconds;
         j["samples_per_second"] = rate;
+        Json gaps = Json::array();
+        for (const auto& gap : coverage_gaps(sum))
+            gaps.push_back(gap);
+        j["coverage"] = {{"patterns_hit", sum.patterns_hit}, {"patterns", sum.patterns},
+                         {"reference_pieces_hit", sum.reference_pieces_hit}, {"reference_pieces", sum.reference_pieces},
+                         {"decades", sum.decades}, {"decade_lo", sum.decade_lo}, {"decade_hi", sum.decade_hi},
+                         {"text", coverage_text(sum)}, {"not_tested", gaps}};
         Json props = Json::object(), violations = Json::object(), worst = Json::object();
         for (std::size_t p = 0; p < fuzz::kProperties; ++p) {
             const char* id = fuzz::property_id(static_cast<fuzz::Property>(p));
@@ -492,6 +531,9 @@ int run_consistency_fuzz_at(const FuzzArgs& a, const FuzzArgs& given, const std:
     std::snprintf(buf, sizeof buf, "  samples        %llu (%llu pairs) in %.2f s, %.0f samples/s",
                   static_cast<unsigned long long>(sum.samples), static_cast<unsigned long long>(sum.pairs), sum.seconds, rate);
     line(buf);
+    line("  coverage       " + coverage_text(sum));
+    for (const auto& gap : coverage_gaps(sum))
+        line("  not tested     " + gap);
     std::vector<std::string> found;
     for (std::size_t p = 0; p < fuzz::kProperties; ++p) {
         const auto prop = static_cast<fuzz::Property>(p);
