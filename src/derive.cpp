@@ -302,6 +302,8 @@ Law law_header(const DeriveOptions& options, std::size_t n) {
     law.masses = options.masses;
     law.M = options.M;
     law.W = options.W;
+    law.velocity_names = options.velocity_names;
+    law.contact_names = options.contact_names;
     return law;
 }
 

@@ -120,6 +120,8 @@ Law head(const ClassicalOptions& o, const std::string& kind) {
     law.masses = o.masses;
     law.M = o.M;
     law.W = o.W;
+    law.velocity_names = o.velocity_names;
+    law.contact_names = o.contact_names;
     return law;
 }
 

@@ -447,6 +447,8 @@ FrictionResult derive_newton_friction(const FrictionOptions& o) {
     law.masses = o.masses;
     law.M = o.M;
     law.W = o.W;
+    law.velocity_names = o.velocity_names;
+    law.contact_names = o.contact_names;
     law.friction = o.friction;
     law.description = std::string("Newton-type impact law with Coulomb friction (docs/derive.md, \"Friction\"; restitution on ") +
                       (approaching ? "approaching contacts only" : "every contact") + ") of " + system_text(o) +

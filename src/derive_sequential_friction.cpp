@@ -244,6 +244,8 @@ DeriveResult derive_sequential_friction(const DeriveOptions& options, const Mech
     law.masses = options.masses;
     law.M = options.M;
     law.W = options.W;
+    law.velocity_names = options.velocity_names;
+    law.contact_names = options.contact_names;
     law.friction = options.friction;
     add_region_pieces(regions, d, law, options.progress, &budget);
     result.peak_bytes = budget.peak();

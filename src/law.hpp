@@ -71,6 +71,9 @@ struct Law {
     std::optional<Matrix> M;               // symmetric positive definite mass matrix (SPEC section 8)
     std::optional<Matrix> W;               // n x c; absent: "chain"
     std::vector<FrictionDecl> friction;    // SPEC section 9: W gains tangent columns (system.hpp)
+    // "coordinates" (optional, informational): names of the n velocities and of the c normal
+    // contacts, as a scene has them; empty when not given.
+    std::vector<std::string> velocity_names, contact_names;
     std::vector<PieceDecl> pieces;
     std::vector<IdentityDecl> identities;
     std::vector<SingleImpactDecl> single_impacts;
@@ -159,7 +162,9 @@ class Model {
 
     const Matrix& M() const { return M_; }
     const Matrix& M_inv() const { return M_inv_; }
-    System system() const { return System{law_.name, law_.masses, law_.M, law_.W, law_.friction, {}, {}}; }
+    System system() const {
+        return System{law_.name, law_.masses, law_.M, law_.W, law_.friction, {}, law_.contact_names, law_.velocity_names};
+    }
     const Matrix& W() const { return W_; } // [W_N W_T]
     // Friction (SPEC section 9): gamma = (gamma_N, gamma_T), the normals first.
     std::size_t normals() const { return normals_; }

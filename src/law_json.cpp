@@ -11,6 +11,7 @@
 #include <fstream>
 #include <set>
 #include <sstream>
+#include <tuple>
 #include <vector>
 
 namespace impactcert {
@@ -279,8 +280,8 @@ void read_head(const ReadJson& doc, std::vector<Rational>& masses, std::optional
 
 Law parse_document(const ReadJson& doc) {
     expect_object(doc, "$",
-                  {"format", "name", "masses", "M", "contacts", "pieces", "identities", "single_impacts",
-                   "outcomes", "claims", "symmetries", "pieces_listed"},
+                  {"format", "name", "masses", "M", "contacts", "coordinates", "pieces", "identities",
+                   "single_impacts", "outcomes", "claims", "symmetries", "pieces_listed"},
                   {"format", "name", "pieces"});
     const std::string format = get_string(doc["format"], "$.format");
     if (format != kLawFormat)
@@ -292,6 +293,24 @@ Law parse_document(const ReadJson& doc) {
     else if (doc.contains("note"))
         law.description = doc["note"].get<std::string>();
     read_head(doc, law.masses, law.M, law.W, law.friction);
+    if (doc.contains("coordinates")) {
+        // Names of the velocities and of the normal contacts (informational, as a scene has them).
+        const ReadJson& co = doc["coordinates"];
+        expect_object(co, "$.coordinates", {"velocities", "contacts"}, {"velocities", "contacts"});
+        const std::size_t n = law.M ? law.M->rows() : law.masses.size();
+        const std::size_t c = law.W ? law.W->cols() : (n > 0 ? n - 1 : 0);
+        for (const auto& [key, into, want] : {std::make_tuple("velocities", &law.velocity_names, n),
+                                              std::make_tuple("contacts", &law.contact_names, c)}) {
+            const std::string at = std::string("$.coordinates.") + key;
+            for_each_element(co[key], at, [&, into = into](const ReadJson& s, const std::string& path) {
+                into->push_back(get_string(s, path));
+            });
+            if (into->size() != want)
+                input_error(at, "expected " + std::to_string(want) + " names (one per " +
+                                    (std::string(key) == "velocities" ? "velocity" : "normal contact") + "), got " +
+                                    std::to_string(into->size()));
+        }
+    }
 
     for_each_element(doc["pieces"], "$.pieces", [&](const ReadJson& p, const std::string& path) {
         expect_object(p, path, {"name", "Q", "rays"}, {"name", "Q"});
@@ -434,7 +453,7 @@ System parse_system_text(const std::string& text, const std::string& origin) {
             // A law file names a system: its head, by the law's own rules (the law is validated whole).
             const Law law = parse_document(doc);
             Model(law, Limits{}.max_pieces);
-            return System{law.name, law.masses, law.M, law.W, law.friction, {}, {}};
+            return System{law.name, law.masses, law.M, law.W, law.friction, {}, law.contact_names, law.velocity_names};
         }
         if (format == kSceneFormat)
             return parse_scene(doc);
@@ -516,6 +535,8 @@ nlohmann::ordered_json law_to_json(const Law& law) {
         }
     } else
         out["contacts"] = "chain";
+    if (!law.velocity_names.empty() || !law.contact_names.empty())
+        out["coordinates"] = OJson{{"velocities", law.velocity_names}, {"contacts", law.contact_names}};
     OJson pieces = OJson::array();
     for (const auto& p : law.pieces) {
         OJson piece;

@@ -386,21 +386,27 @@ std::vector<std::string> draw::piece_colours(const Model& model) {
     // And pieces whose sectors follow each other on a ring of the plane view (c >= 3): there
     // they touch although they may share only a lower face.
     if (c >= 3 && planes_svg_fits(model)) {
-        auto same_direction = [](const Vector& a, const Vector& b) {
-            return sign_of(cross(a, b)) == Sign::zero && sign_of(a[0] * b[0] + a[1] * b[1]) == Sign::positive;
+        // A direction of the plane as a key: divided exactly by its largest |component|.
+        auto key = [](const Vector& u) {
+            const Rational top = abs_of(u[0]) > abs_of(u[1]) ? abs_of(u[0]) : abs_of(u[1]);
+            return to_string(u[0] / top) + " " + to_string(u[1] / top);
         };
         for (std::size_t i = 0; i < c; ++i)
             for (std::size_t j = i + 1; j < c; ++j) {
-                std::vector<std::pair<std::size_t, std::pair<Vector, Vector>>> ring;
+                std::map<std::string, std::vector<std::size_t>> starting; // sectors by their first direction
+                std::vector<std::pair<std::size_t, std::string>> ending;
                 for (std::size_t p = 0; p < P; ++p)
-                    if (auto sector = plane_sector(pieces[p], i, j))
-                        ring.emplace_back(p, std::move(*sector));
-                for (const auto& [p, a] : ring)
-                    for (const auto& [q, b] : ring)
-                        if (p != q && same_direction(a.second, b.first)) {
-                            near[p].insert(q);
-                            near[q].insert(p);
-                        }
+                    if (auto sector = plane_sector(pieces[p], i, j)) {
+                        starting[key(sector->first)].push_back(p);
+                        ending.emplace_back(p, key(sector->second));
+                    }
+                for (const auto& [p, end] : ending)
+                    if (const auto it = starting.find(end); it != starting.end())
+                        for (const auto q : it->second)
+                            if (q != p) {
+                                near[p].insert(q);
+                                near[q].insert(p);
+                            }
             }
     }
     std::vector<std::vector<std::size_t>> adj(P);

@@ -5,6 +5,7 @@
 #include "errors.hpp"
 #include "json_read.hpp"
 
+#include <algorithm>
 #include <map>
 #include <optional>
 
@@ -364,6 +365,8 @@ System parse_scene(const ReadJson& doc) {
     for (std::size_t b = 0; b < bodies.size(); ++b) {
         out.masses[3 * b] = out.masses[3 * b + 1] = bodies[b].m;
         out.masses[3 * b + 2] = bodies[b].J;
+        for (const char* v : {".vx", ".vy", ".omega"})
+            out.velocity_names.push_back(bodies[b].name + v);
     }
     Matrix W(n, c);
     // The column of direction d at point p for the contact (i, j).
@@ -417,7 +420,11 @@ System parse_scene(const ReadJson& doc) {
         }
         if (mu && sign_of(*mu) == Sign::positive)
             out.friction.push_back(FrictionDecl{k, *mu, {column(ct, P2{ct.n.y, -ct.n.x})}, Rational(0)});
-        out.contact_names.push_back(ct.name + " at " + text(ct.p) + " normal " + text(ct.n));
+        // A second contact of the same pair is named with its index: "box/ground #2".
+        std::string name = ct.name;
+        for (int copy = 2; std::find(out.contact_names.begin(), out.contact_names.end(), name) != out.contact_names.end(); ++copy)
+            name = ct.name + " #" + std::to_string(copy);
+        out.contact_names.push_back(name);
     }
     if (any_e) {
         for (std::size_t k = 0; k < c; ++k) {

@@ -32,7 +32,8 @@ namespace impactcert {
 inline constexpr const char* kSceneFormat = "impactcert-scene/1";
 
 // The scene as a system: its name, `masses` (m, m, J per body), W's normal columns, friction,
-// the contacts' restitution (System::restitution) and names (System::contact_names).
+// the contacts' restitution (System::restitution), the names of its contacts ("disk/ground", a
+// second one of a pair "box/ground #2") and velocities ("disk.vx", "disk.vy", "disk.omega").
 System parse_scene(const nlohmann::json& doc);
 
 } // namespace impactcert

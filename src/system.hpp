@@ -41,9 +41,11 @@ struct System {
     std::optional<Matrix> M;      // symmetric positive definite, n x n
     std::optional<Matrix> W;      // n x c; absent: "chain" (the normals)
     std::vector<FrictionDecl> friction; // strictly increasing contacts; empty: frictionless
-    // From a scene (scene.hpp): each contact's restitution (empty: none given) and a name for it.
+    // From a scene (scene.hpp): each contact's restitution (empty: none given); names of the
+    // velocities (one per coordinate, "disk.vx") and of the contacts ("disk/ground"), or empty.
     std::vector<Rational> restitution;
     std::vector<std::string> contact_names;
+    std::vector<std::string> velocity_names;
 };
 
 // One tangent column of W: the contact (normal column) it belongs to, mu and e_T.

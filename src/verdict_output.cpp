@@ -88,8 +88,34 @@ std::string xml_escape(const std::string& s) {
 std::string system_words(const Model& model) {
     const std::size_t n = model.balls(), c = model.normals(), t = model.tangents().size();
     const bool chain = !model.law().W && !model.law().M && !model.has_friction();
-    std::string s = std::to_string(n) + (chain ? (n == 1 ? " ball, " : " balls, ") : (n == 1 ? " velocity, " : " velocities, ")) +
-                    std::to_string(c) + (c == 1 ? " contact" : " contacts");
+    const auto& vnames = model.law().velocity_names;
+    const auto& cnames = model.law().contact_names;
+    // A list of names in parentheses, up to 8 of them.
+    auto listed = [](const std::vector<std::string>& names) {
+        if (names.empty() || names.size() > 8)
+            return std::string();
+        std::string s;
+        for (const auto& name : names)
+            s += (s.empty() ? " (" : ", ") + name;
+        return s + ")";
+    };
+    // Bodies of a scene: velocities named BODY.vx, BODY.vy, BODY.omega.
+    std::vector<std::string> bodies;
+    bool scene = !vnames.empty() && vnames.size() % 3 == 0;
+    for (std::size_t b = 0; scene && b < vnames.size() / 3; ++b) {
+        const std::string& vx = vnames[3 * b];
+        const std::string body = vx.size() > 3 ? vx.substr(0, vx.size() - 3) : "";
+        scene = !body.empty() && vx == body + ".vx" && vnames[3 * b + 1] == body + ".vy" && vnames[3 * b + 2] == body + ".omega";
+        bodies.push_back(body);
+    }
+    std::string s;
+    if (scene)
+        s = std::to_string(bodies.size()) + (bodies.size() == 1 ? " body" : " bodies") + listed(bodies) + ", " +
+            std::to_string(n) + " velocities, ";
+    else
+        s = std::to_string(n) + (chain ? (n == 1 ? " ball" : " balls") : (n == 1 ? " velocity" : " velocities")) +
+            listed(vnames) + ", ";
+    s += std::to_string(c) + (c == 1 ? " contact" : " contacts") + listed(cnames);
     if (t)
         s += " with " + std::to_string(t) + (t == 1 ? " friction tangent" : " friction tangents");
     return s;

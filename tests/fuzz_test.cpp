@@ -557,11 +557,13 @@ TEST_CASE("fuzz: wrong implementations of the kinds simulators ship are found in
 TEST_CASE("fuzz --impl-cmd: any language through a pipe, failures reported and survived", "[fuzz][cli]") {
     const std::string law = source_path("proofs/newton4/law.json");
     const std::string py = "python3 " + source_path("tests/impls/newton4_impl.py");
-    auto run = test::run_cli("fuzz --law '" + law + "' --impl-cmd '" + py + " sorted' --max-rel-error 1e-12 --samples 20000 --json");
+    // (The sanitizer run: a quarter of the samples, test::samples.)
+    const std::string n = std::to_string(test::samples(20000));
+    auto run = test::run_cli("fuzz --law '" + law + "' --impl-cmd '" + py + " sorted' --max-rel-error 1e-12 --samples " + n + " --json");
     INFO(run.out << run.err);
     CHECK(run.status == 0);
     CHECK(nlohmann::json::parse(run.out)["verdict"] == "no violation");
-    run = test::run_cli("fuzz --law '" + law + "' --impl-cmd '" + py + " tolerance' --max-rel-error 1e-12 --samples 20000");
+    run = test::run_cli("fuzz --law '" + law + "' --impl-cmd '" + py + " tolerance' --max-rel-error 1e-12 --samples " + n);
     CHECK(run.status == 1);
     // The replay carries the run's tolerance (it used to judge at 0 ulp).
     CHECK(run.out.find(" && " + std::string(IMPACTCERT_CLI) + " eval --float --max-rel-error 1e-12 --law") != std::string::npos);
@@ -600,9 +602,11 @@ TEST_CASE("fuzz --impl-cmd: any language through a pipe, failures reported and s
         CHECK(std::count(run.err.begin(), run.err.end(), '\n') == 1);
     }
     // The protocol at speed: the echo program (the identity, wrong for this law).
-    run = test::run_cli("fuzz --law '" + law + "' --impl-cmd " + IMPACTCERT_ECHO_IMPL + " --samples 200000 --json --keep 1");
+    const std::size_t fast = test::samples(200000);
+    run = test::run_cli("fuzz --law '" + law + "' --impl-cmd " + IMPACTCERT_ECHO_IMPL + " --samples " + std::to_string(fast) +
+                        " --json --keep 1");
     CHECK(run.status == 1);
-    CHECK(nlohmann::json::parse(run.out)["samples"] == 200000);
+    CHECK(nlohmann::json::parse(run.out)["samples"] == fast);
 }
 
 TEST_CASE("fuzz --velocities: implementations in ball velocities", "[fuzz]") {

@@ -167,6 +167,49 @@ try:
             fail(f"{name}: exit {p.returncode}, stderr {p.stderr.strip()!r} (expected exit 2 naming {place})")
         else:
             print(f"refused: {name}: {lines[0]}")
+
+    # Names (issue 40, item 6): a scene's derived law names its velocities and contacts
+    # ("coordinates"), verify and report speak of its bodies and contacts by name, the certificate
+    # carries them and impactcert-check verifies it; a wrong number of names is refused by the
+    # prover (exit 2) and rejected by the checker (exit 1, as any law the prover would refuse),
+    # each in one line naming the place.
+    SRC = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..")
+    CHECK = os.path.join(os.path.dirname(CLI), "impactcert-check")
+    two = json.load(open(os.path.join(SRC, "examples", "scenes", "two-disks.json")))
+    p, law = law_of(two)
+    names = law and law.get("coordinates")
+    want = {"velocities": ["lower.vx", "lower.vy", "lower.omega", "upper.vx", "upper.vy", "upper.omega"],
+            "contacts": ["ground/lower", "lower/upper"]}
+    if names != want:
+        fail(f"two disks: coordinates {names}, expected {want}")
+    law_path = os.path.join(tmp, "named.json")
+    json.dump(law, open(law_path, "w"))
+    v = subprocess.run([CLI, "verify", "--law", law_path], capture_output=True, text=True)
+    head = v.stdout.splitlines()[0] if v.stdout else ""
+    if "2 bodies (lower, upper), 6 velocities, 2 contacts (ground/lower, lower/upper) with 2 friction tangents" not in head:
+        fail(f"verify names the scene's bodies and contacts: {head!r}")
+    cert = os.path.join(tmp, "named.cert.json")
+    subprocess.run([CLI, "certify", "--law", law_path, "-o", cert], capture_output=True, text=True)
+    k = subprocess.run([CHECK, cert], capture_output=True, text=True)
+    if k.returncode not in (0, 1) or "verified" not in k.stdout:
+        fail(f"impactcert-check on a law with names: exit {k.returncode}: {k.stdout}{k.stderr}")
+    bad = dict(law)
+    bad["coordinates"] = {"velocities": want["velocities"][:5], "contacts": want["contacts"]}
+    json.dump(bad, open(law_path, "w"))
+    v = subprocess.run([CLI, "verify", "--law", law_path], capture_output=True, text=True)
+    if v.returncode != 2 or "$.coordinates.velocities" not in v.stderr:
+        fail(f"five names for six velocities: verify exit {v.returncode}: {v.stderr.strip()}")
+    doc = json.load(open(cert))
+    doc["law"]["coordinates"]["contacts"] = ["ground/lower"]
+    import hashlib
+    doc["law_sha256"] = hashlib.sha256(json.dumps(doc["law"], separators=(",", ":"),
+                                                  ensure_ascii=False).encode()).hexdigest()
+    json.dump(doc, open(cert, "w"))
+    k = subprocess.run([CHECK, cert], capture_output=True, text=True)
+    if k.returncode != 1 or "rejected: $.law.coordinates.contacts" not in k.stdout + k.stderr:
+        fail(f"impactcert-check, one name for two contacts: exit {k.returncode}: {(k.stdout + k.stderr).strip()}")
+    if not failures:
+        print("names: the law names the scene's velocities and contacts; verify and the checker use and check them")
 finally:
     shutil.rmtree(tmp, ignore_errors=True)
 if failures:

@@ -93,7 +93,8 @@ Law read_law(const Json& j, const std::string& path, std::size_t max_pieces, std
     law.json = j;
     // The prover's input rules (SPEC section 4): a law it rejects is never verified.
     expect_keys(j, path, {"format", "name", "contacts", "pieces"},
-                {"masses", "M", "identities", "single_impacts", "outcomes", "claims", "symmetries", "pieces_listed"});
+                {"masses", "M", "coordinates", "identities", "single_impacts", "outcomes", "claims", "symmetries",
+                 "pieces_listed"});
     require(field(j, path, "format") == "impactcert-law/1", at(path, "format"), "is not \"impactcert-law/1\"");
     require(!str(field(j, path, "name"), at(path, "name")).empty(), at(path, "name"), "empty law name");
     // The mass matrix: diagonal ("masses") or symmetric positive definite ("M"), exactly one.
@@ -174,6 +175,20 @@ Law read_law(const Json& j, const std::string& path, std::size_t max_pieces, std
     if (law.normals == 0)
         law.normals = law.W[0].size();
     law.c = law.W[0].size();
+    if (j.contains("coordinates")) {
+        // Names only (informational), held to the prover's rules: one per velocity and per normal contact.
+        const std::string cp = at(path, "coordinates");
+        const Json& co = field(j, path, "coordinates");
+        expect_keys(co, cp, {"velocities", "contacts"});
+        for (const auto& [key, want] : {std::pair<const char*, std::size_t>{"velocities", law.n}, {"contacts", law.normals}}) {
+            const Json& names = field(co, cp, key);
+            if (!names.is_array())
+                malformed(at(cp, key), "expected an array");
+            require(names.size() == want, at(cp, key), "expected " + std::to_string(want) + " names");
+            for (std::size_t i = 0; i < names.size(); ++i)
+                str(names[i], at(at(cp, key), i));
+        }
+    }
     require(invert(M, law.M_inv), at(path, "M"), "M is singular");
     law.G = mul(mul(tr(law.W), law.M_inv), law.W);
     require(invert(law.G, law.H), at(path, "contacts"), "G is singular");
