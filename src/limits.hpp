@@ -24,7 +24,7 @@ struct Limits {
     // How the work is done; no effect on any verdict, method, count or witness.
     bool evidence = true;          // build each obligation's evidence (certify); verify needs none
     bool integer_kernels = true;   // --no-integer-kernels: decide the pair forms over GMP alone
-    unsigned jobs = 1;             // --jobs: threads for the pairwise checks
+    unsigned jobs = 1;             // --jobs: threads for the pairwise checks (--stream: the expansion too)
     // --shard K/N (shard.hpp): this process decides slice K of N (0-based here) of the work.
     std::size_t shard_index = 0, shard_count = 1;
     std::size_t shard_block_pairs = 1024; // --shard-block: pairs of nonexpansive per block

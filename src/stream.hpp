@@ -22,8 +22,9 @@
 //     CLI reports it in one line with exit status 3, naming --stream.
 //   - InputError: as Model for the same law, in Model's order, except that a law the stream
 //     refuses is refused before the declarations that name pieces are validated.
-//   - Threads (limits.jobs) only split the exact membership solves; the report does not depend
-//     on their number.
+//   - Threads (limits.jobs) split the symmetry expansion (a block of pieces mapped and looked up
+//     on threads, added in order: stream_store.hpp) and the exact membership solves; the report
+//     does not depend on their number.
 #pragma once
 
 #include "law.hpp"

@@ -4,6 +4,8 @@
 #include "stream.hpp"
 #include "stream_store.hpp"
 
+#include "parallel.hpp"
+
 #include <algorithm>
 #include <numeric>
 
@@ -190,6 +192,29 @@ void Expansion::map_piece(u32 p, u32 g, u32* rays_out, u32* images_out) {
     }
 }
 
+bool Expansion::map_piece_known(u32 p, u32 g, u32* rays_out, u32* images_out,
+                                std::vector<std::pair<u32, u32>>& pairs) const {
+    pairs.resize(c);
+    const auto& rmap = ray_map_[g];
+    for (std::size_t k = 0; k < c; ++k) {
+        const u32 r = store.rays(p)[k];
+        if (r >= rmap.size() || rmap[r] == kNone)
+            return false;
+        const u32 s = ray_scale_id_[g][r];
+        const auto& imap = image_map_[g][s];
+        const u32 i = store.images(p)[k];
+        if (i >= imap.size() || imap[i] == kNone)
+            return false;
+        pairs[k] = {rmap[r], imap[i]};
+    }
+    std::sort(pairs.begin(), pairs.end());
+    for (std::size_t k = 0; k < c; ++k) {
+        rays_out[k] = pairs[k].first;
+        images_out[k] = pairs[k].second;
+    }
+    return true;
+}
+
 Expansion::Expansion(const Law& law_, const Model& base_, const Limits& limits, const Progress& progress)
     : law(law_), base(base_), c(base_.contacts()), store(base_.contacts()), limits_(limits) {
     if (base.has_friction())
@@ -266,17 +291,57 @@ Expansion::Expansion(const Law& law_, const Model& base_, const Limits& limits, 
             taken.push_back(Taken{t, std::move(path)});
         }
 
-    // Breadth first: each piece in order, each symmetry in order.
+    // Breadth first: each piece in order, each symmetry in order. With several jobs, a block of
+    // pieces (all stored already) is first mapped and looked up on threads, read-only: a
+    // (piece, symmetry) whose rays or images are not mapped yet is left to the ordered pass,
+    // and one not found is looked up again there (an earlier step of the block may have added
+    // it). The ordered pass below then adds exactly what one thread would, in the same order.
     std::vector<u32> uf(base.pieces().size());
     std::iota(uf.begin(), uf.end(), 0u);
+    const std::size_t G = syms.size(), jobs = std::max<std::size_t>(1, limits.jobs);
+    constexpr std::size_t kBlock = 4096;
+    constexpr u32 kUnknown = 0xfffffffeu; // not mapped on a thread
+    std::vector<u32> pre;                 // per (piece, symmetry) of the block: found, then rays, images
+    std::size_t block_begin = 0, block_end = 0;
+    const std::size_t record = 2 * c + 1;
+    auto prepare = [&](std::size_t begin) {
+        block_begin = begin;
+        block_end = std::min(store.size(), begin + kBlock);
+        const std::size_t count = block_end - block_begin;
+        pre.assign(count * G * record, kUnknown);
+        const std::size_t shares = std::min(jobs, count);
+        run_shares(shares, [&](std::size_t t) {
+            std::vector<std::pair<u32, u32>> scratch;
+            for (std::size_t i = count * t / shares; i < count * (t + 1) / shares; ++i)
+                for (u32 g = 0; g < G; ++g) {
+                    u32* slot = pre.data() + (i * G + g) * record;
+                    slot[0] = kUnknown;
+                    if (!map_piece_known(static_cast<u32>(block_begin + i), g, slot + 1, slot + 1 + c, scratch))
+                        continue;
+                    const auto q = store.find(slot + 1);
+                    slot[0] = q ? *q : kNone;
+                }
+        });
+    };
     for (std::size_t p = 0; p < store.size(); ++p) {
         if (progress && p % 65536 == 0)
             progress("expansion", std::to_string(p) + "/" + std::to_string(store.size()) + " pieces");
+        if (jobs > 1 && p >= block_end)
+            prepare(p);
         while (!following.empty() && following.begin()->first < p)
             following.erase(following.begin()); // pieces before p: nothing more is generated from them
         for (u32 g = 0; g < syms.size(); ++g) {
-            map_piece(static_cast<u32>(p), g, sorted_rays.data(), sorted_images.data());
-            if (const auto q = store.find(sorted_rays.data())) {
+            const u32* slot = jobs > 1 ? pre.data() + ((p - block_begin) * G + g) * record : nullptr;
+            std::optional<u32> found;
+            if (slot && slot[0] != kUnknown) {
+                std::copy(slot + 1, slot + 1 + c, sorted_rays.begin());
+                std::copy(slot + 1 + c, slot + 1 + 2 * c, sorted_images.begin());
+                found = slot[0] != kNone ? std::optional<u32>(slot[0]) : store.find(sorted_rays.data());
+            } else {
+                map_piece(static_cast<u32>(p), g, sorted_rays.data(), sorted_images.data());
+                found = store.find(sorted_rays.data());
+            }
+            if (const auto q = found) {
                 ++symmetry_checks;
                 if (!failure && !std::equal(sorted_images.begin(), sorted_images.end(), store.images(*q))) {
                     // The ray of p whose image ray carries a different image.

@@ -10,7 +10,9 @@
 // While closing, every (piece, symmetry) whose image cone exists already is checked for
 // Q_sigma(i) P r = P' Q_i r on each ray (condition (iii) of "Symmetries"); the first failure is
 // kept. Orbits come from union-find over the listed pieces (a generated piece is in the orbit of
-// the listed piece its path starts from).
+// the listed piece its path starts from). With limits.jobs > 1 the images of a block of pieces
+// are mapped and looked up on threads first (read-only), then added in the same order as on one
+// thread: the same pieces, ids, names, checks and errors whatever the number of threads.
 #pragma once
 
 #include "int_kernel.hpp"
@@ -102,6 +104,9 @@ class Expansion {
     void map_ray(u32 g, u32 r, u32& image, u32& scale);
     u32 map_image(u32 g, u32 scale, u32 image, u32 from_piece);
     void map_piece(u32 p, u32 g, u32* rays_out, u32* images_out); // sorted by ray id
+    // The same from the maps as they are, without growing them (for threads): false where a ray
+    // or an image has not been mapped under g yet. `pairs` is the caller's scratch.
+    bool map_piece_known(u32 p, u32 g, u32* rays_out, u32* images_out, std::vector<std::pair<u32, u32>>& pairs) const;
     std::optional<u32> walk(const std::string& name, bool generated_only);
     std::map<std::string, u32> symmetry_index_;
     std::unordered_multimap<std::uint64_t, u32> listed_by_hash_; // listed names by name_hash

@@ -137,6 +137,14 @@ std::string verdict_table(const VerifyReport& report, const Model& model) {
     return head + table.substr(old_head.size());
 }
 
+namespace {
+// A right-aligned column, with a blank before a value as wide as the column (400 M checks, a
+// verification of minutes) so that neighbouring columns never run together.
+std::string column(const std::string& s, std::size_t width) {
+    return s.size() >= width ? " " + s : pad_left(s, width);
+}
+} // namespace
+
 std::string verdict_table(const VerifyReport& report, std::size_t balls, std::size_t contacts, std::size_t pieces) {
     std::string out = "impactcert verify: " + report.law + " (" + std::to_string(balls) +
                       " balls, " + std::to_string(contacts) + (contacts == 1 ? " contact, " : " contacts, ") +
@@ -150,7 +158,7 @@ std::string verdict_table(const VerifyReport& report, std::size_t balls, std::si
         claimed += o.claimed ? 1 : 0;
         proved += (o.claimed && o.verdict == Verdict::proved) ? 1 : 0;
         out += "  " + pad(o.id, 20) + pad(o.claimed ? "yes" : "no", 9) + pad(to_string(o.verdict), 9) +
-               pad_left(std::to_string(o.checks), 8) + pad_left(milliseconds(o.elapsed), 13) + "   " +
+               column(std::to_string(o.checks), 8) + column(milliseconds(o.elapsed), 13) + "   " +
                o.method + "\n";
         if (o.verdict == Verdict::refuted)
             out += "      counterexample: " + o.counterexample.dump() + "\n";

@@ -5,6 +5,7 @@
 #include "cradle.hpp"
 #include "law_json.hpp"
 #include "stream.hpp"
+#include "stream_store.hpp"
 #include "support.hpp"
 #include "verdict_output.hpp"
 
@@ -281,6 +282,77 @@ TEST_CASE("stream: the membership pass in threads gives the same report, byte fo
     REQUIRE(s1.report.at("fan").verdict == Verdict::refuted);
     CHECK(s1.report.at("fan").counterexample["interior_of"].size() >= 2);
     CHECK(verdict_json(s2.report).dump() == verdict_json(s1.report).dump());
+}
+
+TEST_CASE("stream: the symmetry expansion in threads stores exactly what one thread stores", "[stream]") {
+    // 5,040 pieces in blocks of 4,096: the second block starts while pieces are still being
+    // added; every record, the checks, the first failure and the orbits must be one thread's.
+    // The listed pieces alone, as verify_stream gives them to the expansion.
+    auto listed = [](Law law) {
+        law.representatives_only = false;
+        law.identities.clear();
+        law.single_impacts.clear();
+        law.outcomes.clear();
+        law.claims.reset();
+        return law;
+    };
+    auto same = [&](const Law& law, const Limits& one, const Limits& many) {
+        const Model base_one(listed(law), one.max_pieces, one.max_memory_mb);
+        const stream::Expansion a(law, base_one, one, nullptr), b(law, base_one, many, nullptr);
+        REQUIRE(a.store.size() == b.store.size());
+        const std::size_t c = a.c;
+        for (std::size_t p = 0; p < a.store.size(); ++p) {
+            INFO("piece " << p);
+            REQUIRE(std::equal(a.store.rays(p), a.store.rays(p) + c, b.store.rays(p)));
+            REQUIRE(std::equal(a.store.images(p), a.store.images(p) + c, b.store.images(p)));
+            REQUIRE(a.store.parent(p) == b.store.parent(p));
+            REQUIRE(a.store.generator(p) == b.store.generator(p));
+        }
+        CHECK(a.name(static_cast<stream::u32>(a.store.size() - 1)) == b.name(static_cast<stream::u32>(b.store.size() - 1)));
+        CHECK(a.rays == b.rays);
+        CHECK(a.images == b.images);
+        CHECK(a.symmetry_checks == b.symmetry_checks);
+        CHECK(a.representatives == b.representatives);
+        REQUIRE(a.failure.has_value() == b.failure.has_value());
+        if (a.failure) {
+            CHECK(a.failure->piece == b.failure->piece);
+            CHECK(a.failure->image_piece == b.failure->image_piece);
+            CHECK(a.failure->symmetry == b.failure->symmetry);
+            CHECK(a.failure->position == b.failure->position);
+        }
+        return std::make_pair(a.store.size(), a.failure.has_value());
+    };
+    Limits one, three;
+    one.jobs = 1;
+    three.jobs = 3;
+#ifdef IMPACTCERT_SANITIZER_BUILD
+    const std::size_t n = 6;
+#else
+    const std::size_t n = 7;
+#endif
+    const Law cradle = cradle_law(n, CradleListing::representatives, true);
+    CHECK(same(cradle, one, three) == std::make_pair(std::size_t{n == 7 ? 5040u : 720u}, false));
+    // A refuted symmetry (the reversal with P' = I): the same first failure.
+    Law wrong = cradle;
+    wrong.symmetries.back().P_prime = Matrix::identity(n - 1);
+    CHECK(same(wrong, one, three).second);
+    // --max-pieces reached while the threads look ahead: the same message at the same piece.
+    Limits small_one = one, small_three = three;
+    small_one.max_pieces = small_three.max_pieces = 600;
+    std::string e1, e3;
+    const Model base(listed(cradle), 100000);
+    try {
+        stream::Expansion(cradle, base, small_one, nullptr);
+    } catch (const InputError& e) {
+        e1 = e.what();
+    }
+    try {
+        stream::Expansion(cradle, base, small_three, nullptr);
+    } catch (const InputError& e) {
+        e3 = e.what();
+    }
+    CHECK(e1.find("--max-pieces") != std::string::npos);
+    CHECK(e1 == e3);
 }
 
 namespace {

@@ -61,7 +61,7 @@ void add_claims_option(CLI::App* cmd, ProofOptions& proof) {
 
 void add_jobs_option(CLI::App* cmd, ProofOptions& proof) {
     proof.jobs = std::max(1u, std::thread::hardware_concurrency());
-    cmd->add_option("--jobs", proof.jobs, "threads for the pairwise checks (default: all cores); the output does not depend on it")->check(natural_text)->check(CLI::Range(1u, 256u));
+    cmd->add_option("--jobs", proof.jobs, "threads for the pairwise checks (and with --stream the symmetry expansion and the membership pass; default: all cores); the output does not depend on it")->check(natural_text)->check(CLI::Range(1u, 256u));
 }
 
 void add_shard_block_option(CLI::App* cmd, ProofOptions& proof) {
