@@ -907,7 +907,8 @@ ConsistencySummary run_consistency(const Mechanics& m, const ConsistencyOptions&
         return true;
     };
     // Coverage of a checked input: its pattern of approaching contacts, its decade, and the
-    // reference law's pieces that contain it (exactly). Presentation only: no verdict uses it.
+    // reference law's pieces that contain it (exactly; for references of at most kCoveragePieces
+    // pieces, a scan of them per sample). Presentation only: no verdict uses it.
     auto cover = [&](Partial& part, const double* x) {
         Vector gamma;
         part.patterns.insert(checker.approach_pattern(x, &gamma));
@@ -916,7 +917,7 @@ ConsistencySummary run_consistency(const Mechanics& m, const ConsistencyOptions&
             top = std::max(top, std::fabs(x[i]));
         if (top > 0)
             part.decades.insert(static_cast<int>(std::floor(std::log10(top))));
-        if (o.reference && gamma.size() == o.reference->contacts()) {
+        if (o.reference && o.reference->pieces().size() <= kCoveragePieces && gamma.size() == o.reference->contacts()) {
             part.reference_hit.resize(o.reference->pieces().size(), 0);
             for (const auto p : o.reference->pieces_containing(gamma))
                 part.reference_hit[p] = 1;
@@ -1102,7 +1103,7 @@ ConsistencySummary run_consistency(const Mechanics& m, const ConsistencyOptions&
     sum.examples = std::move(examples);
     std::set<std::uint64_t> patterns;
     std::set<int> decades;
-    std::vector<char> hit(o.reference ? o.reference->pieces().size() : 0, 0);
+    std::vector<char> hit(o.reference && o.reference->pieces().size() <= kCoveragePieces ? o.reference->pieces().size() : 0, 0);
     for (const auto& part : partials) {
         patterns.insert(part.patterns.begin(), part.patterns.end());
         decades.insert(part.decades.begin(), part.decades.end());

@@ -108,12 +108,15 @@ struct PropertyCount {
     std::optional<Finding> worst_solver; // the solver-level finding furthest off the law
 };
 
+inline constexpr std::size_t kCoveragePieces = 2000;
+
 struct ConsistencySummary {
     std::uint64_t samples = 0, pairs = 0, skipped = 0;
     double seconds = 0;
     // Coverage of the checked inputs: the patterns of approaching normal contacts met (of
     // 2^normals - 1; patterns 0 beyond 20 contacts), the decades of their largest components, and
-    // with a reference law its pieces with an approaching direction, and those whose cone held one.
+    // with a reference law of at most kCoveragePieces pieces its pieces with an approaching
+    // direction, and those whose cone held one (0 of 0 for a larger reference).
     std::uint64_t patterns_hit = 0, patterns = 0, reference_pieces_hit = 0, reference_pieces = 0, decades = 0;
     int decade_lo = 0, decade_hi = 0;
     std::array<PropertyCount, kProperties> properties;

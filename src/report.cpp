@@ -324,7 +324,7 @@ std::string report_markdown(const Model& model, const VerifyReport& report, cons
     std::string s = "# impactcert report: " + md_escape(report.law) + "\n\n";
     s += std::string("**Verdict: ") + report.verdict() + "** — " +
          std::to_string(claimed_count(report, true)) + " of " + std::to_string(claimed_count(report, false)) +
-         " claimed obligations proved. " + system_words(model) + ", " +
+         " claimed obligations proved. " + md_escape(system_words(model)) + ", " +
          std::to_string(model.pieces().size()) + " pieces; law SHA-256 `" + law_hash(model) + "`.\n\n";
     s += "| obligation | claimed | verdict | exact checks | method |\n|---|---|---|---:|---|\n";
     for (const auto& o : report.obligations) {
@@ -391,7 +391,7 @@ std::string report_html(const Model& model, const VerifyReport& report, const Wo
     s += "<h1>impactcert report: " + xml_escape(report.law) + "</h1>\n";
     s += std::string("<p><span class=\"badge\" style=\"background:") + colour + "\">" + verdict + "</span> " + std::to_string(claimed_count(report, true)) + " of " +
          std::to_string(claimed_count(report, false)) + " claimed obligations proved; " +
-         system_words(model) + ", " + std::to_string(model.pieces().size()) + " pieces. Law SHA-256 <code>" +
+         xml_escape(system_words(model)) + ", " + std::to_string(model.pieces().size()) + " pieces. Law SHA-256 <code>" +
          law_hash(model) + "</code>.</p>\n";
     if (model.contacts() == 2)
         s += "<figure>\n" + cones_svg(model, &report) +

@@ -299,7 +299,11 @@ Expansion::Expansion(const Law& law_, const Model& base_, const Limits& limits, 
     std::vector<u32> uf(base.pieces().size());
     std::iota(uf.begin(), uf.end(), 0u);
     const std::size_t G = syms.size(), jobs = std::max<std::size_t>(1, limits.jobs);
-    constexpr std::size_t kBlock = 4096;
+    // The block's records take at most 1/64 of --max-memory (and blocks hold 64 to 4,096 pieces):
+    // outside the count, so that the errors and their order stay one thread's.
+    const std::size_t record_bytes = std::max<std::size_t>(1, G * (2 * c + 1) * 4);
+    const std::size_t budget = limits.max_memory_mb > (SIZE_MAX >> 26) ? SIZE_MAX : (limits.max_memory_mb << 20) / 64;
+    const std::size_t kBlock = std::clamp<std::size_t>(budget / record_bytes, 64, 4096);
     constexpr u32 kUnknown = 0xfffffffeu; // not mapped on a thread
     std::vector<u32> pre;                 // per (piece, symmetry) of the block: found, then rays, images
     std::size_t block_begin = 0, block_end = 0;

@@ -12,7 +12,9 @@
 // kept. Orbits come from union-find over the listed pieces (a generated piece is in the orbit of
 // the listed piece its path starts from). With limits.jobs > 1 the images of a block of pieces
 // are mapped and looked up on threads first (read-only), then added in the same order as on one
-// thread: the same pieces, ids, names, checks and errors whatever the number of threads.
+// thread: the same pieces, ids, names, checks and errors whatever the number of threads. The
+// block's records (64 to 4,096 pieces, at most 1/64 of --max-memory where 64 pieces fit) are
+// not counted against --max-memory, so that the limit stops one thread's run at the same step.
 #pragma once
 
 #include "int_kernel.hpp"

@@ -90,13 +90,25 @@ std::string system_words(const Model& model) {
     const bool chain = !model.law().W && !model.law().M && !model.has_friction();
     const auto& vnames = model.law().velocity_names;
     const auto& cnames = model.law().contact_names;
-    // A list of names in parentheses, up to 8 of them.
+    // A list of names in parentheses, up to 8 of them, each cut at 40 bytes (on a UTF-8 boundary)
+    // and control characters blanked: the names come from the file. Callers escape the line for
+    // Markdown or HTML.
     auto listed = [](const std::vector<std::string>& names) {
         if (names.empty() || names.size() > 8)
             return std::string();
         std::string s;
-        for (const auto& name : names)
+        for (std::string name : names) {
+            if (name.size() > 40) {
+                std::size_t cut = 37;
+                while (cut > 0 && (static_cast<unsigned char>(name[cut]) & 0xC0) == 0x80)
+                    --cut;
+                name = name.substr(0, cut) + "...";
+            }
+            for (char& ch : name)
+                if (static_cast<unsigned char>(ch) < 0x20 || ch == 0x7f)
+                    ch = ' ';
             s += (s.empty() ? " (" : ", ") + name;
+        }
         return s + ")";
     };
     // Bodies of a scene: velocities named BODY.vx, BODY.vy, BODY.omega.

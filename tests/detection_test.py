@@ -251,7 +251,8 @@ for mode, off in [("exact", False), ("reversed", True)]:
             fail(f"--reference newton with friction, {mode}: {j['reference']}, {j['violations']['reference']} off")
     except (json.JSONDecodeError, KeyError) as err:
         fail(f"--reference newton with friction, {mode}: {err}\n{r.stdout[:300]}{r.stderr}")
-for args, words in [(["--reference", "poisson"], "not offered")]:
+for args, words in [(["--reference", "poisson"], "not offered"),
+                    (["--reference", scene_law, "--restitution", "1/2"], "Newton's")]:
     b = run(["fuzz", "--system", scene, "--velocities", "--impl-cmd", "cat", "--samples", "5"] + args)
     if b.returncode != 2 or words not in b.stderr or len(b.stderr.strip().splitlines()) != 1:
         fail(f"friction {args}: exit {b.returncode} {b.stderr!r}")

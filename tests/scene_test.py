@@ -208,8 +208,24 @@ try:
     k = subprocess.run([CHECK, cert], capture_output=True, text=True)
     if k.returncode != 1 or "rejected: $.law.coordinates.contacts" not in k.stdout + k.stderr:
         fail(f"impactcert-check, one name for two contacts: exit {k.returncode}: {(k.stdout + k.stderr).strip()}")
+    # Names are the file's text: report.md and report.html escape them (a contact named like a
+    # script, a table cell's end and emphasis), and a long name is cut.
+    odd = dict(law)
+    odd["coordinates"] = {"velocities": want["velocities"],
+                          "contacts": ["<script>alert(1)</script>", "a | b *x* `y` " + "L" * 100]}
+    json.dump(odd, open(law_path, "w"))
+    out_dir = os.path.join(tmp, "odd-report")
+    r = subprocess.run([CLI, "report", "--law", law_path, "-o", out_dir], capture_output=True, text=True)
+    html = open(os.path.join(out_dir, "report.html")).read() if r.returncode == 0 else ""
+    md = open(os.path.join(out_dir, "report.md")).read() if r.returncode == 0 else ""
+    if r.returncode != 0 or "<script>alert" in html or "&lt;script&gt;alert(1)&lt;/script&gt;" not in html:
+        fail(f"report.html does not escape a contact's name (exit {r.returncode})")
+    elif "a | b" in md or "a \\| b \\*x\\*" not in md or "L" * 60 in md:
+        fail("report.md does not escape or cut a contact's name: " +
+             next((line for line in md.splitlines() if "contacts (" in line), "")[:300])
     if not failures:
-        print("names: the law names the scene's velocities and contacts; verify and the checker use and check them")
+        print("names: the law names the scene's velocities and contacts; verify and the checker use and check them; "
+              "reports escape them")
 finally:
     shutil.rmtree(tmp, ignore_errors=True)
 if failures:

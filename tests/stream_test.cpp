@@ -332,6 +332,11 @@ TEST_CASE("stream: the symmetry expansion in threads stores exactly what one thr
 #endif
     const Law cradle = cradle_law(n, CradleListing::representatives, true);
     CHECK(same(cradle, one, three) == std::make_pair(std::size_t{n == 7 ? 5040u : 720u}, false));
+    // Under --max-memory 8 the threads' blocks shrink (to 1/64 of the budget): several blocks, the
+    // same store.
+    Limits one_small = one, three_small = three;
+    one_small.max_memory_mb = three_small.max_memory_mb = 8;
+    CHECK(same(cradle, one_small, three_small).first == (n == 7 ? 5040u : 720u));
     // A refuted symmetry (the reversal with P' = I): the same first failure.
     Law wrong = cradle;
     wrong.symmetries.back().P_prime = Matrix::identity(n - 1);

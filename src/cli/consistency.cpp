@@ -44,6 +44,11 @@ Setup setup(const FuzzArgs& a) {
     if (a.restitution_given) {
         if (a.restitution.empty())
             throw InputError("--restitution: expected E or one value per contact, got an empty text");
+        // With friction the property is Newton's: against a reference law file (which may be a
+        // sequential or Poisson-type law) it would contradict the reference the user declares.
+        if (s.mech.has_friction() && !a.reference.empty() && a.reference != "approaching" && a.reference != "newton")
+            throw InputError("--restitution: with friction the restitution property is Newton's, which a reference law "
+                             "file need not be; give --reference approaching or newton, or no --restitution");
         s.restitution = restitution_list(a.restitution, s.mech.normals);
         if (s.restitution.size() != s.mech.normals)
             throw InputError("--restitution: expected one value or " + std::to_string(s.mech.normals) +
