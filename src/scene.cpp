@@ -441,11 +441,18 @@ System parse_scene(const ReadJson& doc) {
     try {
         make_mechanics(out);
     } catch (const InputError& err) {
-        // Say which contacts the scene has: the dependent columns are its contacts'.
+        // In the scene's own terms: its place ($.contacts where listed, else the scene), the
+        // contacts it has, and no path of a system file ($.contacts.friction) the scene lacks.
+        std::string why = err.what();
+        if (why.rfind("$.contacts", 0) == 0)
+            if (const auto colon = why.find(": "); colon != std::string::npos)
+                why = why.substr(colon + 2);
         std::string list;
         for (std::size_t k = 0; k < c && k < 6; ++k)
             list += (k ? "; " : "") + std::to_string(k + 1) + ": " + contacts[k].name;
-        throw InputError(std::string(err.what()) + " (the scene's contacts: " + list + (c > 6 ? "; ..." : "") + ")");
+        input_error(doc.contains("contacts") ? "$.contacts" : "$",
+                    "the scene's contacts (" + list + (c > 6 ? "; ..." : "") + "): " + why +
+                        "; a body with more contact columns than velocities (redundant contacts) is not supported yet");
     }
     return out;
 }

@@ -148,7 +148,8 @@ try:
                                              "boundaries": GROUND, "friction": "-1/2"}, "$.friction"),
         ("two rough contacts on one disk (4 columns, 3 velocities)",
          {"format": "impactcert-scene/1", "name": "x", "bodies": [disk], "friction": "1/2",
-          "boundaries": GROUND + [{"name": "wall", "point": ["-1", "0"], "normal": ["1", "0"]}]}, "$.contacts.friction"),
+          "boundaries": GROUND + [{"name": "wall", "point": ["-1", "0"], "normal": ["1", "0"]}]},
+         "$: the scene's contacts (1: "),
         ("no contact", {"format": "impactcert-scene/1", "name": "x", "bodies": [body("d", 1, 1, (0, 5), [{"disk": "1"}])],
                         "boundaries": GROUND}, "$.contacts"),
         ("a restitution for one contact only",
@@ -163,7 +164,8 @@ try:
     for name, scene, place in BAD:
         p, law = law_of(scene)
         lines = p.stderr.strip().splitlines()
-        if p.returncode != 2 or len(lines) != 1 or place not in lines[0]:
+        # (never a path of a system file that the scene does not have: issue 43)
+        if p.returncode != 2 or len(lines) != 1 or place not in lines[0] or "$.contacts.friction" in lines[0]:
             fail(f"{name}: exit {p.returncode}, stderr {p.stderr.strip()!r} (expected exit 2 naming {place})")
         else:
             print(f"refused: {name}: {lines[0]}")
