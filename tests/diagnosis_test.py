@@ -142,8 +142,8 @@ for system, law in ((os.path.join(SRC, "proofs", "kane", "gains", "system.json")
                       f"Lambda = {float(lam):.3g}); none for the Newton law rounded")
 
 # --- nondeterministic
-# (Every input of this driver is asked on its own in a fresh process: 300 samples suffice.)
-status, j, err = fuzz(CONTROLS + " jitter", samples="300")
+# (Every input of this driver is asked on its own in a fresh process: a few hundred samples suffice.)
+status, j, err = fuzz(CONTROLS + " jitter", samples="100" if LIGHT else "300")
 if status != 1 or not j or j["violations"]["nondeterministic"] == 0 or j["violations"]["malformed"] != 0:
     fail(f"jitter: exit {status}, {j and j['violations']}")
 else:

@@ -68,7 +68,7 @@ def check_witness(m, label):
         fail(f"{label} {m['id']}: the control is off at the witness too (exit {rc.returncode})\n{rc.stdout}")
 
 
-samples = "2000" if LIGHT else "20000"
+samples = "1000" if LIGHT else "20000"
 r, j = mutants(["--allow", "extreme", "--samples", samples])
 if j is not None:
     if r.returncode != 0 or j["verdict"] != "measured" or j["control"]["violations"]:
