@@ -278,6 +278,29 @@ void read_head(const ReadJson& doc, std::vector<Rational>& masses, std::optional
     }
 }
 
+// "coordinates" (optional, names only): one name per velocity and per normal contact.
+void read_coordinates(const ReadJson& doc, const std::optional<Matrix>& M, const std::vector<Rational>& masses,
+                      const std::optional<Matrix>& W, std::vector<std::string>& velocity_names,
+                      std::vector<std::string>& contact_names) {
+    if (!doc.contains("coordinates"))
+        return;
+    const ReadJson& co = doc["coordinates"];
+    expect_object(co, "$.coordinates", {"velocities", "contacts"}, {"velocities", "contacts"});
+    const std::size_t n = M ? M->rows() : masses.size();
+    const std::size_t c = W ? W->cols() : (n > 0 ? n - 1 : 0);
+    for (const auto& [key, into, want] : {std::make_tuple("velocities", &velocity_names, n),
+                                          std::make_tuple("contacts", &contact_names, c)}) {
+        const std::string at = std::string("$.coordinates.") + key;
+        for_each_element(co[key], at, [&, into = into](const ReadJson& s, const std::string& path) {
+            into->push_back(get_string(s, path));
+        });
+        if (into->size() != want)
+            input_error(at, "expected " + std::to_string(want) + " names (one per " +
+                                (std::string(key) == "velocities" ? "velocity" : "normal contact") + "), got " +
+                                std::to_string(into->size()));
+    }
+}
+
 Law parse_document(const ReadJson& doc) {
     expect_object(doc, "$",
                   {"format", "name", "masses", "M", "contacts", "coordinates", "pieces", "identities",
@@ -293,24 +316,7 @@ Law parse_document(const ReadJson& doc) {
     else if (doc.contains("note"))
         law.description = doc["note"].get<std::string>();
     read_head(doc, law.masses, law.M, law.W, law.friction);
-    if (doc.contains("coordinates")) {
-        // Names of the velocities and of the normal contacts (informational, as a scene has them).
-        const ReadJson& co = doc["coordinates"];
-        expect_object(co, "$.coordinates", {"velocities", "contacts"}, {"velocities", "contacts"});
-        const std::size_t n = law.M ? law.M->rows() : law.masses.size();
-        const std::size_t c = law.W ? law.W->cols() : (n > 0 ? n - 1 : 0);
-        for (const auto& [key, into, want] : {std::make_tuple("velocities", &law.velocity_names, n),
-                                              std::make_tuple("contacts", &law.contact_names, c)}) {
-            const std::string at = std::string("$.coordinates.") + key;
-            for_each_element(co[key], at, [&, into = into](const ReadJson& s, const std::string& path) {
-                into->push_back(get_string(s, path));
-            });
-            if (into->size() != want)
-                input_error(at, "expected " + std::to_string(want) + " names (one per " +
-                                    (std::string(key) == "velocities" ? "velocity" : "normal contact") + "), got " +
-                                    std::to_string(into->size()));
-        }
-    }
+    read_coordinates(doc, law.M, law.masses, law.W, law.velocity_names, law.contact_names);
 
     for_each_element(doc["pieces"], "$.pieces", [&](const ReadJson& p, const std::string& path) {
         expect_object(p, path, {"name", "Q", "rays"}, {"name", "Q"});
@@ -460,13 +466,14 @@ System parse_system_text(const std::string& text, const std::string& origin) {
         if (format != kSystemFormat)
             input_error("$.format", "expected " + in_quotes(kSystemFormat) + ", " + in_quotes(kSceneFormat) + " or " +
                                         in_quotes(kLawFormat) + ", got " + in_quotes(format));
-        expect_object(doc, "$", {"format", "name", "masses", "M", "contacts"}, {"format", "name"});
+        expect_object(doc, "$", {"format", "name", "masses", "M", "contacts", "coordinates"}, {"format", "name"});
         System s;
         s.name = get_string(doc["name"], "$.name");
         if (s.name.empty())
             input_error("$.name", "empty system name");
         read_head(doc, s.masses, s.M, s.W, s.friction);
         make_mechanics(s); // validated
+        read_coordinates(doc, s.M, s.masses, s.W, s.velocity_names, s.contact_names);
         return s;
     } catch (const InputError& e) {
         throw InputError(origin + ": " + e.what());

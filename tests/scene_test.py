@@ -210,6 +210,23 @@ try:
     k = subprocess.run([CHECK, cert], capture_output=True, text=True)
     if k.returncode != 1 or "rejected: $.law.coordinates.contacts" not in k.stdout + k.stderr:
         fail(f"impactcert-check, one name for two contacts: exit {k.returncode}: {(k.stdout + k.stderr).strip()}")
+    # A system file may name its coordinates too; derive carries them into the law, and a wrong
+    # count is one line naming the place.
+    system = {"format": "impactcert-system/1", "name": "wall-and-ball", "masses": ["1", "2"],
+              "contacts": {"W": [["-1", "1"], ["1", "0"]]},
+              "coordinates": {"velocities": ["left", "right"], "contacts": ["between", "wall"]}}
+    for names, ok in ((["between", "wall"], True), (["between"], False)):
+        system["coordinates"]["contacts"] = names
+        sys_path = os.path.join(tmp, "named-system.json")
+        json.dump(system, open(sys_path, "w"))
+        out = os.path.join(tmp, "named-system-law.json")
+        d = subprocess.run([CLI, "derive", "newton", "--system", sys_path, "--restitution", "1", "-o", out],
+                           capture_output=True, text=True)
+        if ok and (d.returncode != 0 or json.load(open(out)).get("coordinates") != system["coordinates"]):
+            fail(f"a system's names are not carried into its law: exit {d.returncode}: {d.stderr.strip()}")
+        if not ok and (d.returncode != 2 or "$.coordinates.contacts: expected 2 names" not in d.stderr
+                       or len(d.stderr.strip().splitlines()) != 1):
+            fail(f"one name for two contacts in a system file: exit {d.returncode}: {d.stderr.strip()}")
     # Names are the file's text: report.md and report.html escape them (a contact named like a
     # script, a table cell's end and emphasis), and a long name is cut.
     odd = dict(law)
