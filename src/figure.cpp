@@ -187,16 +187,6 @@ std::vector<std::string> wrap(const std::string& text, std::size_t width) {
     return lines;
 }
 
-// At most `limit` bytes of text, cut at a UTF-8 character boundary, with "..." when cut.
-std::string shortened(const std::string& text, std::size_t limit) {
-    if (text.size() <= limit)
-        return text;
-    std::size_t end = limit;
-    while (end > 0 && (static_cast<unsigned char>(text[end]) & 0xC0) == 0x80)
-        --end;
-    return text.substr(0, end) + "...";
-}
-
 std::string standalone_figure(const std::string& full_title, const std::string& caption, const std::string& drawing,
                               const std::vector<LegendItem>& full_legend) {
     // Names come from the law file: a title of 200,000 characters made a page of 1.7 M pixels that

@@ -74,7 +74,7 @@ inline constexpr const char* kConesCaption2 =
 inline constexpr const char* kConesCaption3 =
     "The cones on the unit sphere of pre-impact contact velocities, in two orthographic hemispheres (seen from "
     "(1,1,1) and from (-1,-1,-1)); edges are great-circle arcs. Each cone is numbered where it shows best (inside "
-    "it, or by a leader line) and named in the key; neighbouring cones have different colours; black dots: "
+    "it, or by a leader line) and named in the key (laws of up to 120 cones); neighbouring cones have different colours; black dots: "
     "counterexamples.";
 // With `worst` (report --worst-case): the law's exact worst case too.
 std::string report_markdown(const Model& model, const VerifyReport& report, const WorstCase* worst = nullptr);

@@ -164,7 +164,7 @@ std::string sphere_svg(const Model& model, const VerifyReport* report) {
     const auto& pieces = model.pieces();
     const std::size_t P = pieces.size();
     const auto colours = piece_colours(model);
-    // Numbers and a key up to 120 cones; beyond, the cones alone (names on hover).
+    // Numbers and a key up to 120 cones (kConesCaption3 says so); beyond, the cones alone (names on hover).
     const bool numbered = P <= 120;
     const double r = 170, margin = 40, gap = 2 * margin, key_columns = 3;
     const double width = 4 * r + gap + 2 * margin, disks = 30 + 2 * margin + 2 * r;
@@ -331,13 +331,7 @@ std::string sphere_svg(const Model& model, const VerifyReport* report) {
         for (std::size_t p = 0; p < P; ++p) {
             const double x = margin + column * static_cast<double>(p / key_rows),
                          y = key_top + 16.0 * static_cast<double>(p % key_rows);
-            std::string name = pieces[p].name;
-            if (name.size() > 36) {
-                std::size_t cut = 33;
-                while (cut > 0 && (static_cast<unsigned char>(name[cut]) & 0xC0) == 0x80)
-                    --cut; // not inside a UTF-8 sequence
-                name = name.substr(0, cut) + "...";
-            }
+            const std::string name = pieces[p].name.size() > 36 ? shortened(pieces[p].name, 33) : pieces[p].name;
             s += "<g class=\"key\"><title>" + xml_escape(piece_title(pieces[p])) + "</title><rect x=\"" + fmt(x) +
                  "\" y=\"" + fmt(y) + "\" width=\"11\" height=\"11\" fill=\"" + colours[p] +
                  "\" fill-opacity=\"0.75\" stroke=\"#222\" stroke-width=\"0.5\"/><text x=\"" + fmt(x + 16) + "\" y=\"" +

@@ -85,6 +85,15 @@ std::string xml_escape(const std::string& s) {
     return out;
 }
 
+std::string shortened(const std::string& text, std::size_t limit) {
+    if (text.size() <= limit)
+        return text;
+    std::size_t end = limit;
+    while (end > 0 && (static_cast<unsigned char>(text[end]) & 0xC0) == 0x80)
+        --end;
+    return text.substr(0, end) + "...";
+}
+
 std::string system_words(const Model& model) {
     const std::size_t n = model.balls(), c = model.normals(), t = model.tangents().size();
     const bool chain = !model.law().W && !model.law().M && !model.has_friction();
@@ -98,12 +107,8 @@ std::string system_words(const Model& model) {
             return std::string();
         std::string s;
         for (std::string name : names) {
-            if (name.size() > 40) {
-                std::size_t cut = 37;
-                while (cut > 0 && (static_cast<unsigned char>(name[cut]) & 0xC0) == 0x80)
-                    --cut;
-                name = name.substr(0, cut) + "...";
-            }
+            if (name.size() > 40)
+                name = shortened(name, 37);
             for (char& ch : name)
                 if (static_cast<unsigned char>(ch) < 0x20 || ch == 0x7f)
                     ch = ' ';

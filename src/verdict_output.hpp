@@ -30,6 +30,9 @@ std::string verdict_table(const VerifyReport& report, const Model& model);
 std::string verdict_table(const VerifyReport& report, std::size_t balls, std::size_t contacts, std::size_t pieces);
 std::string verdict_junit(const VerifyReport& report);
 
+// At most `limit` bytes of text, cut at a UTF-8 character boundary, with "..." after it when cut.
+std::string shortened(const std::string& text, std::size_t limit);
+
 // Escapes & < > " ' for XML/HTML text and attribute values; what XML 1.0 cannot hold (control
 // characters but tab and newlines, U+FFFE, U+FFFF, encoded surrogates) becomes U+FFFD.
 std::string xml_escape(const std::string& s);
