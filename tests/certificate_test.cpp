@@ -1,9 +1,9 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-#include "certificate.hpp"
+#include "prover/certificate.hpp"
 #include "impactcert_check.hpp"
 #include "linalg.hpp"
-#include "law_json.hpp"
-#include "paper_law.hpp"
+#include "model/law_json.hpp"
+#include "model/paper_law.hpp"
 #include "support.hpp"
 
 #include <catch2/catch.hpp>

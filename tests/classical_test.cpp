@@ -4,11 +4,11 @@
 // against a solution that shares nothing with the derivation: the LCPs solved in ball velocities
 // by enumerating active sets, and the sequential process simulated impulse by impulse through M
 // and W.
-#include "derive.hpp"
-#include "law_json.hpp"
-#include "obligations.hpp"
+#include "derive/derive.hpp"
+#include "model/law_json.hpp"
+#include "prover/obligations.hpp"
 #include "support.hpp"
-#include "system.hpp"
+#include "model/system.hpp"
 
 #include <catch2/catch.hpp>
 

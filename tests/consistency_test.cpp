@@ -5,8 +5,8 @@
 // property each, and against real engines (Box2D where installed, a Python sequential-impulse
 // solver everywhere) that gain energy at e = 1 and not at e = 1/2. Every worst case is re-checked
 // from the JSON by a second route (the input and output as exact rationals) and replayed.
-#include "consistency.hpp"
-#include "json.hpp"
+#include "fuzz/consistency.hpp"
+#include "base/json.hpp"
 #include "support.hpp"
 
 #include <catch2/catch.hpp>

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-#include "copositivity.hpp"
+#include "exact/copositivity.hpp"
 #include "support.hpp"
 
 #include <catch2/catch.hpp>

@@ -1,11 +1,11 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // derive_test.cpp -- derived sequential impact laws (SPEC section 7) against the paper's law, the
 // sort law, and a direct simulation in ball velocities that shares nothing with the derivation.
-#include "certificate.hpp"
-#include "derive.hpp"
+#include "prover/certificate.hpp"
+#include "derive/derive.hpp"
 #include "impactcert_check.hpp"
-#include "law_json.hpp"
-#include "paper_law.hpp"
+#include "model/law_json.hpp"
+#include "model/paper_law.hpp"
 #include "support.hpp"
 
 #include <catch2/catch.hpp>

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-#include "fan.hpp"
-#include "law_json.hpp"
-#include "paper_law.hpp"
+#include "prover/fan.hpp"
+#include "model/law_json.hpp"
+#include "model/paper_law.hpp"
 #include "support.hpp"
 
 #include <catch2/catch.hpp>

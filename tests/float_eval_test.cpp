@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-#include "float_eval.hpp"
-#include "fuzz.hpp"
-#include "law_json.hpp"
+#include "fuzz/float_eval.hpp"
+#include "fuzz/fuzz.hpp"
+#include "model/law_json.hpp"
 #include "support.hpp"
 
 #include <catch2/catch.hpp>

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-#include "fuzz.hpp"
-#include "paper_law.hpp"
+#include "fuzz/fuzz.hpp"
+#include "model/paper_law.hpp"
 #include "support.hpp"
 
 #include <catch2/catch.hpp>

@@ -1,10 +1,10 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-#include "derive.hpp"
-#include "eft.hpp"
-#include "float_eval.hpp"
-#include "fuzz.hpp"
-#include "law_json.hpp"
-#include "paper_law.hpp"
+#include "derive/derive.hpp"
+#include "exact/eft.hpp"
+#include "fuzz/float_eval.hpp"
+#include "fuzz/fuzz.hpp"
+#include "model/law_json.hpp"
+#include "model/paper_law.hpp"
 #include "support.hpp"
 
 #include <catch2/catch.hpp>

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-#include "law_json.hpp"
-#include "paper_law.hpp"
+#include "model/law_json.hpp"
+#include "model/paper_law.hpp"
 #include "support.hpp"
 
 #include <catch2/catch.hpp>

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-#include "law_json.hpp"
-#include "obligations.hpp"
-#include "paper_law.hpp"
+#include "model/law_json.hpp"
+#include "prover/obligations.hpp"
+#include "model/paper_law.hpp"
 #include "support.hpp"
 
 #include <catch2/catch.hpp>

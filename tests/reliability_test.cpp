@@ -1,16 +1,16 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // reliability_test.cpp -- issue 18: no signal, no runaway, no lost write, on the inputs impactcert
 // itself produces. Each case is a reproduction of a defect found by review, named after it.
-#include "certificate.hpp"
-#include "derive.hpp"
+#include "prover/certificate.hpp"
+#include "derive/derive.hpp"
 #include "impactcert_check.hpp"
-#include "exact_double.hpp"
-#include "fuzz.hpp"
-#include "law_json.hpp"
-#include "obligations.hpp"
-#include "paper_law.hpp"
-#include "report.hpp"
-#include "sweep.hpp"
+#include "exact/exact_double.hpp"
+#include "fuzz/fuzz.hpp"
+#include "model/law_json.hpp"
+#include "prover/obligations.hpp"
+#include "model/paper_law.hpp"
+#include "report/report.hpp"
+#include "sweep/sweep.hpp"
 #include "support.hpp"
 
 #include <catch2/catch.hpp>
@@ -497,7 +497,7 @@ TEST_CASE("defect 18.2 fail: memory is budgeted in bytes, growth is stopped, und
 // (std::terminate, SIGABRT); threads that started but found no memory for their heap (mimalloc
 // gives each its own segments), which turned a run that fits into exit 3 and, in the checker,
 // into SIGABRT once its hundreds of kept exceptions had used up the runtime's reserve;
-// mimalloc's own operator new, which aborts (src/allocation.cpp); a file read into a string that
+// mimalloc's own operator new, which aborts (src/base/allocation.cpp); a file read into a string that
 // could not grow, silently shortened and then reported as malformed JSON. The caps start above
 // the programs' start-up footprint (about 44 MB of address space with mimalloc: below it the
 // loader and the static initialisers cannot run, which no program can report). Release build

@@ -1,10 +1,10 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-#include "law_json.hpp"
-#include "paper_law.hpp"
-#include "errors.hpp"
-#include "figure.hpp"
-#include "report.hpp"
-#include "verdict_output.hpp"
+#include "model/law_json.hpp"
+#include "model/paper_law.hpp"
+#include "base/errors.hpp"
+#include "report/figure.hpp"
+#include "report/report.hpp"
+#include "prover/verdict_output.hpp"
 #include "support.hpp"
 
 #include <catch2/catch.hpp>
@@ -283,7 +283,7 @@ TEST_CASE("report: counterexamples are drawn on the cone picture (c = 2 and c = 
     CHECK(cones_svg(gap, &rg).find("class=\"counterexample\"") != std::string::npos);
 }
 
-#include "derive.hpp"
+#include "derive/derive.hpp"
 
 #include <cmath>
 

@@ -6,8 +6,8 @@
 // Second routes: every admissible word at a point enumerated by plain simulation (no cones); the
 // witness replayed in ball velocities with the two-ball collision formulas; the counts from a
 // closed formula in long double, away from integers (the exact pi / k cases by their cosines).
-#include "derive.hpp"
-#include "json.hpp"
+#include "derive/derive.hpp"
+#include "base/json.hpp"
 #include "support.hpp"
 
 #include <catch2/catch.hpp>
@@ -277,8 +277,8 @@ TEST_CASE("derive sequential --rule any on the command line", "[research][order]
 
 // ---- Where continuity holds exactly (exact_conditions.hpp).
 
-#include "exact_conditions.hpp"
-#include "obligations.hpp"
+#include "exact/exact_conditions.hpp"
+#include "prover/obligations.hpp"
 
 namespace {
 

@@ -2,12 +2,12 @@
 // scale19_test.cpp -- issue 19: what matters first (a discontinuity refutes nonexpansive near
 // P1's ray, Lemma D), shared rays found through the ray index, the planar derivation by sectors,
 // and shards (a slice of the work each, merged and checked for coverage).
-#include "certificate.hpp"
-#include "derive.hpp"
+#include "prover/certificate.hpp"
+#include "derive/derive.hpp"
 #include "impactcert_check.hpp"
-#include "law_json.hpp"
+#include "model/law_json.hpp"
 #include "support.hpp"
-#include "system.hpp"
+#include "model/system.hpp"
 
 #include <catch2/catch.hpp>
 

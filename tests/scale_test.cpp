@@ -2,15 +2,15 @@
 // scale_test.cpp -- issue 9: integer kernels (always the verdicts of GMP), declared symmetries
 // (verified, refuted with witnesses, used only when proved), compact laws, derive cradle, and
 // --jobs (the same output for any number of threads). Every certificate is re-checked.
-#include "certificate.hpp"
+#include "prover/certificate.hpp"
 #include "checker.hpp"
-#include "cradle.hpp"
-#include "derive.hpp"
+#include "model/cradle.hpp"
+#include "derive/derive.hpp"
 #include "impactcert_check.hpp"
-#include "int_kernel.hpp"
-#include "law_json.hpp"
-#include "pair_kernel.hpp"
-#include "paper_law.hpp"
+#include "exact/int_kernel.hpp"
+#include "model/law_json.hpp"
+#include "exact/pair_kernel.hpp"
+#include "model/paper_law.hpp"
 #include "support.hpp"
 
 #include <catch2/catch.hpp>

@@ -2,11 +2,11 @@
 // soundness_test.cpp -- the adversarial suite of issue 7: laws at the edges (tilings that are not
 // face to face, overlaps, one cone in R^12), forged and mutated certificates (changed, added,
 // deleted keys, nesting, borrowed witnesses, cycles of "via"), each with the verdict it must get.
-#include "certificate.hpp"
-#include "copositivity.hpp"
+#include "prover/certificate.hpp"
+#include "exact/copositivity.hpp"
 #include "impactcert_check.hpp"
-#include "law_json.hpp"
-#include "paper_law.hpp"
+#include "model/law_json.hpp"
+#include "model/paper_law.hpp"
 #include "support.hpp"
 
 #include <catch2/catch.hpp>

@@ -1,13 +1,13 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// verify --stream (src/stream.hpp; proofs/README.md, "Streamed laws"): the same verdicts as
+// verify --stream (src/prover/stream.hpp; proofs/README.md, "Streamed laws"): the same verdicts as
 // verify() on every law both decide, witnesses re-validated on the expanded model, what the
 // stream cannot decide undecided (never proved), and the same input errors.
-#include "cradle.hpp"
-#include "law_json.hpp"
-#include "stream.hpp"
-#include "stream_store.hpp"
+#include "model/cradle.hpp"
+#include "model/law_json.hpp"
+#include "prover/stream.hpp"
+#include "prover/stream_store.hpp"
 #include "support.hpp"
-#include "verdict_output.hpp"
+#include "prover/verdict_output.hpp"
 
 #include <catch2/catch.hpp>
 

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "support.hpp"
 
-#include "certificate.hpp"
+#include "prover/certificate.hpp"
 #include "impactcert_check.hpp"
 
 #include <catch2/catch.hpp>

@@ -11,9 +11,9 @@
 #pragma once
 
 #include "impactcert_check.hpp"
-#include "json.hpp"
-#include "law.hpp"
-#include "obligations.hpp"
+#include "base/json.hpp"
+#include "model/law.hpp"
+#include "prover/obligations.hpp"
 
 #include <initializer_list>
 #include <string>

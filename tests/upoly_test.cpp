@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // Polynomials over Q (upoly.hpp): determinants of pencils against a direct expansion, Sturm
 // counts and isolation against polynomials built from known roots.
-#include "upoly.hpp"
+#include "exact/upoly.hpp"
 #include "support.hpp"
 
 #include <catch2/catch.hpp>

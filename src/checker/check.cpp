@@ -197,7 +197,7 @@ std::size_t nesting_depth(const std::string& text) {
 // then parsed without a callback: nlohmann's callback parser rescans the enclosing array at the
 // end of every object (to drop discarded values), which made the 40,320 pair entries of the 8-ball
 // cradle's certificate take 22 % of its check. (The prover's law reader has its own pass,
-// SyntaxCheck in src/law_json.cpp: the checker shares no code with it.)
+// SyntaxCheck in src/model/law_json.cpp: the checker shares no code with it.)
 namespace {
 
 class KeyCheck {

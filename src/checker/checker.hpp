@@ -38,7 +38,7 @@
 namespace impactcert_check {
 namespace detail {
 
-// The prover's limits (src/limits.hpp), with the same defaults and options, counted the same
+// The prover's limits (src/base/limits.hpp), with the same defaults and options, counted the same
 // way and checked before the work is done.
 struct Limits {
     std::size_t max_faces = 16384;     // --max-faces: simplex faces of one KKT enumeration

@@ -35,7 +35,7 @@ Mat shaped(const Json& j, const std::string& path, std::size_t rows, std::size_t
     return m;
 }
 
-// The prover's bound (src/copositivity.cpp): 2^n - 1 faces, refused before the enumeration,
+// The prover's bound (src/exact/copositivity.cpp): 2^n - 1 faces, refused before the enumeration,
 // and before 1 << n could overflow.
 void check_face_limit(std::size_t n, std::size_t max_faces, const std::string& path) {
     if (n >= 63 || (std::size_t{1} << n) - 1 > max_faces)
@@ -250,7 +250,7 @@ Vec kkt_minimiser(const Json& cert, const std::string& path, std::size_t n) {
     reject(path, "no candidate attains the minimum");
 }
 
-// The prover's interior_witness (src/copositivity.cpp): z + eps 1 for the first eps in
+// The prover's interior_witness (src/exact/copositivity.cpp): z + eps 1 for the first eps in
 // 1, 1/2, 1/4, ... with f(z + eps 1) < 0, where f(x) = x^T A x and f(z) < 0. Halving one
 // step at a time takes log2(1/eps) steps, which a law can make huge (Q = -(1 + 10^-10000)
 // needs 33,000 halvings of 10,000-digit numbers). But g(eps) = f(z + eps 1) is a quadratic

@@ -107,7 +107,7 @@ Checker::Truth Checker::holds(std::size_t k) {
 }
 
 // Whether the prover can have left obligation `id` undecided with this `limit` text. In the
-// prover (src/obligations/) only three decisions throw LimitExceeded: the fan's chamber
+// prover (src/prover/obligations/) only three decisions throw LimitExceeded: the fan's chamber
 // enumeration (--max-chambers), P1's intersections (--max-subsets) and a KKT enumeration
 // (--max-faces). So: fan by --max-chambers; P1 by --max-subsets (a fan beyond its limit only
 // sends P1 to the intersections); kinematic by the fan's limit once every ray's image is

@@ -74,7 +74,7 @@ std::vector<Vec> Checker::intersection_rays(std::size_t i, std::size_t j) const 
 }
 
 // C(2c, c-1): the constraint subsets intersection_rays tries for one pair, saturating at
-// the largest size_t (the prover's intersection_subsets, src/fan.cpp, without overflow).
+// the largest size_t (the prover's intersection_subsets, src/prover/fan.cpp, without overflow).
 std::size_t Checker::subsets_per_pair() const {
     const std::size_t n = 2 * law_.c, k = law_.c - 1;
     mpz_class out;
@@ -130,7 +130,7 @@ bool Checker::p1_intersections(const Json& data, const std::string& dp) {
         number_matrices();
         count = distinct_pairs_;
     }
-    // The prover's --max-subsets (src/obligations/p1.cpp), before any intersection is computed.
+    // The prover's --max-subsets (src/prover/obligations/p1.cpp), before any intersection is computed.
     const std::size_t per_pair = subsets_per_pair();
     if (count > 0 && per_pair > limits_.max_subsets / count)
         undecided("--max-subsets", at(dp, "intersections"),

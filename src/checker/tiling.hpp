@@ -20,7 +20,7 @@ namespace impactcert_check::detail {
 // The number of chambers of the arrangement of `normals` in R^d; more than `cap` once over it.
 std::size_t count_chambers(const std::vector<Vec>& normals, std::size_t d, std::size_t cap);
 
-// The prover's count of chamber-enumeration steps (src/fan.cpp, charge): one per call and one
+// The prover's count of chamber-enumeration steps (src/prover/fan.cpp, charge): one per call and one
 // per point of a restriction; more than --max-chambers of them and the prover gives up.
 struct ChamberSteps {
     std::size_t done, max;

@@ -272,7 +272,7 @@ void check_bound(const Law& law, const Json& b, const std::string& path, bool en
     expect_keys(b, path, {"status"}, {"limit", "value", "piece", "point", "direction", "pieces"});
     const std::string status = str(field(b, path, "status"), at(path, "status"));
     if (status == "undecided") {
-        // Only what the prover can reach (src/worst_case.cpp): the energy ratio stops at its first
+        // Only what the prover can reach (src/prover/worst_case.cpp): the energy ratio stops at its first
         // piece when the law's 2^c - 1 faces exceed --max-faces N; either bound stops when the
         // pieces' values are not separated at the prover's last precision (no option raises it).
         expect_keys(b, path, {"status", "limit"});

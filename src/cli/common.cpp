@@ -5,8 +5,8 @@
 
 #include <sstream>
 
-#include "law_json.hpp"
-#include "paper_law.hpp"
+#include "model/law_json.hpp"
+#include "model/paper_law.hpp"
 
 #include <fcntl.h>
 #include <sys/stat.h>

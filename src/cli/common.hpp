@@ -8,11 +8,11 @@
 // full disk, /dev/full, a closed pipe) is an error, never a silent exit 0.
 #pragma once
 
-#include "law.hpp"
-#include "output_file.hpp"
-#include "limits.hpp"
-#include "obligations.hpp"
-#include "shard.hpp"
+#include "model/law.hpp"
+#include "base/output_file.hpp"
+#include "base/limits.hpp"
+#include "prover/obligations.hpp"
+#include "prover/shard.hpp"
 
 #include <chrono>
 #include <fstream>

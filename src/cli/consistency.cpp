@@ -3,12 +3,12 @@
 // of a black-box impact map (consistency.hpp), and `eval --float` replays of its findings.
 #include "cli/tools.hpp"
 
-#include "consistency.hpp"
-#include "derive.hpp"
-#include "worst_case.hpp"
-#include "json.hpp"
-#include "junit.hpp"
-#include "verdict_output.hpp"
+#include "fuzz/consistency.hpp"
+#include "derive/derive.hpp"
+#include "prover/worst_case.hpp"
+#include "base/json.hpp"
+#include "base/junit.hpp"
+#include "prover/verdict_output.hpp"
 
 #include <unistd.h>
 

@@ -2,50 +2,16 @@
 // cli/derive.cpp -- `impactcert derive sequential | newton | poisson | cradle`.
 #include "cli/tools.hpp"
 
-#include "cradle.hpp"
-#include "json.hpp"
-#include "law_json.hpp"
+#include "model/cradle.hpp"
+#include "base/json.hpp"
+#include "model/law_json.hpp"
+#include "derive/derived_law.hpp"
 
 #include <iostream>
 
 namespace impactcert::cli {
 
 namespace {
-
-// The canonical law, with the derivation's description after the name.
-std::string law_text(const Law& law) {
-    const Json canonical = law_to_json(law);
-    Json out;
-    for (auto it = canonical.begin(); it != canonical.end(); ++it) {
-        out[it.key()] = it.value();
-        if (it.key() == "name")
-            out["description"] = law.description;
-    }
-    return out.dump(2) + "\n";
-}
-
-// What a derived law claims (docs/laws.md, "What a law claims"): what a physical impact law is
-// expected to satisfy -- a function (fan), continuous (P1), no penetration (kinematic), pushing
-// impulses (kinetic; with friction inside the cone, and coulomb), no energy gain (energetic) --
-// and whatever is declared (identities, single impacts, outcomes, symmetries). Energy
-// conservation (P2) only for an elastic frictionless law (every restitution 1); non-expansivity
-// in H (nonexpansive, nonexpansive-lemma) for frictionless laws; P3 (each cone onto the orthant,
-// the paper's construction) never by default. --claims on verify, certify and report overrides.
-void set_expected_claims(Law& law, const std::vector<Rational>& restitution) {
-    const bool friction = !law.friction.empty();
-    bool elastic = !friction;
-    for (const auto& e : restitution)
-        elastic = elastic && e == Rational(1);
-    std::vector<std::string> claims;
-    for (const char* id : obligation_ids(friction)) {
-        const std::string s = id;
-        if (!law_applies(law, s) || s == "P3" || (s == "P2" && !elastic) ||
-            (friction && (s == "nonexpansive" || s == "nonexpansive-lemma")))
-            continue;
-        claims.push_back(s);
-    }
-    law.claims = claims;
-}
 
 void emit(const std::string& out_path, const std::string& text, const std::string& summary) {
     if (out_path.empty() || out_path == "-") { // "-": standard output, as the default
@@ -141,14 +107,8 @@ int run_derive_sequential(const DeriveArgs& a) {
     if (r.not_a_function) {
         std::cerr << "impactcert: derive: the sequential law with friction is not a function: at gamma- = "
                   << short_text(*r.not_a_function) << " " << r.not_a_function_reason << "\n";
-        if (a.json) {
-            Json j;
-            j["format"] = "impactcert-derive/1";
-            j["verdict"] = "not-a-function";
-            j["gamma_minus"] = to_json(*r.not_a_function);
-            j["reason"] = r.not_a_function_reason;
-            write_stdout(j.dump(2) + "\n");
-        }
+        if (a.json)
+            write_stdout(not_a_function_json(*r.not_a_function, r.not_a_function_reason).dump(2) + "\n");
         return kExitRefuted;
     }
     if (r.not_finite) {
@@ -171,7 +131,7 @@ int run_derive_sequential(const DeriveArgs& a) {
         return kExitUndecided;
     }
     set_expected_claims(*r.law, o.restitution);
-    emit(a.out, law_text(*r.law),
+    emit(a.out, law_file_text(*r.law),
          std::to_string(r.law->pieces.size()) + " pieces, " + std::to_string(r.regions) + " regions, longest word " +
              std::to_string(r.max_word));
     return kExitProved;
@@ -198,23 +158,13 @@ int run_derive_friction(const DeriveArgs& a, FrictionOptions o, const Mechanics&
                       << short_text(w.gamma_minus) << " has two solutions, gamma+ = " << short_text(w.gamma_a)
                       << " (mode " << w.mode_a << ") and " << short_text(w.gamma_b) << " (mode " << w.mode_b << ")"
                       << (a.json ? "" : "; the exact impulses with --json") << "\n";
-        if (a.json) {
-            Json j;
-            j["format"] = "impactcert-derive/1";
-            j["verdict"] = w.none ? "no-solution" : "two-solutions";
-            j["gamma_minus"] = to_json(w.gamma_minus);
-            if (!w.none) {
-                j["modes"] = Json::array({w.mode_a, w.mode_b});
-                j["impulses"] = Json::array({to_json(w.lambda_a), to_json(w.lambda_b)});
-                j["gamma_plus"] = Json::array({to_json(w.gamma_a), to_json(w.gamma_b)});
-            }
-            write_stdout(j.dump(2) + "\n");
-        }
+        if (a.json)
+            write_stdout(not_a_function_json(w).dump(2) + "\n");
         return kExitRefuted;
     }
     (void)mech;
     set_expected_claims(*r.law, o.restitution);
-    emit(a.out, law_text(*r.law),
+    emit(a.out, law_file_text(*r.law),
          std::to_string(r.law->pieces.size()) + " pieces, " + std::to_string(r.regions) + " mode regions, " +
              std::to_string(r.modes) + " modes, " + std::to_string(r.pairs) + " mode pairs without a second solution");
     return kExitProved;
@@ -256,7 +206,7 @@ int run_derive_classical(const DeriveArgs& a, bool poisson) {
     }
     Law law = poisson ? derive_poisson(o) : derive_newton(o);
     set_expected_claims(law, o.restitution);
-    emit(a.out, law_text(law), std::to_string(law.pieces.size()) + " pieces");
+    emit(a.out, law_file_text(law), std::to_string(law.pieces.size()) + " pieces");
     return kExitProved;
 }
 
@@ -270,7 +220,7 @@ int run_derive_cradle(const CradleArgs& a) {
     std::size_t cones = 1; // n! (not generated here: verify and certify expand the law)
     for (std::size_t k = 2; k <= a.balls; ++k)
         cones *= k;
-    emit(a.out, law_text(law),
+    emit(a.out, law_file_text(law),
          std::to_string(law.pieces.size()) + " pieces listed, " + std::to_string(cones) + " in all, " +
              std::to_string(law.symmetries.size()) + " symmetries");
     // Never a law that verify cannot load within its default limits without saying so (18.2d):

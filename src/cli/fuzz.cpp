@@ -3,12 +3,13 @@
 // consistency of a black-box map against a system alone).
 #include "cli/tools.hpp"
 
-#include "consistency.hpp"
-#include "float_eval.hpp"
-#include "fuzz_mutants.hpp"
-#include "json.hpp"
-#include "junit.hpp"
-#include "verdict_output.hpp"
+#include "fuzz/consistency.hpp"
+#include "fuzz/float_eval.hpp"
+#include "fuzz/fuzz_mutants.hpp"
+#include "fuzz/fuzz_report.hpp"
+#include "base/json.hpp"
+#include "base/junit.hpp"
+#include "prover/verdict_output.hpp"
 
 #include <impactcert/float_law.hpp>
 
@@ -82,31 +83,6 @@ std::unique_ptr<fuzz::Implementation> make_impl(const FuzzArgs& a, const Model& 
 
 // What `verify` proves of the law decides what the fuzzer may check (and whether one piece per
 // point is enough: a continuous tiling).
-struct LawFacts {
-    bool continuous_tiling = false;
-    fuzz::Properties properties;
-};
-
-LawFacts law_facts(const Model& model, bool velocities) {
-    // The fuzzer's own limits come before any proof work (a c = 70 law used to be verified, with
-    // certificate evidence, for a minute before this was said).
-    const std::size_t dim = velocities ? model.balls() : model.contacts();
-    if (dim > fuzz::kMaxDim || model.contacts() > fuzz::kMaxDim)
-        throw InputError("the fuzzer handles laws of at most " + std::to_string(fuzz::kMaxDim) + " " +
-                         (velocities ? "balls" : "contacts") + " (this law has " + std::to_string(dim) + ")");
-    static const std::vector<std::string> ids = {"fan", "P1", "kinematic", "energetic", "nonexpansive-lemma"};
-    Limits limits;
-    limits.evidence = false; // verdicts only: the fuzzer uses no certificate evidence
-    const VerifyReport report = verify(model, limits, {}, &ids);
-    auto proved = [&](const char* id) { return report.at(id).verdict == Verdict::proved; };
-    LawFacts f;
-    f.continuous_tiling = proved("fan") && proved("P1");
-    f.properties.nonnegative = proved("kinematic");
-    f.properties.energy = proved("energetic");
-    f.properties.nonexpansive = proved("nonexpansive-lemma");
-    return f;
-}
-
 std::vector<double> parse_doubles(const std::vector<std::string>& toks) {
     std::vector<double> x;
     for (const auto& t : toks)
@@ -118,7 +94,7 @@ int run_eval_float(const FuzzArgs& a, const std::vector<std::vector<std::string>
     if (a.impl_given || a.impl_cmd_given || !a.mutant.empty()) {
         // An implementation against the exact law, point by point (the fuzzer's replays).
         const Model model = load_model(a.law_path);
-        const LawFacts facts = law_facts(model, a.velocities);
+        const fuzz::LawFacts facts = fuzz::law_facts(model, a.velocities);
         const fuzz::LawReference reference(model, a.velocities, facts.continuous_tiling);
         auto impl = make_impl(a, model, reference.in_dim());
         if (a.max_ulps && a.max_rel_error)
@@ -190,45 +166,6 @@ int run_eval_float(const FuzzArgs& a, const std::vector<std::vector<std::string>
     return kExitProved;
 }
 
-std::string count_text(std::uint64_t n) {
-    char buf[32];
-    if (n >= 1000000)
-        std::snprintf(buf, sizeof buf, "%.1fM", static_cast<double>(n) / 1e6);
-    else
-        std::snprintf(buf, sizeof buf, "%llu", static_cast<unsigned long long>(n));
-    return buf;
-}
-
-// The coverage line (text, JSON and JUnit alike) and what the run did not test.
-std::string coverage_text(const fuzz::Summary& sum) {
-    char buf[200];
-    std::snprintf(buf, sizeof buf, "pieces %llu/%llu hit, facets %llu/%llu probed, scales 1e%d..1e%d (%llu decades), prefix %llu probes",
-                  static_cast<unsigned long long>(sum.pieces_hit), static_cast<unsigned long long>(sum.pieces),
-                  static_cast<unsigned long long>(sum.facets_probed), static_cast<unsigned long long>(sum.facets),
-                  sum.decade_lo, sum.decade_hi, static_cast<unsigned long long>(sum.decades),
-                  static_cast<unsigned long long>(sum.prefix));
-    return buf;
-}
-
-std::vector<std::string> untested(const fuzz::Summary& sum, const fuzz::Options& o) {
-    std::vector<std::string> out;
-    auto u = [](std::uint64_t x) { return std::to_string(x); };
-    if (sum.pieces_hit < sum.pieces)
-        out.push_back(u(sum.pieces - sum.pieces_hit) + " of " + u(sum.pieces) + " pieces never held a checked input (raise --samples or --seconds)");
-    if (sum.facets_probed < sum.facets)
-        out.push_back(u(sum.facets - sum.facets_probed) + " of " + u(sum.facets) + " facets never probed");
-    char buf[160];
-    if (o.range_hi > 0 && o.range_lo > 0x1p-1000) {
-        std::snprintf(buf, sizeof buf, "no magnitude below %.3g: thresholds and tolerances there are unseen", o.range_lo);
-        out.push_back(buf);
-    }
-    if (o.range_hi > 0 && o.range_hi < 0x1p1000) {
-        std::snprintf(buf, sizeof buf, "no magnitude above %.3g: overflow there is unseen", o.range_hi);
-        out.push_back(buf);
-    }
-    return out;
-}
-
 std::string fuzz_junit(const fuzz::Summary& sum, const std::string& target, const fuzz::Options& o) {
     struct Case {
         const char* name;
@@ -293,17 +230,11 @@ std::string fuzz_junit(const fuzz::Summary& sum, const std::string& target, cons
     JunitCase cov;
     cov.classname = "impactcert.fuzz";
     cov.name = "coverage";
-    cov.system_out = coverage_text(sum);
-    for (const auto& line : untested(sum, o))
+    cov.system_out = fuzz::coverage_text(sum);
+    for (const auto& line : fuzz::untested(sum, o))
         cov.system_out += "\nnot tested: " + line;
     suite.cases.push_back(std::move(cov));
     return junit_xml(suite);
-}
-
-std::string tolerance_text(const fuzz::Options& o) {
-    return o.tolerance == fuzz::Tolerance::relative ? "--max-rel-error " + fuzz::shortest_decimal(o.max_rel_error)
-           : o.tolerance == fuzz::Tolerance::ulps   ? "--max-ulps " + std::to_string(o.max_ulps)
-                                                    : "the implementation's stated bound";
 }
 
 // fuzz --mutants N: the configured gate against mutants of the law's plain double evaluation.
@@ -519,7 +450,7 @@ int run_fuzz(FuzzArgs a) {
         throw InputError("--max-ulps and --max-rel-error: give one tolerance");
     if (a.max_rel_error && !(*a.max_rel_error >= 0 && std::isfinite(*a.max_rel_error)))
         throw InputError("--max-rel-error: must be a finite number >= 0");
-    const LawFacts facts = law_facts(model, a.velocities);
+    const fuzz::LawFacts facts = fuzz::law_facts(model, a.velocities);
     const fuzz::LawReference reference(model, a.velocities, facts.continuous_tiling);
     const auto impl = make_impl(a, model, reference.in_dim());
     fuzz::Options& options = a.options;
@@ -544,7 +475,7 @@ int run_fuzz(FuzzArgs a) {
     if (a.velocities)
         options.replay_prefix += " --velocities";
     if (a.mutants)
-        return run_mutants_gate(a, model, reference, facts.properties, tolerance_text(options));
+        return run_mutants_gate(a, model, reference, facts.properties, fuzz::tolerance_text(options));
     const bool tty = !a.json && isatty(STDERR_FILENO);
     const auto start = std::chrono::steady_clock::now();
     auto progress = [&](std::uint64_t done) {
@@ -557,7 +488,7 @@ int run_fuzz(FuzzArgs a) {
         frac = std::min(frac, 1.0);
         const int width = 30, filled = static_cast<int>(frac * width);
         std::fprintf(stderr, "\r[%s%s] %3.0f%% %s samples, %.2f M/s ", std::string(static_cast<std::size_t>(filled), '#').c_str(),
-                     std::string(static_cast<std::size_t>(width - filled), '.').c_str(), frac * 100, count_text(done).c_str(),
+                     std::string(static_cast<std::size_t>(width - filled), '.').c_str(), frac * 100, fuzz::count_text(done).c_str(),
                      secs > 0 ? static_cast<double>(done) / secs / 1e6 : 0.0);
     };
     const fuzz::Summary sum = fuzz::run(options, reference, *impl, facts.properties, progress);
@@ -566,68 +497,14 @@ int run_fuzz(FuzzArgs a) {
     const double rate = sum.seconds > 0 ? static_cast<double>(sum.samples) / sum.seconds : 0;
     const std::string target = impl->describe();
     const std::string space = a.velocities ? "ball velocities" : "contact velocities";
-    const std::string tolerance = tolerance_text(options);
-    auto hexes = [](const std::vector<double>& v) {
-        Json j = Json::array();
-        for (double x : v)
-            j.push_back(fuzz::hex(x));
-        return j;
-    };
+    const std::string tolerance = fuzz::tolerance_text(options);
     if (!a.junit.empty()) {
         write_file(a.junit, fuzz_junit(sum, target, options));
     }
     if (a.json) {
-        Json j;
-        j["format"] = "impactcert-fuzz/1";
-        j["law"] = model.law().name;
-        j["space"] = space;
-        j["implementation"] = target;
-        j["tolerance"] = tolerance;
-        j["seed"] = options.seed;
-        j["jobs"] = options.jobs;
-        j["samples"] = sum.samples;
-        j["pairs"] = sum.pairs;
-        j["seconds"] = sum.seconds;
-        j["samples_per_second"] = rate;
-        if (options.range_hi > 0) {
-            char range[96];
-            std::snprintf(range, sizeof range, "%.6g..%.6g", options.range_lo, options.range_hi);
-            j["range"] = range;
-        }
-        j["reference_through_gmp"] = sum.slow;
-        j["outside_every_cone"] = sum.outside;
-        j["max_error_ulps"] = sum.max_ulps;
-        j["max_relative_error"] = sum.max_rel_error;
-        j["checked_properties"] = {{"nonnegative", facts.properties.nonnegative}, {"energy", facts.properties.energy},
-                                   {"nonexpansive", facts.properties.nonexpansive}};
-        j["coverage"] = {{"pieces_hit", sum.pieces_hit}, {"pieces", sum.pieces}, {"facets_probed", sum.facets_probed},
-                         {"facets", sum.facets}, {"decade_lo", sum.decade_lo}, {"decade_hi", sum.decade_hi},
-                         {"decades", sum.decades}, {"prefix", sum.prefix}, {"text", coverage_text(sum)},
-                         {"not_tested", untested(sum, options)}};
-        j["extreme_samples"] = sum.extreme;
-        j["gated_samples"] = sum.gated;
-        j["allow_extreme"] = options.allow_extreme;
-        j["violations"] = {{"outside_tolerance", sum.inaccurate}, {"classification", sum.misclassified},
-                           {"non_finite", sum.non_finite}, {"negative_output", sum.negative},
-                           {"energy", sum.energy}, {"nonexpansive", sum.nonexpansive},
-                           {"crashed", sum.crashed}, {"hung", sum.hung}, {"malformed", sum.malformed},
-                           {"refused", sum.refused}};
-        Json examples = Json::array();
-        for (const auto& v : sum.examples) {
-            Json e = {{"index", v.index}, {"what", v.what}, {"generator", v.kind}, {"extreme", v.extreme},
-                      {"input", hexes(v.input)}};
-            if (!v.input_b.empty())
-                e["input_b"] = hexes(v.input_b);
-            e["output"] = hexes(v.output);
-            e["expected"] = hexes(v.expected);
-            e["replay"] = v.replay;
-            examples.push_back(e);
-        }
-        j["examples"] = examples;
-        if (const auto e = impl->stderr_summary())
-            j["stderr"] = Json{{"lines", e->lines}, {"bytes", e->bytes}, {"first", e->first}};
-        j["verdict"] = sum.fails(options.allow_extreme) ? "violations" : sum.samples == 0 ? "undecided" : "no violation";
-        std::cout << j.dump(2) << "\n";
+        std::cout << fuzz::report_json(sum, options, facts.properties, model.law().name, target, a.velocities,
+                                       impl->stderr_summary()).dump(2)
+                  << "\n";
     } else {
         auto u = [](std::uint64_t x) { return static_cast<unsigned long long>(x); };
         std::string ulps;
@@ -641,8 +518,8 @@ int run_fuzz(FuzzArgs a) {
                         options.range_lo, options.range_hi);
         else
             std::printf("  inputs                         the whole double range; extreme: largest component beyond 2^500 or below 2^-500\n");
-        std::printf("  coverage                       %s\n", coverage_text(sum).c_str());
-        for (const auto& line : untested(sum, options))
+        std::printf("  coverage                       %s\n", fuzz::coverage_text(sum).c_str());
+        for (const auto& line : fuzz::untested(sum, options))
             std::printf("  not tested                     %s\n", line.c_str());
         std::printf("  samples                        %llu (%llu close pairs; %llu reference points through GMP)\n",
                     u(sum.samples), u(sum.pairs), u(sum.slow));

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "cli/options.hpp"
 
-#include "stream.hpp"
+#include "prover/stream.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -6,7 +6,7 @@
 // exit statuses, without derive, sweep, fuzz or report (half the code to compile).
 #pragma once
 
-#include "worst_case.hpp"
+#include "prover/worst_case.hpp"
 
 #include "cli/common.hpp"
 

@@ -4,9 +4,9 @@
 // impactcert-check PART...
 #include "cli/common.hpp"
 
-#include "certificate.hpp"
-#include "shard.hpp"
-#include "verdict_output.hpp"
+#include "prover/certificate.hpp"
+#include "prover/shard.hpp"
+#include "prover/verdict_output.hpp"
 
 #include <fstream>
 #include <iostream>

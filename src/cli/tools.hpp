@@ -5,9 +5,9 @@
 #pragma once
 
 #include "cli/common.hpp"
-#include "derive.hpp"
-#include "fuzz.hpp"
-#include "system.hpp"
+#include "derive/derive.hpp"
+#include "fuzz/fuzz.hpp"
+#include "model/system.hpp"
 
 #include <cstdint>
 #include <optional>

@@ -3,10 +3,10 @@
 // decide a law's obligations, shared by impactcert and impactcert-verify (cli/options.hpp).
 #include "cli/options.hpp"
 
-#include "certificate.hpp"
-#include "law_json.hpp"
-#include "stream.hpp"
-#include "verdict_output.hpp"
+#include "prover/certificate.hpp"
+#include "model/law_json.hpp"
+#include "prover/stream.hpp"
+#include "prover/verdict_output.hpp"
 
 #include <fstream>
 #include <iostream>

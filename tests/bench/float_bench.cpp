@@ -4,8 +4,8 @@
 //   1. float law throughput, batch (branch-free, vectorisable) vs a plain branchy scalar loop;
 //   2. exact-checked fuzz samples per second per core, fast (TwoSum, no GMP) vs naive (every
 //      sample through GMP rationals and the exact law).
-#include "fuzz.hpp"
-#include "paper_law.hpp"
+#include "fuzz/fuzz.hpp"
+#include "model/paper_law.hpp"
 
 #include <benchmark/benchmark.h>
 #include <impactcert/float_law.hpp>

@@ -10,11 +10,11 @@
 //   - consistency fuzzing of 4 balls: the protocol alone, an in-process C ABI implementation,
 //     and the same with the exact reference law (--reference).
 // Usage: impactcert_fuzz_bench SOURCE_DIR NEWTON4_IMPLS.so ECHO_PROGRAM
-#include "consistency.hpp"
-#include "fuzz.hpp"
-#include "fuzz_mutants.hpp"
-#include "law_json.hpp"
-#include "paper_law.hpp"
+#include "fuzz/consistency.hpp"
+#include "fuzz/fuzz.hpp"
+#include "fuzz/fuzz_mutants.hpp"
+#include "model/law_json.hpp"
+#include "model/paper_law.hpp"
 
 #include <chrono>
 #include <cstdio>

@@ -4,9 +4,9 @@
 // itself (--version). Also the in-process time of verify() alone.
 //
 // Usage: impactcert_verify_bench PATH/TO/impactcert [RUNS]
-#include "law_json.hpp"
-#include "obligations.hpp"
-#include "paper_law.hpp"
+#include "model/law_json.hpp"
+#include "prover/obligations.hpp"
+#include "model/paper_law.hpp"
 
 #include <algorithm>
 #include <chrono>

@@ -12,10 +12,10 @@
 // Checks: the fuzzer's fast exact reference equals its GMP path (values and exactness), and
 // FloatLaw's output lies within its stated bound of the exact value (exact comparison).
 // Built only with -DIMPACTCERT_LIBFUZZER=ON and clang; see README.md beside this file.
-#include "float_eval.hpp"
-#include "fuzz.hpp"
-#include "law_json.hpp"
-#include "paper_law.hpp"
+#include "fuzz/float_eval.hpp"
+#include "fuzz/fuzz.hpp"
+#include "model/law_json.hpp"
+#include "model/paper_law.hpp"
 
 #include <impactcert/float_law.hpp>
 

@@ -1,7 +1,7 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """An independent oracle for the Newton-type impact law with Coulomb friction (SPEC section 9).
 
-Written separately from src/derive_friction.cpp, in body velocities and Python fractions: for a
+Written separately from src/derive/derive_friction.cpp, in body velocities and Python fractions: for a
 system (M, W_N, tangents with mu and e_T) and u-, every contact mode (open; closed with stick or
 slip either way per tangent) is a square linear system in (u+, Lambda),
     M (u+ - u-) = W Lambda,  and per contact the mode's equalities,

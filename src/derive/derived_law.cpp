@@ -1,0 +1,67 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// derived_law.cpp -- the claims and the text of a derived law (derived_law.hpp).
+#include "derive/derived_law.hpp"
+
+#include "base/json.hpp"
+#include "model/law_json.hpp"
+
+namespace impactcert {
+
+// The canonical law, with the derivation's description after the name.
+std::string law_file_text(const Law& law) {
+    const Json canonical = law_to_json(law);
+    Json out;
+    for (auto it = canonical.begin(); it != canonical.end(); ++it) {
+        out[it.key()] = it.value();
+        if (it.key() == "name" && !law.description.empty())
+            out["description"] = law.description;
+    }
+    return out.dump(2) + "\n";
+}
+
+// What a derived law claims (docs/laws.md, "What a law claims"): what a physical impact law is
+// expected to satisfy -- a function (fan), continuous (P1), no penetration (kinematic), pushing
+// impulses (kinetic; with friction inside the cone, and coulomb), no energy gain (energetic) --
+// and whatever is declared (identities, single impacts, outcomes, symmetries). Energy
+// conservation (P2) only for an elastic frictionless law (every restitution 1); non-expansivity
+// in H (nonexpansive, nonexpansive-lemma) for frictionless laws; P3 (each cone onto the orthant,
+// the paper's construction) never by default. --claims on verify, certify and report overrides.
+void set_expected_claims(Law& law, const std::vector<Rational>& restitution) {
+    const bool friction = !law.friction.empty();
+    bool elastic = !friction;
+    for (const auto& e : restitution)
+        elastic = elastic && e == Rational(1);
+    std::vector<std::string> claims;
+    for (const char* id : obligation_ids(friction)) {
+        const std::string s = id;
+        if (!law_applies(law, s) || s == "P3" || (s == "P2" && !elastic) ||
+            (friction && (s == "nonexpansive" || s == "nonexpansive-lemma")))
+            continue;
+        claims.push_back(s);
+    }
+    law.claims = claims;
+}
+
+Json not_a_function_json(const Vector& gamma_minus, const std::string& reason) {
+    Json j;
+    j["format"] = "impactcert-derive/1";
+    j["verdict"] = "not-a-function";
+    j["gamma_minus"] = to_json(gamma_minus);
+    j["reason"] = reason;
+    return j;
+}
+
+Json not_a_function_json(const NotAFunction& w) {
+    Json j;
+    j["format"] = "impactcert-derive/1";
+    j["verdict"] = w.none ? "no-solution" : "two-solutions";
+    j["gamma_minus"] = to_json(w.gamma_minus);
+    if (!w.none) {
+        j["modes"] = Json::array({w.mode_a, w.mode_b});
+        j["impulses"] = Json::array({to_json(w.lambda_a), to_json(w.lambda_b)});
+        j["gamma_plus"] = Json::array({to_json(w.gamma_a), to_json(w.gamma_b)});
+    }
+    return j;
+}
+
+} // namespace impactcert

@@ -1,0 +1,28 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// derived_law.hpp -- a derived law as `impactcert derive` and the library hand it out.
+//
+// Contract:
+//   - set_expected_claims: the claims of a derived law (docs/laws.md, "What a law claims"), from
+//     its restitution and whether it has friction.
+//   - law_file_text: the law file's text, canonical (law_to_json) with the law's description
+//     (a derivation's) after the name when it has one, 2-space JSON ending in a newline.
+//   - not_a_function_json: the impactcert-derive/1 object `derive --json` prints when a law with
+//     friction is not a function (the sequential law: gamma- and the reason; Newton's: gamma-
+//     with no solution, or with two, their modes, impulses and gamma+).
+#pragma once
+
+#include "base/json.hpp"
+#include "derive/derive.hpp"
+#include "model/law.hpp"
+
+#include <string>
+#include <vector>
+
+namespace impactcert {
+
+void set_expected_claims(Law& law, const std::vector<Rational>& restitution);
+std::string law_file_text(const Law& law);
+Json not_a_function_json(const Vector& gamma_minus, const std::string& reason);
+Json not_a_function_json(const NotAFunction& w);
+
+} // namespace impactcert

@@ -1,0 +1,202 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "model/system.hpp"
+
+#include "base/errors.hpp"
+
+namespace impactcert {
+
+Matrix two_body_impact(const Matrix& G, std::size_t k, const Rational& e) {
+    Matrix Q = Matrix::identity(G.rows());
+    const Rational f = (Rational(1) + e) / G(k, k);
+    for (std::size_t i = 0; i < G.rows(); ++i)
+        Q(i, k) -= f * G(i, k);
+    return Q;
+}
+
+Mechanics make_mechanics(const std::vector<Rational>& masses, const std::optional<Matrix>& M,
+                         const std::optional<Matrix>& W, const std::vector<FrictionDecl>& friction) {
+    Mechanics m;
+    if (M && !masses.empty())
+        input_error("$", "give either \"masses\" or \"M\", not both");
+    if (M) {
+        const std::size_t n = M->rows();
+        if (n == 0 || M->cols() != n)
+            input_error("$.M", "expected a square matrix, got " + std::to_string(M->rows()) + "x" +
+                                   std::to_string(M->cols()));
+        for (std::size_t i = 0; i < n; ++i)
+            for (std::size_t j = 0; j < i; ++j)
+                if ((*M)(i, j) != (*M)(j, i))
+                    input_error(idx(idx("$.M", i), j), "M is not symmetric (" + to_string((*M)(i, j)) +
+                                                           " != " + to_string((*M)(j, i)) + ")");
+        // Positive definite iff the symmetric elimination meets only positive pivots (exact LDL^T).
+        Matrix a = *M;
+        for (std::size_t k = 0; k < n; ++k) {
+            if (sign_of(a(k, k)) != Sign::positive)
+                input_error("$.M", "not positive definite (pivot " + std::to_string(k + 1) + " is " +
+                                       to_string(a(k, k)) + ")");
+            for (std::size_t i = k + 1; i < n; ++i) {
+                const Rational f = a(i, k) / a(k, k);
+                for (std::size_t j = k; j < n; ++j)
+                    a(i, j) -= f * a(k, j);
+            }
+        }
+        m.M = *M;
+        m.M_inv = *inverse(*M);
+        for (std::size_t i = 0; i < n && m.diagonal; ++i)
+            for (std::size_t j = 0; j < n; ++j)
+                if (i != j && sign_of((*M)(i, j)) != Sign::zero)
+                    m.diagonal = false;
+    } else {
+        const std::size_t n = masses.size();
+        if (n == 0)
+            input_error("$.masses", "no balls");
+        for (std::size_t i = 0; i < n; ++i)
+            if (sign_of(masses[i]) != Sign::positive)
+                input_error(idx("$.masses", i), "mass must be positive, got " + to_string(masses[i]));
+        m.M = Matrix(n, n);
+        m.M_inv = Matrix(n, n);
+        for (std::size_t i = 0; i < n; ++i) {
+            m.M(i, i) = masses[i];
+            m.M_inv(i, i) = Rational(1) / masses[i];
+        }
+    }
+    const std::size_t n = m.M.rows();
+    const std::string mass_path = M ? "$.M" : "$.masses";
+    if (W) {
+        if (W->rows() != n)
+            input_error("$.contacts.W", "expected " + std::to_string(n) + " rows (one per ball), got " +
+                                            std::to_string(W->rows()));
+        if (W->cols() == 0)
+            input_error("$.contacts.W", "no contacts");
+        m.W = *W;
+    } else {
+        if (n < 2)
+            input_error(mass_path, "a chain needs at least two balls");
+        m.W = Matrix(n, n - 1);
+        for (std::size_t k = 0; k + 1 < n; ++k) {
+            m.W(k, k) = -1;
+            m.W(k + 1, k) = 1;
+        }
+    }
+    m.normals = m.W.cols();
+    if (!friction.empty()) {
+        const std::string fp = "$.contacts.friction";
+        std::vector<Vector> tangent_columns;
+        for (std::size_t i = 0; i < friction.size(); ++i) {
+            const FrictionDecl& f = friction[i];
+            const std::string at = idx(fp, i);
+            if (f.contact >= m.normals)
+                input_error(at + ".contact", "no contact " + std::to_string(f.contact + 1) + " (there are " +
+                                                 std::to_string(m.normals) + ")");
+            if (i > 0 && f.contact <= friction[i - 1].contact)
+                input_error(at + ".contact", "contacts must be listed once each, in increasing order");
+            if (sign_of(f.mu) == Sign::negative)
+                input_error(at + ".mu", "friction coefficient must be >= 0, got " + to_string(f.mu));
+            if (sign_of(f.restitution_tangential) == Sign::negative || f.restitution_tangential > Rational(1))
+                input_error(at + ".restitution_tangential",
+                            "must be in [0, 1], got " + to_string(f.restitution_tangential));
+            if (f.tangents.empty() || f.tangents.size() > 2)
+                input_error(at + ".tangents", "expected one tangent (planar) or two (spatial), got " +
+                                                  std::to_string(f.tangents.size()));
+            for (std::size_t t = 0; t < f.tangents.size(); ++t) {
+                if (f.tangents[t].size() != n)
+                    input_error(idx(at + ".tangents", t), "expected " + std::to_string(n) + " entries (one per velocity), got " +
+                                                              std::to_string(f.tangents[t].size()));
+                tangent_columns.push_back(f.tangents[t]);
+                m.tangents.push_back(Tangent{f.contact, f.mu, f.restitution_tangential});
+            }
+        }
+        Matrix full(n, m.normals + tangent_columns.size());
+        for (std::size_t i = 0; i < n; ++i) {
+            for (std::size_t k = 0; k < m.normals; ++k)
+                full(i, k) = m.W(i, k);
+            for (std::size_t t = 0; t < tangent_columns.size(); ++t)
+                full(i, m.normals + t) = tangent_columns[t][i];
+        }
+        m.W = std::move(full);
+    }
+    const std::size_t c = m.W.cols();
+    if (c > n)
+        input_error(friction.empty() ? "$.contacts.W" : "$.contacts.friction", std::to_string(c) + " contacts but only " + std::to_string(n) +
+                                        " velocities: the columns of W are linearly dependent");
+    m.G = transpose(m.W) * m.M_inv * m.W;
+    auto H = inverse(m.G);
+    if (!H) {
+        std::vector<Vector> rows;
+        for (std::size_t i = 0; i < n; ++i)
+            rows.push_back(m.W.row(i));
+        const std::size_t rank = c - null_space(rows, c).size();
+        input_error(!friction.empty() ? "$.contacts.friction" : W ? "$.contacts.W" : "$.contacts", "W has rank " + std::to_string(rank) + " < " + std::to_string(c) +
+                                                         " contacts: its columns are linearly dependent (G = W^T M^-1 W is singular)");
+    }
+    m.H = *H;
+    return m;
+}
+
+Walls parse_walls(const std::string& text) {
+    if (text == "none")
+        return Walls::none;
+    if (text == "left")
+        return Walls::left;
+    if (text == "right")
+        return Walls::right;
+    if (text == "both")
+        return Walls::both;
+    throw InputError("--walls: expected none, left or right, got \"" + text + "\"");
+}
+
+const char* to_string(Walls walls) {
+    switch (walls) {
+    case Walls::none: return "none";
+    case Walls::left: return "left";
+    case Walls::right: return "right";
+    case Walls::both: return "both";
+    }
+    return "?";
+}
+
+System chain_system(const std::vector<Rational>& masses, Walls walls) {
+    System s;
+    s.masses = masses;
+    const std::size_t n = masses.size();
+    const bool left = walls == Walls::left || walls == Walls::both;
+    const bool right = walls == Walls::right || walls == Walls::both;
+    if (n == 0 || (n == 1 && !left && !right))
+        throw InputError("--masses: a chain needs at least two balls (or one ball and a wall), got " +
+                         std::to_string(n));
+    for (std::size_t i = 0; i < n; ++i)
+        if (sign_of(masses[i]) != Sign::positive)
+            throw InputError("--masses: mass " + std::to_string(i + 1) + " must be positive, got " +
+                             to_string(masses[i]));
+    if (left && right)
+        throw InputError("--walls both: " + std::to_string(n) + " ball(s) touching both walls have " + std::to_string(n + 1) +
+                         " contacts for " + std::to_string(n) + " velocities (a jammed chain: W has dependent columns)");
+    s.name = "chain-" + std::to_string(n);
+    if (walls == Walls::none)
+        return s;
+    s.name += std::string("-wall-") + to_string(walls);
+    const std::size_t c = n - 1 + (left ? 1 : 0) + (right ? 1 : 0);
+    Matrix W(n, c);
+    std::size_t k = 0;
+    if (left)
+        W(0, k++) = 1; // gamma_1 = u_1: the ball leaves the wall on its left when u_1 > 0
+    for (std::size_t i = 0; i + 1 < n; ++i, ++k) {
+        W(i, k) = -1;
+        W(i + 1, k) = 1;
+    }
+    if (right)
+        W(n - 1, k++) = -1; // gamma_c = -u_n
+    s.W = W;
+    return s;
+}
+
+std::string describe_system(const System& s) {
+    const Mechanics m = make_mechanics(s);
+    std::string what = s.W ? "explicit W" : "chain";
+    if (m.has_friction())
+        what += ", " + std::to_string(m.tangents.size()) + " friction tangent" + (m.tangents.size() == 1 ? "" : "s");
+    return std::to_string(m.balls()) + " velocities, " + std::to_string(m.normals) + (m.normals == 1 ? " contact (" : " contacts (") + what +
+           (m.diagonal ? "" : ", full mass matrix") + ")";
+}
+
+} // namespace impactcert

@@ -1,0 +1,99 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// coulomb -- proofs/README.md, "coulomb" (Lemma F), with Lemma R.
+// Claim (SPEC section 9): on every cone C_i, with Lambda = H (Q_i - I) gamma and
+// xi = Q_i gamma + E_T gamma on the tangents, for every tangent j of contact k:
+// Lambda in the friction cone, xi_Tj > 0 => Lambda_Tj = -mu Lambda_Nk, xi_Tj < 0 =>
+// Lambda_Tj = +mu Lambda_Nk.
+// Check: the friction cone at every ray (linear: Lemma R). Then, with f = Lambda_T + mu Lambda_N
+// and g = mu Lambda_N - Lambda_T (both >= 0 on C_i), Lemma F: "f > 0 => xi_T <= 0" holds on the
+// simplicial cone C_i exactly when f vanishes at every ray or xi_T <= 0 at every ray (the same
+// for g and xi_T >= 0). The witness of a failure is a ray r_a with f(r_a) > 0 plus t times a ray
+// r_b with xi_T(r_b) > 0, t large enough that xi_T > 0 there (a point of C_i where both hold).
+#include "prover/obligations/prover.hpp"
+
+namespace impactcert::detail {
+
+namespace {
+
+// The lever of Lemma F: a point s = e_a + t e_b (a = b: e_a) with f > 0 and the wrong sign of xi.
+Vector lemma_f_point(const Piece& piece, std::size_t a, std::size_t b, const Vector& xi_at_rays, int wrong) {
+    Vector x = piece.R.column(a);
+    if (a == b)
+        return x;
+    // xi(e_a + t e_b) = xi_a + t xi_b with wrong * xi_b > 0: t = |xi_a| / |xi_b| + 1.
+    Rational xa = xi_at_rays[a], xb = xi_at_rays[b];
+    if (wrong < 0) {
+        xa = -xa;
+        xb = -xb;
+    }
+    Rational t = (sign_of(xa) == Sign::negative ? -xa : xa) / xb + Rational(1);
+    return x + t * piece.R.column(b);
+}
+
+} // namespace
+
+Outcome Prover::coulomb() {
+    Outcome o;
+    o.method = "friction cone and slip signs at rays";
+    const std::size_t normals = m_.normals();
+    const Matrix I = Matrix::identity(c_);
+    for (std::size_t p = 0; p < pieces_.size(); ++p) {
+        const Piece& piece = pieces_[p];
+        const Matrix K = m_.H() * (piece.Q - I);
+        std::vector<Vector> impulse(c_), after(c_);
+        for (std::size_t a = 0; a < c_; ++a) {
+            const Vector r = piece.R.column(a);
+            impulse[a] = K * r;
+            after[a] = piece.Q * r;
+            ++o.checks;
+            if (!in_friction_cone(impulse[a]))
+                return refute(o, Json{{"piece", name(p)}, {"gamma", to_json(r)}, {"impulse", to_json(impulse[a])},
+                                      {"reason", "impulse outside the friction cone"}});
+        }
+        for (std::size_t j = 0; j < m_.tangents().size(); ++j) {
+            const Tangent& t = m_.tangents()[j];
+            const std::size_t T = normals + j;
+            Vector f(c_), g(c_), xi(c_);
+            for (std::size_t a = 0; a < c_; ++a) {
+                const Rational bound = t.mu * impulse[a][t.contact];
+                f[a] = impulse[a][T] + bound;
+                g[a] = bound - impulse[a][T];
+                xi[a] = after[a][T] + t.e_T * piece.R(T, a);
+            }
+            // wrong = +1: f > 0 (Lambda_T above -mu Lambda_N) needs xi_T <= 0; wrong = -1: g > 0 needs xi_T >= 0.
+            for (const int wrong : {1, -1}) {
+                const Vector& h = wrong > 0 ? f : g;
+                std::optional<std::size_t> pos_h, bad_xi;
+                for (std::size_t a = 0; a < c_; ++a) {
+                    if (sign_of(h[a]) == Sign::positive && !pos_h)
+                        pos_h = a;
+                    const Sign sx = sign_of(xi[a]);
+                    if (((wrong > 0 && sx == Sign::positive) || (wrong < 0 && sx == Sign::negative)) && !bad_xi)
+                        bad_xi = a;
+                }
+                ++o.checks;
+                if (!pos_h || !bad_xi)
+                    continue;
+                const Vector x = lemma_f_point(piece, *pos_h, *bad_xi, xi, wrong);
+                const Vector lambda = K * x;
+                const Vector plus = piece.Q * x;
+                const Rational xi_x = plus[T] + t.e_T * x[T];
+                const Rational h_x = wrong > 0 ? lambda[T] + t.mu * lambda[t.contact] : t.mu * lambda[t.contact] - lambda[T];
+                ensure(sign_of(h_x) == Sign::positive && sign_of(xi_x) == (wrong > 0 ? Sign::positive : Sign::negative),
+                       "coulomb witness");
+                return refute(o, Json{{"piece", name(p)},
+                                      {"contact", t.contact + 1},
+                                      {"tangent", j + 1},
+                                      {"gamma", to_json(x)},
+                                      {"gamma_plus", to_json(plus)},
+                                      {"impulse", to_json(lambda)},
+                                      {"xi_T", to_json(xi_x)},
+                                      {"reason", wrong > 0 ? "the contact slips with xi_T > 0 but Lambda_T != -mu Lambda_N"
+                                                           : "the contact slips with xi_T < 0 but Lambda_T != +mu Lambda_N"}});
+            }
+        }
+    }
+    return o;
+}
+
+} // namespace impactcert::detail

@@ -1,0 +1,323 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""impactcert: exact proofs, certificates and fuzzing of cone-wise linear impact laws.
+
+The Python face of impactcert's C++ library (docs/python.md). Exact values go in as ``int``,
+``fractions.Fraction``, any ``numbers.Rational`` or a string such as ``"3/4"``, and come out as
+``Fraction``; a ``float`` where an exact value is meant is refused (it is rarely the number the
+caller had in mind: 0.1 is 3602879701896397/36028797018963968). The exact work runs in C++ with
+the GIL released.
+
+    >>> import impactcert as ic
+    >>> law = ic.derive(ic.System.chain([1, 1, 1]), restitution="9/10").law
+    >>> ic.verify(law).verdict
+    'proved'
+"""
+
+import html as _html
+import json as _json
+import numbers as _numbers
+from fractions import Fraction
+
+from . import _impactcert
+
+__all__ = ["Error", "InputError", "LimitError", "System", "Law", "Derivation", "Obligation", "Report",
+           "CheckResult", "FuzzResult", "derive", "verify", "certify", "check_certificate", "fuzz",
+           "version", "Fraction"]
+
+__version__ = _impactcert.version()
+
+
+def version():
+    """The library's version, as the command line's --version prints it."""
+    return _impactcert.version()
+
+
+class Error(Exception):
+    """An error of impactcert: the command line's one-line message and its exit status."""
+    exit_status = 1
+
+
+class InputError(Error, ValueError):
+    """Bad input (exit status 2); the message names the place."""
+    exit_status = 2
+
+
+class LimitError(Error, RuntimeError):
+    """A limit was reached (exit status 3); the message names the option that raises it."""
+    exit_status = 3
+
+
+def _exact_text(x, where):
+    """The canonical text "p/q" of an exact value, or InputError saying why it is not one."""
+    if isinstance(x, bool):
+        raise InputError(f"{where}: expected a rational number, got a bool")
+    if isinstance(x, float):
+        raise InputError(f"{where}: {x!r} is a float; give an exact value (int, Fraction or a string "
+                         f"such as \"3/4\"): a float is rarely the number meant "
+                         f"(0.1 is {Fraction(0.1)})")
+    if isinstance(x, _numbers.Rational):
+        q = Fraction(x.numerator, x.denominator)
+        return f"{q.numerator}/{q.denominator}"
+    if isinstance(x, str):
+        try:
+            q = Fraction(x.strip())
+        except (ValueError, ZeroDivisionError) as e:
+            raise InputError(f"{where}: \"{x}\" is not a rational number ({e})") from None
+        if "." in x or "e" in x.lower():
+            raise InputError(f"{where}: \"{x}\": give an integer or a fraction p/q")
+        return f"{q.numerator}/{q.denominator}"
+    raise InputError(f"{where}: expected a rational number (int, Fraction, numbers.Rational or \"p/q\"), "
+                     f"got {type(x).__name__}")
+
+
+def _exact_list(xs, where):
+    if isinstance(xs, (str, _numbers.Number)):
+        xs = [xs]
+    try:
+        items = list(xs)
+    except TypeError:
+        raise InputError(f"{where}: expected a sequence of rational numbers") from None
+    return [_exact_text(x, f"{where}[{i}]") for i, x in enumerate(items)]
+
+
+def _fraction(text):
+    return Fraction(text)
+
+
+def _exact_json(value):
+    """A witness or report value with its exact strings ("p/q", "-3") turned into Fractions."""
+    if isinstance(value, dict):
+        return {k: _exact_json(v) for k, v in value.items()}
+    if isinstance(value, list):
+        return [_exact_json(v) for v in value]
+    if isinstance(value, str):
+        try:
+            if value and (value[0].isdigit() or value[0] == "-") and all(c in "0123456789-/" for c in value):
+                return Fraction(value)
+        except (ValueError, ZeroDivisionError):
+            pass
+    return value
+
+
+class System:
+    """The mechanics a law is derived from: masses, contact directions, friction."""
+
+    def __init__(self, _native):
+        self._native = _native
+
+    @staticmethod
+    def chain(masses, walls="none"):
+        """A chain of balls by their masses (walls: "none", "left", "right", "both")."""
+        return System(_impactcert.System.chain(_exact_list(masses, "masses"), walls))
+
+    @staticmethod
+    def read(path):
+        """An impactcert-system/1 or impactcert-scene/1 file."""
+        return System(_impactcert.System.read(str(path)))
+
+    @staticmethod
+    def parse(text, origin="system"):
+        return System(_impactcert.System.parse(text, origin))
+
+    velocities = property(lambda self: self._native.velocities)
+    contacts = property(lambda self: self._native.contacts)
+    friction = property(lambda self: self._native.friction)
+
+    def describe(self):
+        return self._native.describe()
+
+    def __repr__(self):
+        return f"<impactcert.System: {self.describe()}>"
+
+
+class Law:
+    """A cone-wise linear impact law (an impactcert-law/1 file)."""
+
+    def __init__(self, _native):
+        self._native = _native
+
+    @staticmethod
+    def read(path, max_pieces=500000, max_memory_mb=640):
+        return Law(_impactcert.Law.read(str(path), max_pieces, max_memory_mb))
+
+    @staticmethod
+    def parse(text, origin="law", max_pieces=500000, max_memory_mb=640):
+        return Law(_impactcert.Law.parse(text, origin, max_pieces, max_memory_mb))
+
+    @staticmethod
+    def paper():
+        """The 3-ball Newton's cradle law of Leine & Winandy (the embedded default)."""
+        return Law(_impactcert.Law.paper())
+
+    name = property(lambda self: self._native.name)
+    contacts = property(lambda self: self._native.contacts)
+    velocities = property(lambda self: self._native.velocities)
+    pieces = property(lambda self: self._native.pieces)
+
+    def piece_names(self):
+        return list(self._native.piece_names())
+
+    def to_json(self):
+        """The law file's text, as `impactcert derive ... -o` writes it."""
+        return self._native.to_json()
+
+    def write(self, path):
+        """Writes the law file (whole or absent)."""
+        self._native.write(str(path))
+
+    def evaluate(self, gamma_minus):
+        """S(gamma-), exactly: a tuple of Fractions (InputError in a gap of the cones). On a
+        boundary of a discontinuous law, where pieces disagree, every value (evaluate_all)."""
+        values = self.evaluate_all(gamma_minus)
+        if len(values) > 1:
+            raise InputError(f"gamma- = {tuple(str(Fraction(x)) for x in _exact_list(gamma_minus, 'gamma-'))} "
+                             f"lies where pieces {self.pieces_at(gamma_minus)} disagree: use evaluate_all")
+        return values[0]
+
+    def evaluate_all(self, gamma_minus):
+        """The value of every piece whose closed cone holds gamma- (duplicates removed)."""
+        texts = self._native._evaluate(_exact_list(gamma_minus, "gamma-"))
+        return [tuple(_fraction(t) for t in v) for v in texts]
+
+    def pieces_at(self, gamma_minus):
+        return list(self._native._pieces_at(_exact_list(gamma_minus, "gamma-")))
+
+    def __repr__(self):
+        return f"<impactcert.Law {self.name}: {self.pieces} pieces, {self.contacts} contacts>"
+
+
+class Derivation:
+    """What derive() gives: the law, or (with friction) why there is none and the exact witness."""
+
+    def __init__(self, law, refutation, witness):
+        self.law = law
+        self.refutation = refutation
+        self.witness = _exact_json(_json.loads(witness)) if witness else None
+
+    def __repr__(self):
+        if self.law is not None:
+            return f"<impactcert.Derivation: {self.law!r}>"
+        return f"<impactcert.Derivation: no law: {self.refutation}>"
+
+
+class Obligation:
+    """One proof obligation's verdict, with its exact counterexample when refuted."""
+
+    def __init__(self, d):
+        self.id = d["id"]
+        self.claimed = d["claimed"]
+        self.verdict = d["verdict"]
+        self.checks = d.get("checks", 0)
+        self.method = d.get("method", "")
+        self.limit = d.get("limit", "")
+        self.counterexample = _exact_json(d["counterexample"]) if d.get("counterexample") is not None else None
+
+    def __repr__(self):
+        return f"<{self.id}: {self.verdict}{' (claimed)' if self.claimed else ''}>"
+
+
+class Report:
+    """The verdict of verify(): every obligation, and the JSON `impactcert verify --json` prints."""
+
+    def __init__(self, text):
+        self.json = text
+        d = _json.loads(text)
+        self.law = d.get("law", "")
+        self.verdict = d["verdict"]
+        self.exit_status = {"proved": 0, "refuted": 1}.get(self.verdict, 3)
+        self.obligations = [Obligation(o) for o in d["obligations"]]
+
+    def __getitem__(self, obligation_id):
+        for o in self.obligations:
+            if o.id == obligation_id:
+                return o
+        raise KeyError(obligation_id)
+
+    def __repr__(self):
+        rows = [f"impactcert verify: {self.law}: {self.verdict}"]
+        for o in self.obligations:
+            rows.append(f"  {o.id:<20}{'yes' if o.claimed else 'no':<5}{o.verdict:<10}{o.method}")
+            if o.counterexample is not None:
+                rows.append(f"      counterexample: {_json.dumps(o.counterexample, default=str)}")
+        return "\n".join(rows)
+
+    def _repr_html_(self):
+        colour = {"proved": "#1a7f37", "refuted": "#cf222e", "undecided": "#9a6700", "skipped": "#57606a"}
+        rows = "".join(
+            f"<tr><td><code>{_html.escape(o.id)}</code></td><td>{'yes' if o.claimed else 'no'}</td>"
+            f"<td style='color:{colour.get(o.verdict, '#000')}'>{o.verdict}</td><td>{o.checks}</td>"
+            f"<td>{_html.escape(o.method)}</td></tr>" for o in self.obligations)
+        return (f"<p><b>{_html.escape(self.law)}</b>: "
+                f"<span style='color:{colour.get(self.verdict, '#000')}'>{self.verdict}</span></p>"
+                f"<table><tr><th>obligation</th><th>claimed</th><th>verdict</th><th>checks</th>"
+                f"<th>method</th></tr>{rows}</table>")
+
+
+class CheckResult:
+    """The independent checker's answer: exit status 0 verified, 1 rejected, 2 malformed, 3 undecided."""
+
+    def __init__(self, exit_status, message):
+        self.exit_status = exit_status
+        self.message = message
+
+    verified = property(lambda self: self.exit_status == 0)
+
+    def __repr__(self):
+        return f"<impactcert.CheckResult {self.exit_status}: {self.message}>"
+
+
+class FuzzResult:
+    """The report of fuzz(): the impactcert-fuzz/1 object, as `impactcert fuzz --json` prints it."""
+
+    def __init__(self, text):
+        self.json = text
+        self.report = _json.loads(text)
+        self.verdict = self.report["verdict"]
+        self.samples = self.report["samples"]
+        self.exit_status = {"violations": 1, "no violation": 0}.get(self.verdict, 3)
+        self.examples = self.report["examples"]
+
+    def __repr__(self):
+        v = self.report["violations"]
+        found = ", ".join(f"{k} {n}" for k, n in v.items() if n)
+        return (f"<impactcert.FuzzResult: {self.verdict}; {self.samples} samples; "
+                f"{found or 'nothing found'}; {self.report['coverage']['text']}>")
+
+
+def derive(system, kind="sequential", restitution=(), rule="most-negative", max_impacts=100,
+           max_bits=65536, max_memory_mb=2048):
+    """The sequential, Newton or Poisson law of a System (`impactcert derive`).
+
+    restitution: one value for every contact, or one per contact; empty: the system's own, else 1."""
+    law, refutation, witness = _impactcert._derive(system._native, kind, _exact_list(restitution, "restitution"),
+                                                   rule, max_impacts, max_bits, max_memory_mb)
+    return Derivation(Law(law) if law is not None else None, refutation, witness)
+
+
+def verify(law, max_pieces=500000, max_memory_mb=640, jobs=1):
+    """Every proof obligation of the law, decided exactly (`impactcert verify`)."""
+    return Report(_impactcert._verify(law._native, max_pieces, max_memory_mb, jobs))
+
+
+def certify(law, max_pieces=500000, max_memory_mb=640, jobs=1):
+    """The certificate text (impactcert-certificate/1), as `impactcert certify -o` writes it."""
+    return _impactcert._certify(law._native, max_pieces, max_memory_mb, jobs)
+
+
+def check_certificate(text):
+    """The independent checker (impactcert-check) on a certificate's text."""
+    return CheckResult(*_impactcert._check_certificate(text))
+
+
+def fuzz(law, implementation, samples=100000, seed=1, seconds=0.0, max_ulps=None, max_rel_error=None,
+         velocities=False, range=None, allow_extreme=False, name="Python callable", batch=1024):
+    """Fuzz a float implementation against the exact law, in-process (`impactcert fuzz --law`).
+
+    implementation(points) takes an (N, n) NumPy array of float64 (n: the law's contacts, or its
+    velocities with velocities=True) and returns an (N, n) array. It is called with batches of up
+    to `batch` points; the exact work runs in C++ without the GIL."""
+    if max_ulps is not None and (isinstance(max_ulps, bool) or not isinstance(max_ulps, int) or max_ulps < 0):
+        raise InputError("max_ulps: expected an integer >= 0")
+    return FuzzResult(_impactcert._fuzz(law._native, implementation, seed, samples, float(seconds), max_ulps,
+                                        None if max_rel_error is None else float(max_rel_error), velocities,
+                                        range or "", allow_extreme, name, batch))
