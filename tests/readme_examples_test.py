@@ -5,7 +5,7 @@
 An example is a fenced code block whose first line starts with `$ `: those lines are commands
 (run with bash, standard error joined to standard output), the lines after each its expected
 output. A line `...` (alone, any indentation) stands for any number of lines. The commands run in
-a scratch directory where proofs/, examples/, tests/, docs/ and scripts/ are the source tree's and
+a scratch directory where proofs/, examples/, tests/, docs/, scripts/ and include/ are the source tree's and
 build/ is the build directory; /tmp/ is a scratch directory too. Times and rates are masked
 (`0.035 ms`, `in 0.20 s, 9958 samples/s`, `2 jobs`, the fuzzer's `time` line), and a replay's
 `cd` into the scratch directory reads `cd ~/impactcert` (a checkout), nothing else. Blocks
@@ -90,7 +90,7 @@ work = os.path.join(tmp, "work")
 scratch = os.path.join(tmp, "scratch")
 os.makedirs(work)
 os.makedirs(scratch)
-for name in ("proofs", "examples", "tests", "docs", "scripts"):
+for name in ("proofs", "examples", "tests", "docs", "scripts", "include"):
     os.symlink(os.path.join(SRC, name), os.path.join(work, name))
 os.symlink(BUILD, os.path.join(work, "build"))
 failures = commands_run = 0

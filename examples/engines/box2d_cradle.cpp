@@ -27,7 +27,7 @@
 //
 // Protocol: each stdin line holds n numbers (hex floats or decimals, strtod); each answer is one
 // line of n numbers printed with %.17g and flushed. A malformed line is fatal (exit 2).
-#include <box2d/box2d.h>
+#include "box2d_cradle.hpp"
 
 #include <cmath>
 #include <cstdio>
@@ -39,11 +39,8 @@
 
 namespace {
 
-struct Options {
-    std::vector<float> masses = std::vector<float>(3, 1.0f);
-    float restitution = 1.0f;
-    int iterations = 200;
-};
+using box2d_cradle::impact;
+using box2d_cradle::Options;
 
 [[noreturn]] void fail(const std::string& message) {
     std::fprintf(stderr, "box2d_cradle: %s\n", message.c_str());
@@ -92,41 +89,6 @@ Options parse_options(int argc, char** argv) {
     }
     if (!masses) o.masses.assign(static_cast<std::size_t>(balls), 1.0f);
     return o;
-}
-
-// One impact: a fresh world (samples are independent), one step, the x velocities after it.
-std::vector<float> impact(const Options& o, const std::vector<double>& u) {
-    b2World world(b2Vec2(0.0f, 0.0f));
-    world.SetAllowSleeping(false);
-    b2CircleShape circle;
-    circle.m_radius = 0.5f;
-    b2FixtureDef fixture;
-    fixture.shape = &circle;
-    fixture.friction = 0.0f;
-    fixture.restitution = o.restitution;
-    fixture.restitutionThreshold = 0.0f;
-    std::vector<b2Body*> bodies;
-    for (std::size_t i = 0; i < u.size(); ++i) {
-        b2BodyDef def;
-        def.type = b2_dynamicBody;
-        def.position.Set(static_cast<float>(i), 0.0f);
-        def.linearVelocity.Set(static_cast<float>(u[i]), 0.0f);
-        def.linearDamping = 0.0f;
-        def.allowSleep = false;
-        def.fixedRotation = true;
-        b2Body* body = world.CreateBody(&def);
-        body->CreateFixture(&fixture);
-        b2MassData mass;
-        mass.mass = o.masses[i];
-        mass.center.SetZero();
-        mass.I = 1.0f; // ignored: fixed rotation
-        body->SetMassData(&mass);
-        bodies.push_back(body);
-    }
-    world.Step(1.0f / 60.0f, o.iterations, 1);
-    std::vector<float> v;
-    for (const b2Body* body : bodies) v.push_back(body->GetLinearVelocity().x);
-    return v;
 }
 
 } // namespace

@@ -115,6 +115,9 @@ class IMPACTCERT_API Law {
     std::vector<Vector> evaluate(const Vector& gamma_minus) const;
     // The names of the pieces whose closed cones contain gamma-.
     std::vector<std::string> pieces_at(const Vector& gamma_minus) const;
+    // |gamma|_H^2 = gamma^T H gamma, twice the kinetic energy of the velocity that gamma stands
+    // for (H = G^-1 in contact velocities, the metric of the energetic obligation), exactly.
+    Rational energy(const Vector& gamma) const;
 
     struct Impl;
     explicit Law(std::shared_ptr<const Impl> impl) : impl_(std::move(impl)) {}
@@ -216,10 +219,35 @@ struct FuzzResult {
     std::string verdict;        // "violations", "no violation", "undecided" (nothing checked)
     int exit_status = 0;        // 1, 0, 3: as `impactcert fuzz`
     std::uint64_t samples = 0;  // checked
-    std::uint64_t violating = 0; // samples with a violation that fails the run
+    // Law mode: the samples with a violation that fails the run; consistency mode: the findings
+    // (one per property broken at a sample) and the implementation's failures.
+    std::uint64_t violating = 0;
     std::string json;           // impactcert-fuzz/1, as `impactcert fuzz --json` prints it
 };
 
 IMPACTCERT_API FuzzResult fuzz(const Law& law, const BatchFunction& implementation, const FuzzOptions& options = {});
+
+// Consistency mode (`impactcert fuzz --masses|--system` without --law): a black-box impact map of
+// a System checked against the laws of mechanics alone -- no penetration, pushing impulses,
+// momentum (ball velocities), no energy gain, at rest stays at rest, and with friction the cone
+// and Coulomb's law -- each finding recomputed exactly at the implementation's doubles; with a
+// reference law each finding is law-level or solver-level. The same report as the command line.
+struct ConsistencyOptions {
+    std::uint64_t seed = 1;
+    std::uint64_t samples = 1000000;
+    double seconds = 0;
+    unsigned jobs = 1;
+    double max_rel_error = 1e-9;          // --max-rel-error
+    bool velocities = false;              // ball velocities (momentum checked) instead of contact ones
+    std::optional<Vector> restitution;    // --restitution: the restitution property (one value, or one per contact)
+    std::string reference;                // --reference: approaching, newton, poisson, or a law file
+    std::vector<std::string> require;     // --require: nonexpansive, continuity
+    std::string range;                    // --range LO..HI ("": 1e-3..1e3)
+    std::string name = "in-process callable";
+    std::size_t batch = 64;
+};
+
+IMPACTCERT_API FuzzResult fuzz_consistency(const System& system, const BatchFunction& implementation,
+                                           const ConsistencyOptions& options = {});
 
 } // namespace impactcert::api

@@ -48,7 +48,7 @@ Derivation derive(const System& system, const DeriveOptions& options) {
             o.max_memory_mb = options.max_memory_mb;
             DeriveResult r = derive_sequential(o);
             if (r.not_a_function) {
-                out.refutation = "the sequential law with friction is not a function: " + r.not_a_function_reason;
+                out.refutation = not_a_function_text(*r.not_a_function, r.not_a_function_reason);
                 out.witness = not_a_function_json(*r.not_a_function, r.not_a_function_reason).dump(2);
                 return out;
             }
@@ -75,8 +75,7 @@ Derivation derive(const System& system, const DeriveOptions& options) {
             static_cast<ClassicalOptions&>(fo) = o;
             FrictionResult r = derive_newton_friction(fo);
             if (r.not_a_function) {
-                out.refutation = r.not_a_function->none ? "the Newton law with friction is not a function: gamma- has no solution"
-                                                        : "the Newton law with friction is not a function: gamma- has two solutions";
+                out.refutation = not_a_function_text(*r.not_a_function);
                 out.witness = not_a_function_json(*r.not_a_function).dump(2);
                 return out;
             }

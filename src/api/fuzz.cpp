@@ -4,6 +4,7 @@
 #include "api/internal.hpp"
 
 #include "fuzz/consistency.hpp"
+#include "fuzz/consistency_report.hpp"
 #include "fuzz/fuzz.hpp"
 #include "fuzz/fuzz_report.hpp"
 
@@ -110,6 +111,50 @@ FuzzResult fuzz(const Law& law, const BatchFunction& implementation, const FuzzO
         r.violating = sum.gated + (options.allow_extreme ? 0 : sum.extreme);
         r.json = fuzz::report_json(sum, options, facts.properties, model.law().name, impl.describe(), o.velocities,
                                    std::nullopt)
+                     .dump(2) +
+                 "\n";
+        return r;
+    });
+    if (failure->first)
+        std::rethrow_exception(failure->first);
+    return result;
+}
+
+FuzzResult fuzz_consistency(const System& system, const BatchFunction& implementation, const ConsistencyOptions& o) {
+    if (!implementation)
+        throw api::InputError("fuzz: no implementation (an empty function)");
+    auto failure = std::make_shared<Failure>();
+    FuzzResult result = translated([&] {
+        if (o.batch == 0 || o.batch > 65536)
+            throw api::InputError("batch: expected 1..65536 points per call");
+        fuzz::ConsistencyRequest q;
+        q.system = system.impl().system;
+        q.velocities = o.velocities;
+        q.max_rel_error = o.max_rel_error;
+        if (o.restitution)
+            q.restitution = detail::to_internal(*o.restitution, "--restitution");
+        q.reference = o.reference;
+        q.reference_given = !o.reference.empty();
+        q.require = o.require;
+        q.range = o.range;
+        q.seed = o.seed;
+        q.samples = o.samples;
+        q.seconds = o.seconds;
+        q.jobs = o.jobs == 0 ? 1 : o.jobs;
+        fuzz::ConsistencyPlan plan = fuzz::plan_consistency(q);
+        plan.options.replay_prefix = "the in-process implementation at --";
+        const std::size_t dim = o.velocities ? plan.mech.balls() : plan.mech.contacts();
+        CallableImpl impl(implementation, dim, dim, o.batch, o.name, failure);
+        const fuzz::ConsistencySummary sum = fuzz::run_consistency(plan.mech, plan.options, impl, nullptr);
+        const auto checked = fuzz::checked_properties(plan, false);
+        FuzzResult r;
+        const bool nothing = sum.samples == 0;
+        r.verdict = sum.violations() ? "violations" : nothing ? "undecided" : "no violation";
+        r.exit_status = sum.violations() ? 1 : nothing ? 3 : 0;
+        r.samples = sum.samples;
+        r.violating = sum.violations();
+        r.json = fuzz::consistency_report_json(sum, plan, impl.describe(), checked, fuzz::reference_supremum(sum, plan),
+                                               nullptr, std::nullopt)
                      .dump(2) +
                  "\n";
         return r;

@@ -155,4 +155,14 @@ std::vector<std::string> Law::pieces_at(const Vector& gamma_minus) const {
     });
 }
 
+Rational Law::energy(const Vector& gamma) const {
+    return translated([&] {
+        const Model& m = impl_->model;
+        if (gamma.size() != m.contacts())
+            throw api::InputError("gamma: expected " + std::to_string(m.contacts()) + " contact velocities, got " +
+                                  std::to_string(gamma.size()));
+        return detail::to_public(m.energy(detail::to_internal(gamma, "gamma")));
+    });
+}
+
 } // namespace impactcert::api

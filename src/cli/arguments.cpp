@@ -66,27 +66,6 @@ double parse_double(const std::string& text, const std::string& where) {
     return d;
 }
 
-std::string short_text(const Rational& x) {
-    std::string s = to_string(x);
-    if (s.size() <= 40)
-        return s;
-    // mpf has an exponent range far beyond double's: an approximation of any rational.
-    mpf_t f;
-    mpf_init2(f, 64);
-    mpf_set_q(f, x.mpq());
-    char buf[64];
-    gmp_snprintf(buf, sizeof buf, "~%.6Fe", f);
-    mpf_clear(f);
-    return std::string(buf) + " [" + std::to_string(s.size()) + " characters exact]";
-}
-
-std::string short_text(const Vector& v) {
-    std::string s = "(";
-    for (std::size_t i = 0; i < v.size(); ++i)
-        s += (i ? ", " : "") + short_text(v[i]);
-    return s + ")";
-}
-
 System system_from(const SystemArgs& a) {
     if (!a.masses.empty() && !a.system_path.empty())
         throw InputError("--masses and --system: give one system");

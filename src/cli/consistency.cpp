@@ -4,6 +4,7 @@
 #include "cli/tools.hpp"
 
 #include "fuzz/consistency.hpp"
+#include "fuzz/consistency_report.hpp"
 #include "derive/derive.hpp"
 #include "prover/worst_case.hpp"
 #include "base/json.hpp"
@@ -25,108 +26,43 @@ namespace impactcert::cli {
 namespace {
 
 struct Setup {
-    System system;
-    Mechanics mech;
+    fuzz::ConsistencyPlan plan;
     std::unique_ptr<Model> law; // --float-law: the law whose float implementation is tested
     std::unique_ptr<fuzz::Implementation> impl;
-    double R = 1e-9;
-    std::vector<Rational> restitution; // --restitution, per normal contact
-    std::unique_ptr<Model> reference;  // --reference
-    std::string reference_name;        // as the summary names it
 };
 
+// The options as the library's request (fuzz/consistency_report.hpp: checks, messages, the
+// reference law), then the implementation, which only the command line makes.
 Setup setup(const FuzzArgs& a) {
-    Setup s{system_from(a.system), {}, nullptr, nullptr, 1e-9, {}, nullptr, {}};
-    s.mech = make_mechanics(s.system);
-    // --restitution: the restitution property (frictionless: wherever every impact law agrees;
-    // with friction: Newton's, at every approaching contact that pushes) and the restitution of a
-    // reference law named (approaching, newton).
-    if (a.restitution_given) {
-        if (a.restitution.empty())
-            throw InputError("--restitution: expected E or one value per contact, got an empty text");
-        // With friction the property is Newton's: against a reference law file (which may be a
-        // sequential or Poisson-type law) it would contradict the reference the user declares.
-        if (s.mech.has_friction() && !a.reference.empty() && a.reference != "approaching" && a.reference != "newton")
-            throw InputError("--restitution: with friction the restitution property is Newton's, which a reference law "
-                             "file need not be; give --reference approaching or newton, or no --restitution");
-        s.restitution = restitution_list(a.restitution, s.mech.normals);
-        if (s.restitution.size() != s.mech.normals)
-            throw InputError("--restitution: expected one value or " + std::to_string(s.mech.normals) +
-                             " (one per contact), got " + std::to_string(s.restitution.size()));
-        for (std::size_t k = 0; k < s.restitution.size(); ++k)
-            if (sign_of(s.restitution[k]) == Sign::negative || s.restitution[k] > Rational(1))
-                throw InputError("--restitution: contact " + std::to_string(k + 1) + " must be in [0, 1], got " +
-                                 to_string(s.restitution[k]));
-    }
-    if (a.max_ulps)
-        throw InputError("--max-ulps: consistency fuzzing has no exact law to count ulps against; give --max-rel-error");
-    if (a.max_rel_error) {
-        if (!(*a.max_rel_error >= 0 && std::isfinite(*a.max_rel_error)))
-            throw InputError("--max-rel-error: must be a finite number >= 0");
-        s.R = *a.max_rel_error;
-    }
     if (a.impl_given && a.impl_cmd_given)
         throw InputError("--impl and --impl-cmd: give one implementation");
     if (!(a.timeout > 0 && std::isfinite(a.timeout)))
         throw InputError("--impl-timeout: must be a finite number of seconds > 0");
-    const std::size_t dim = a.velocities ? s.mech.balls() : s.mech.contacts();
-    if (dim > fuzz::kMaxDim)
-        throw InputError("fuzz: at most " + std::to_string(fuzz::kMaxDim) + " input components, the system has " +
-                         std::to_string(dim));
-    if (a.reference_given && a.reference.empty())
-        throw InputError("--reference: expected a law file or approaching, newton, poisson; got an empty text");
-    if (!a.reference.empty()) {
-        // The exact law the implementation means to compute: a law file of this system, or the
-        // classical law by name, derived here with the restitution given (--restitution, else
-        // the system's): "approaching" (Newton, restitution on approaching contacts only, what
-        // sequential-impulse engines converge to), "newton" (on all), "poisson".
-        const std::string& r = a.reference;
-        if (r == "approaching" || r == "newton" || r == "poisson") {
-            if (s.mech.has_friction() && r == "poisson")
-                throw InputError("--reference poisson: the Poisson-type law with friction is not offered; give "
-                                 "approaching or newton, or a law file");
-            ClassicalOptions co;
-            static_cast<System&>(co) = s.system;
-            co.restitution = !s.restitution.empty() ? s.restitution : s.system.restitution;
-            if (co.restitution.empty())
-                throw InputError("--reference " + r + ": needs the restitution (give --restitution E)");
-            co.on = r == "approaching" ? RestitutionOn::approaching : RestitutionOn::all;
-            if (s.mech.has_friction()) {
-                // The Newton law with Coulomb friction, derived here as `derive newton --system`
-                // does; a system where it is not a function has no reference by name.
-                FrictionOptions fo;
-                static_cast<ClassicalOptions&>(fo) = co;
-                FrictionResult fr = derive_newton_friction(fo);
-                if (fr.not_a_function)
-                    throw InputError("--reference " + r + ": the Newton law with friction of this system is not a function "
-                                     "at gamma- = " + short_text(fr.not_a_function->gamma_minus) +
-                                     " (impactcert derive newton --system shows both answers)");
-                s.reference = std::make_unique<Model>(std::move(*fr.law));
-            } else {
-                s.reference = std::make_unique<Model>(r == "poisson" ? derive_poisson(co) : derive_newton(co));
-            }
-            std::string e;
-            for (std::size_t k = 0; k < co.restitution.size(); ++k)
-                e += (k ? "," : "") + to_string(co.restitution[k]);
-            s.reference_name = (r == "approaching" ? "the Newton law, restitution on approaching contacts"
-                                : r == "newton"    ? "the Newton law"
-                                                   : "the Poisson law") +
-                               std::string(s.mech.has_friction() ? " with Coulomb friction" : "") +
-                               std::string(", e = ") + e;
-        } else {
-            s.reference = std::make_unique<Model>(load_model(r));
-            if (s.reference->M() != s.mech.M || s.reference->W() != s.mech.W)
-                throw InputError("--reference " + r + ": the law's system (M, W) is not the one given");
-            s.reference_name = r;
-        }
-    }
+    fuzz::ConsistencyRequest q;
+    q.system = system_from(a.system);
+    q.velocities = a.velocities;
+    q.max_ulps_given = a.max_ulps.has_value();
+    q.max_rel_error = a.max_rel_error;
+    if (a.restitution_given)
+        q.restitution = a.restitution.empty() ? std::vector<Rational>{} : number_list("--restitution", a.restitution);
+    q.reference = a.reference;
+    q.reference_given = a.reference_given;
+    q.require = tokens_of(a.require);
+    q.range = a.range;
+    q.seed = a.options.seed;
+    q.samples = a.options.samples;
+    q.seconds = a.options.seconds;
+    q.jobs = a.options.jobs;
+    q.keep = a.options.keep;
+    Setup s{fuzz::plan_consistency(q), nullptr, nullptr};
+    const std::size_t dim = a.velocities ? s.plan.mech.balls() : s.plan.mech.contacts();
     if (!a.float_law.empty()) {
         if (a.impl_given || a.impl_cmd_given)
             throw InputError("--float-law and --impl/--impl-cmd: give one implementation");
         if (a.velocities)
             throw InputError("--float-law: impactcert's float law takes contact velocities (drop --velocities)");
         s.law = std::make_unique<Model>(load_model(a.float_law));
-        if (s.law->M() != s.mech.M || s.law->W() != s.mech.W)
+        if (s.law->M() != s.plan.mech.M || s.law->W() != s.plan.mech.W)
             throw InputError("--float-law " + a.float_law + ": the law's system (M, W) is not the one given");
         s.impl = fuzz::builtin_float_law(*s.law);
     } else if (a.impl_given && !a.impl_spec.empty())
@@ -171,60 +107,6 @@ std::string finding_text(const fuzz::Finding& f) {
     return s + "\n";
 }
 
-Json finding_json(const fuzz::Finding& f) {
-    auto hexes = [](const std::vector<double>& v) {
-        Json j = Json::array();
-        for (double x : v)
-            j.push_back(fuzz::hex(x));
-        return j;
-    };
-    Json e = {{"index", f.index}, {"what", fuzz::property_id(f.property)}, {"detail", f.detail}, {"input", hexes(f.input)}};
-    if (!f.exact.empty()) {
-        Json x = Json::object();
-        for (const auto& [name, value] : f.exact)
-            x[name] = value;
-        e["exact"] = x;
-    }
-    if (f.level)
-        e["level"] = f.level == 1 ? "law" : "solver";
-    if (f.level == 2)
-        e["off"] = f.off;
-    if (f.projection)
-        e["projection"] = true;
-    if (!f.input_b.empty())
-        e["input_b"] = hexes(f.input_b);
-    e["output"] = hexes(f.output);
-    if (!f.output_b.empty())
-        e["output_b"] = hexes(f.output_b);
-    e["replay"] = f.replay;
-    return e;
-}
-
-// The coverage line (text, JSON and JUnit alike), and what the checked inputs never had.
-std::string coverage_text(const fuzz::ConsistencySummary& sum) {
-    auto u = [](std::uint64_t x) { return std::to_string(x); };
-    std::string s = "approach patterns " + u(sum.patterns_hit) +
-                    (sum.patterns ? "/" + u(sum.patterns) : std::string()) + " (which contacts approach)";
-    if (sum.reference_pieces)
-        s += ", reference pieces " + u(sum.reference_pieces_hit) + "/" + u(sum.reference_pieces) + " hit";
-    if (sum.decades)
-        s += ", scales 1e" + std::to_string(sum.decade_lo) + "..1e" + std::to_string(sum.decade_hi) + " (" +
-             u(sum.decades) + (sum.decades == 1 ? " decade)" : " decades)");
-    return s;
-}
-
-std::vector<std::string> coverage_gaps(const fuzz::ConsistencySummary& sum) {
-    auto u = [](std::uint64_t x) { return std::to_string(x); };
-    std::vector<std::string> out;
-    if (sum.patterns && sum.patterns_hit < sum.patterns)
-        out.push_back(u(sum.patterns - sum.patterns_hit) + " of " + u(sum.patterns) +
-                      " patterns of approaching contacts never checked (raise --samples)");
-    if (sum.reference_pieces_hit < sum.reference_pieces)
-        out.push_back(u(sum.reference_pieces - sum.reference_pieces_hit) + " of " + u(sum.reference_pieces) +
-                      " pieces of the reference law never held a checked input");
-    return out;
-}
-
 std::string junit(const fuzz::ConsistencySummary& sum, const std::string& target, const bool* checked) {
     JunitSuite suite{"impactcert fuzz (consistency): " + target, {}};
     auto add = [&](const std::string& name, std::uint64_t count, const std::string& message) {
@@ -252,8 +134,8 @@ std::string junit(const fuzz::ConsistencySummary& sum, const std::string& target
     JunitCase cov;
     cov.classname = "impactcert.consistency";
     cov.name = "coverage";
-    cov.system_out = coverage_text(sum);
-    for (const auto& gap : coverage_gaps(sum))
+    cov.system_out = fuzz::coverage_text(sum);
+    for (const auto& gap : fuzz::coverage_gaps(sum))
         cov.system_out += "\nnot tested: " + gap;
     suite.cases.push_back(std::move(cov));
     return junit_xml(suite);
@@ -326,36 +208,11 @@ int run_consistency_fuzz(const FuzzArgs& a) {
 }
 
 int run_consistency_fuzz_at(const FuzzArgs& a, const FuzzArgs& given, const std::vector<std::uint64_t>& efforts) {
-    fuzz::ConsistencyOptions o;
-    for (const auto& item : tokens_of(a.require)) {
-        if (item == "nonexpansive")
-            o.nonexpansive = true;
-        else if (item == "continuity")
-            o.continuity = true;
-        else if (item == "restitution" && !a.restitution_given)
-            throw InputError("--require restitution: give the restitution with --restitution E");
-        else if (item != "kinematic" && item != "kinetic" && item != "momentum" && item != "energy" &&
-                 item != "friction_cone" && item != "coulomb" && item != "at-rest" && item != "restitution" &&
-                 item != "nondeterministic")
-            throw InputError("--require: unknown property \"" + item +
-                             "\" (nonexpansive, continuity; kinematic, kinetic, momentum and energy are always checked, "
-                             "friction_cone and coulomb with friction)");
-    }
-    if (!a.range.empty())
-        std::tie(o.range_lo, o.range_hi) = fuzz::parse_range(a.range);
     if (!a.junit.empty())
         write_file(a.junit, ""); // writable before the run, not after it
     Setup s = setup(a);
-    o.seed = a.options.seed;
-    o.samples = a.options.samples;
-    o.seconds = a.options.seconds;
-    o.jobs = a.options.jobs;
-    o.keep = a.options.keep;
-    o.max_rel_error = s.R;
-    o.velocities = a.velocities;
-    o.restitution = s.restitution;
-    o.reference = s.reference.get();
-    const std::string rbuf = fuzz::shortest_decimal(s.R);
+    fuzz::ConsistencyOptions& o = s.plan.options;
+    const std::string& rbuf = s.plan.R_text;
     o.replay_prefix = replay_command("eval --float ") + system_flags(a.system) + (a.velocities ? " --velocities " : " ") +
                       (s.law ? "--float-law " + fuzz::shell_quote(a.float_law) : s.impl->replay_flags()) +
                       " --max-rel-error " + rbuf +
@@ -376,15 +233,15 @@ int run_consistency_fuzz_at(const FuzzArgs& a, const FuzzArgs& given, const std:
     for (std::size_t k = 0; k + 1 < efforts.size(); ++k) {
         if (tty)
             std::fprintf(stderr, "\r\033[Kimpactcert: fuzz at {iterations} = %llu", static_cast<unsigned long long>(efforts[k]));
-        const std::size_t dim = a.velocities ? s.mech.balls() : s.mech.contacts();
+        const std::size_t dim = a.velocities ? s.plan.mech.balls() : s.plan.mech.contacts();
         const auto impl = fuzz::command(at_effort(given.impl_cmd, efforts[k]), dim, dim, a.timeout);
         fuzz::ConsistencyOptions oe = o;
         oe.keep = 0;
-        const auto se = fuzz::run_consistency(s.mech, oe, *impl, nullptr);
+        const auto se = fuzz::run_consistency(s.plan.mech, oe, *impl, nullptr);
         const auto& slot = se.properties[ref_slot];
         effort_rows.push_back({efforts[k], slot.count, se.samples, slot.worst ? slot.worst->score : 0.0});
     }
-    const fuzz::ConsistencySummary sum = fuzz::run_consistency(s.mech, o, *s.impl, progress);
+    const fuzz::ConsistencySummary sum = fuzz::run_consistency(s.plan.mech, o, *s.impl, progress);
     if (tty)
         std::fprintf(stderr, "\r\033[K");
     std::string diagnosis;
@@ -398,121 +255,38 @@ int run_consistency_fuzz_at(const FuzzArgs& a, const FuzzArgs& given, const std:
     const std::string solver_word = diagnosis == "model-level" ? "model-level" : "solver-level";
     // Nothing checked is not a pass: a gate must not go green on an empty run.
     const bool nothing = sum.samples == 0;
-    bool checked[fuzz::kProperties] = {};
-    for (auto p : {fuzz::Property::kinematic, fuzz::Property::kinetic, fuzz::Property::energy, fuzz::Property::at_rest,
-                   fuzz::Property::non_finite})
-        checked[static_cast<std::size_t>(p)] = true;
-    checked[static_cast<std::size_t>(fuzz::Property::momentum)] = a.velocities;
-    checked[static_cast<std::size_t>(fuzz::Property::friction_cone)] = s.mech.has_friction();
-    checked[static_cast<std::size_t>(fuzz::Property::coulomb)] = s.mech.has_friction();
-    checked[static_cast<std::size_t>(fuzz::Property::nonexpansive)] = o.nonexpansive;
-    checked[static_cast<std::size_t>(fuzz::Property::restitution)] = !o.restitution.empty();
-    checked[static_cast<std::size_t>(fuzz::Property::nondeterministic)] = a.impl_cmd_given && !a.impl_cmd.empty();
-    checked[static_cast<std::size_t>(fuzz::Property::continuity)] = o.continuity;
-    checked[static_cast<std::size_t>(fuzz::Property::reference)] = s.reference != nullptr;
+    const auto checked = fuzz::checked_properties(s.plan, a.impl_cmd_given && !a.impl_cmd.empty());
     const std::string target = s.impl->describe();
     const std::string space = a.velocities ? "ball velocities" : "contact velocities";
     const double rate = sum.seconds > 0 ? static_cast<double>(sum.samples) / sum.seconds : 0;
     char range[96];
     std::snprintf(range, sizeof range, "%.6g..%.6g", o.range_lo, o.range_hi);
     if (!a.junit.empty())
-        write_file(a.junit, junit(sum, target, checked));
-    // With a reference law, its exact sup T+/T- beside the worst energy gain found (proofs/README.md,
-    // "The exact worst case of a law"); laws of more than six contacts are left out (2^c faces).
-    // Only when energy gains were found, and for laws of at most 20,000 faces in all (the 7-ball
-    // law has 1,922 pieces of 63 faces: `verify --worst-case` is the command for it).
-    std::optional<LawBound> reference_sup;
-    const auto& gains = sum.properties[static_cast<std::size_t>(fuzz::Property::energy)];
-    if (s.reference && gains.count && s.reference->contacts() <= 14 && !s.reference->has_friction() &&
-        s.reference->pieces().size() * ((std::size_t{1} << s.reference->contacts()) - 1) <= 20000)
-        reference_sup = energy_supremum(*s.reference, WorstCaseOptions{});
+        write_file(a.junit, junit(sum, target, checked.data()));
+    const std::optional<LawBound> reference_sup = fuzz::reference_supremum(sum, s.plan);
     if (a.json) {
-        Json j;
-        j["format"] = "impactcert-fuzz/1";
-        j["mode"] = "consistency";
-        j["system"] = s.system.name;
-        j["space"] = space;
-        j["implementation"] = target;
-        j["tolerance"] = std::string("--max-rel-error ") + rbuf;
-        j["range"] = range;
-        j["seed"] = o.seed;
-        j["jobs"] = o.jobs;
-        j["samples"] = sum.samples;
-        j["pairs"] = sum.pairs;
-        j["skipped_not_approaching"] = sum.skipped;
-        j["seconds"] = sum.seconds;
-        j["samples_per_second"] = rate;
-        Json gaps = Json::array();
-        for (const auto& gap : coverage_gaps(sum))
-            gaps.push_back(gap);
-        j["coverage"] = {{"patterns_hit", sum.patterns_hit}, {"patterns", sum.patterns},
-                         {"reference_pieces_hit", sum.reference_pieces_hit}, {"reference_pieces", sum.reference_pieces},
-                         {"decades", sum.decades}, {"decade_lo", sum.decade_lo}, {"decade_hi", sum.decade_hi},
-                         {"text", coverage_text(sum)}, {"not_tested", gaps}};
-        Json props = Json::object(), violations = Json::object(), worst = Json::object();
-        for (std::size_t p = 0; p < fuzz::kProperties; ++p) {
-            const char* id = fuzz::property_id(static_cast<fuzz::Property>(p));
-            props[id] = checked[p];
-            violations[id] = sum.properties[p].count;
-            if (sum.properties[p].worst)
-                worst[id] = finding_json(*sum.properties[p].worst);
+        Json effort;
+        if (!effort_rows.empty()) {
+            Json rows = Json::array();
+            for (const auto& r : effort_rows)
+                rows.push_back(Json{{"effort", r.effort}, {"samples", r.samples}, {"reference_findings", r.findings},
+                                    {"worst_distance", r.distance}});
+            effort = Json{{"command", given.impl_cmd}, {"runs", rows}, {"diagnosis", diagnosis}};
         }
-        violations["crashed"] = sum.crashed;
-        violations["hung"] = sum.hung;
-        violations["malformed"] = sum.malformed;
-        violations["refused"] = sum.refused;
-        j["checked_properties"] = props;
-        j["violations"] = violations;
-        Json projections = Json::object();
-        for (std::size_t p = 0; p < fuzz::kProperties; ++p)
-            if (sum.properties[p].projections)
-                projections[fuzz::property_id(static_cast<fuzz::Property>(p))] = sum.properties[p].projections;
-        if (!projections.empty())
-            j["projections"] = projections;
-        j["worst"] = worst;
-        if (s.reference) {
-            Json levels = Json::object(), worst_solver = Json::object();
-            for (std::size_t p = 0; p < fuzz::kProperties; ++p) {
-                const auto& slot = sum.properties[p];
-                if (!slot.count)
-                    continue;
-                const char* id = fuzz::property_id(static_cast<fuzz::Property>(p));
-                levels[id] = Json{{"law", slot.law}, {"solver", slot.solver},
-                                  {"unclassified", slot.count - slot.law - slot.solver}};
-                if (slot.worst_solver)
-                    worst_solver[id] = finding_json(*slot.worst_solver);
-            }
-            j["reference"] = s.reference_name;
-            if (reference_sup && reference_sup->decided)
-                j["reference_sup_energy_ratio"] = to_json(reference_sup->value);
-            j["levels"] = levels;
-            j["worst_solver"] = worst_solver;
-            if (!effort_rows.empty()) {
-                Json rows = Json::array();
-                for (const auto& r : effort_rows)
-                    rows.push_back(Json{{"effort", r.effort}, {"samples", r.samples}, {"reference_findings", r.findings},
-                                        {"worst_distance", r.distance}});
-                j["effort"] = Json{{"command", given.impl_cmd}, {"runs", rows}, {"diagnosis", diagnosis}};
-            }
-        }
-        Json examples = Json::array();
-        for (const auto& f : sum.examples)
-            examples.push_back(finding_json(f));
-        j["examples"] = examples;
-        if (const auto e = s.impl->stderr_summary())
-            j["stderr"] = Json{{"lines", e->lines}, {"bytes", e->bytes}, {"first", e->first}};
-        j["verdict"] = sum.violations() ? "violations" : nothing ? "undecided" : "no violation";
-        write_stdout(j.dump(2) + "\n");
+        write_stdout(fuzz::consistency_report_json(sum, s.plan, target, checked, reference_sup, effort,
+                                                   s.impl->stderr_summary())
+                         .dump(2) +
+                     "\n");
         return sum.violations() ? kExitRefuted : nothing ? kExitUndecided : kExitProved;
     }
     std::string out;
     auto line = [&](const std::string& text) { out += text + "\n"; };
-    line("impactcert fuzz: " + target + ": consistency with " + s.system.name + " (" + describe_system(s.system) +
+    line("impactcert fuzz: " + target + ": consistency with " + s.plan.system.name + " (" + describe_system(s.plan.system) +
          "), in " + space + " (seed " + std::to_string(o.seed) + ", " + std::to_string(o.jobs) + " job" +
          (o.jobs == 1 ? "" : "s") + ")");
     line(std::string("  tolerance      --max-rel-error ") + rbuf + " (proofs/README.md, \"Consistency of black-box impact maps\")");
-    if (s.reference)
-        line("  reference      " + s.reference_name + " (--reference: each finding law-level or " + solver_word + ")");
+    if (s.plan.reference)
+        line("  reference      " + s.plan.reference_name + " (--reference: each finding law-level or " + solver_word + ")");
     if (!effort_rows.empty()) {
         std::string runs;
         for (const auto& r : effort_rows) {
@@ -536,8 +310,8 @@ int run_consistency_fuzz_at(const FuzzArgs& a, const FuzzArgs& given, const std:
     std::snprintf(buf, sizeof buf, "  samples        %llu (%llu pairs) in %.2f s, %.0f samples/s",
                   static_cast<unsigned long long>(sum.samples), static_cast<unsigned long long>(sum.pairs), sum.seconds, rate);
     line(buf);
-    line("  coverage       " + coverage_text(sum));
-    for (const auto& gap : coverage_gaps(sum))
+    line("  coverage       " + fuzz::coverage_text(sum));
+    for (const auto& gap : fuzz::coverage_gaps(sum))
         line("  not tested     " + gap);
     std::vector<std::string> found;
     for (std::size_t p = 0; p < fuzz::kProperties; ++p) {
@@ -552,7 +326,7 @@ int run_consistency_fuzz_at(const FuzzArgs& a, const FuzzArgs& given, const std:
             else if (prop == fuzz::Property::reference)
                 line(head + "not checked (give --reference)");
             else if (prop == fuzz::Property::restitution)
-                line(head + (s.mech.has_friction() ? "not checked (give --restitution E: Newton's, with friction)"
+                line(head + (s.plan.mech.has_friction() ? "not checked (give --restitution E: Newton's, with friction)"
                                                     : "not checked (give --restitution E)"));
             continue;
         }
@@ -568,7 +342,7 @@ int run_consistency_fuzz_at(const FuzzArgs& a, const FuzzArgs& given, const std:
         if (slot.projections)
             line("      " + std::to_string(slot.projections) + " of them where momentum fails: Lambda there is a projection of a "
                  "velocity change not made of contact impulses (look at momentum first)");
-        if (s.reference && prop != fuzz::Property::reference) {
+        if (s.plan.reference && prop != fuzz::Property::reference) {
             const std::uint64_t other = slot.count - slot.law - slot.solver;
             line("      against the reference law: " + std::to_string(slot.law) +
                  " law-level (the exact law breaks it there too: more iterations will not help), " +
@@ -616,7 +390,7 @@ int run_consistency_fuzz_at(const FuzzArgs& a, const FuzzArgs& given, const std:
 
 int run_consistency_eval(const FuzzArgs& a, const std::vector<std::vector<std::string>>& points) {
     Setup s = setup(a);
-    const fuzz::ConsistencyChecker checker(s.mech, a.velocities, s.R, s.restitution);
+    const fuzz::ConsistencyChecker checker(s.plan.mech, a.velocities, s.plan.R, s.plan.options.restitution);
     const std::size_t d = checker.dim();
     std::vector<std::vector<double>> xs;
     for (const auto& toks : points) {
@@ -672,14 +446,14 @@ int run_consistency_eval(const FuzzArgs& a, const std::vector<std::vector<std::s
         if (at_rest)
             if (auto f = checker.at_rest(&out[i * d])) // the probe's own finding, by its name
                 findings.insert(findings.begin(), std::move(*f));
-        if (s.reference)
-            if (auto f = checker.reference(&in[i * d], &out[i * d], *s.reference))
+        if (s.plan.reference)
+            if (auto f = checker.reference(&in[i * d], &out[i * d], *s.plan.reference))
                 findings.push_back(std::move(*f));
         for (const auto& f : findings)
             text += "  " + std::string(fuzz::property_title(f.property)) + ": " + f.detail + "\n";
         if (findings.empty())
             text += "  consistent within the tolerance (kinematic, kinetic" + std::string(a.velocities ? ", momentum" : "") +
-                    ", energy" + (s.reference ? ", reference" : "") + ")\n";
+                    ", energy" + (s.plan.reference ? ", reference" : "") + ")\n";
         violated = violated || !findings.empty();
     }
     if (a.pair && status[0] == fuzz::ImplStatus::ok && status[1] == fuzz::ImplStatus::ok) {

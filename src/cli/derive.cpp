@@ -105,8 +105,7 @@ int run_derive_sequential(const DeriveArgs& a) {
     if (r.law && any_order)
         r.law->description += order_note;
     if (r.not_a_function) {
-        std::cerr << "impactcert: derive: the sequential law with friction is not a function: at gamma- = "
-                  << short_text(*r.not_a_function) << " " << r.not_a_function_reason << "\n";
+        std::cerr << "impactcert: derive: " << not_a_function_text(*r.not_a_function, r.not_a_function_reason) << "\n";
         if (a.json)
             write_stdout(not_a_function_json(*r.not_a_function, r.not_a_function_reason).dump(2) + "\n");
         return kExitRefuted;
@@ -150,14 +149,8 @@ int run_derive_friction(const DeriveArgs& a, FrictionOptions o, const Mechanics&
     FrictionResult r = derive_newton_friction(o);
     if (r.not_a_function) {
         const NotAFunction& w = *r.not_a_function;
-        if (w.none)
-            std::cerr << "impactcert: derive: the Newton law with friction is not a function: gamma- = "
-                      << short_text(w.gamma_minus) << " has no solution\n";
-        else
-            std::cerr << "impactcert: derive: the Newton law with friction is not a function: gamma- = "
-                      << short_text(w.gamma_minus) << " has two solutions, gamma+ = " << short_text(w.gamma_a)
-                      << " (mode " << w.mode_a << ") and " << short_text(w.gamma_b) << " (mode " << w.mode_b << ")"
-                      << (a.json ? "" : "; the exact impulses with --json") << "\n";
+        std::cerr << "impactcert: derive: " << not_a_function_text(w)
+                  << (w.none || a.json ? "" : "; the exact impulses with --json") << "\n";
         if (a.json)
             write_stdout(not_a_function_json(w).dump(2) + "\n");
         return kExitRefuted;

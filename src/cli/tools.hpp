@@ -20,9 +20,6 @@ std::vector<Rational> number_list(const std::string& option, const std::string& 
 std::vector<std::string> tokens_of(const std::string& text); // white space, commas; brackets ignored
 std::string line_of(const Vector& v);
 double parse_double(const std::string& text, const std::string& where);
-// An exact value for a one-line message: itself when short, else "~1.23457e+1000 (3011 digits)".
-std::string short_text(const Rational& x);
-std::string short_text(const Vector& v);
 
 // The system options shared by derive, sweep and fuzz: --masses (a chain) with --walls, or
 // --system FILE (impactcert-system/1 or a law file).

@@ -51,6 +51,18 @@ Json not_a_function_json(const Vector& gamma_minus, const std::string& reason) {
     return j;
 }
 
+std::string not_a_function_text(const Vector& gamma_minus, const std::string& reason) {
+    return "the sequential law with friction is not a function: at gamma- = " + short_text(gamma_minus) + " " + reason;
+}
+
+std::string not_a_function_text(const NotAFunction& w) {
+    const std::string head = "the Newton law with friction is not a function: gamma- = " + short_text(w.gamma_minus);
+    if (w.none)
+        return head + " has no solution";
+    return head + " has two solutions, gamma+ = " + short_text(w.gamma_a) + " (mode " + w.mode_a + ") and " +
+           short_text(w.gamma_b) + " (mode " + w.mode_b + ")";
+}
+
 Json not_a_function_json(const NotAFunction& w) {
     Json j;
     j["format"] = "impactcert-derive/1";

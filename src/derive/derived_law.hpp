@@ -8,7 +8,8 @@
 //     (a derivation's) after the name when it has one, 2-space JSON ending in a newline.
 //   - not_a_function_json: the impactcert-derive/1 object `derive --json` prints when a law with
 //     friction is not a function (the sequential law: gamma- and the reason; Newton's: gamma-
-//     with no solution, or with two, their modes, impulses and gamma+).
+//     with no solution, or with two, their modes, impulses and gamma+), and not_a_function_text
+//     the line the command and the library's Derivation say it in.
 #pragma once
 
 #include "base/json.hpp"
@@ -23,6 +24,11 @@ namespace impactcert {
 void set_expected_claims(Law& law, const std::vector<Rational>& restitution);
 std::string law_file_text(const Law& law);
 Json not_a_function_json(const Vector& gamma_minus, const std::string& reason);
+// The one-line reason both give: "the Newton law with friction is not a function: gamma- = (5822,
+// 28989) has two solutions, gamma+ = (...) (mode o) and (...) (mode s)"; "the sequential law with
+// friction is not a function: at gamma- = (...) REASON".
+std::string not_a_function_text(const Vector& gamma_minus, const std::string& reason);
+std::string not_a_function_text(const NotAFunction& w);
 Json not_a_function_json(const NotAFunction& w);
 
 } // namespace impactcert

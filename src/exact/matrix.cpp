@@ -385,4 +385,11 @@ std::size_t vector_bytes(const Vector& v) {
     return bytes;
 }
 
+std::string short_text(const Vector& v) {
+    std::string s = "(";
+    for (std::size_t i = 0; i < v.size(); ++i)
+        s += (i ? ", " : "") + short_text(v[i]);
+    return s + ")";
+}
+
 } // namespace impactcert

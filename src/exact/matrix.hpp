@@ -78,6 +78,7 @@ Vector canonical_line(const Vector& v);
 std::vector<Vector> null_space(const std::vector<Vector>& rows, std::size_t dim);
 
 std::string to_string(const Vector& v); // "(a, b, c)"
+std::string short_text(const Vector& v); // "(a, b, c)", each by short_text
 
 // The largest bits of an entry (numerator plus denominator): the growth measure of compact laws.
 std::size_t matrix_bits(const Matrix& m);

@@ -254,4 +254,18 @@ std::string readable_text(const Rational& x, int digits) {
     return (exact ? "" : "~") + std::string(mpq_sgn(x.mpq()) < 0 ? "-" : "") + out;
 }
 
+std::string short_text(const Rational& x) {
+    std::string s = to_string(x);
+    if (s.size() <= 40)
+        return s;
+    // mpf has an exponent range far beyond double's: an approximation of any rational.
+    mpf_t f;
+    mpf_init2(f, 64);
+    mpf_set_q(f, x.mpq());
+    char buf[64];
+    gmp_snprintf(buf, sizeof buf, "~%.6Fe", f);
+    mpf_clear(f);
+    return std::string(buf) + " [" + std::to_string(s.size()) + " characters exact]";
+}
+
 } // namespace impactcert

@@ -44,4 +44,8 @@ std::string to_string(const Rational& x);
 // "1e+100000"). Computed in integers: no double, any exponent.
 std::string readable_text(const Rational& x, int digits = 17);
 
+// An exact value for a one-line message: itself when at most 40 characters, else
+// "~1.234567e+1000 [3011 characters exact]" (GMP's mpf, no double).
+std::string short_text(const Rational& x);
+
 } // namespace impactcert

@@ -45,6 +45,38 @@ std::vector<std::string> texts_of(const ic::Vector& v) {
     return out;
 }
 
+// A fuzz run of a Python implementation: run(call) without the GIL, where call takes it back to
+// hand the implementation an (N, dim) array; its report's JSON, or the first exception (the
+// implementation's own, or a wrong shape) raised again with the GIL held.
+template <class Run>
+std::string run_batches(const py::function& implementation, std::size_t dim, Run run) {
+    const ic::BatchFunction call = [&implementation, dim](const double* in, double* out, std::size_t count) {
+        py::gil_scoped_acquire gil;
+        py::array_t<double> points({count, dim});
+        std::memcpy(points.mutable_data(), in, count * dim * sizeof(double));
+        py::object answer = implementation(points);
+        auto values = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(answer);
+        if (!values || values.ndim() != 2 || static_cast<std::size_t>(values.shape(0)) != count ||
+            static_cast<std::size_t>(values.shape(1)) != dim)
+            throw py::value_error("the implementation must return an array of shape (" + std::to_string(count) + ", " +
+                                  std::to_string(dim) + ") for an input of that shape");
+        std::memcpy(out, values.data(), count * dim * sizeof(double));
+    };
+    std::exception_ptr failure;
+    ic::FuzzResult r;
+    {
+        py::gil_scoped_release release;
+        try {
+            r = run(call);
+        } catch (...) {
+            failure = std::current_exception();
+        }
+    }
+    if (failure)
+        std::rethrow_exception(failure);
+    return r.json;
+}
+
 } // namespace
 
 PYBIND11_MODULE(_impactcert, m) {
@@ -104,6 +136,9 @@ PYBIND11_MODULE(_impactcert, m) {
                 out.push_back(texts_of(v));
             return out;
         }, py::call_guard<py::gil_scoped_release>())
+        .def("_energy", [](const ic::Law& law, const std::vector<std::string>& gamma) {
+            return law.energy(vector_of(gamma)).get_str();
+        }, py::call_guard<py::gil_scoped_release>())
         .def("_pieces_at", [](const ic::Law& law, const std::vector<std::string>& gamma) {
             return law.pieces_at(vector_of(gamma));
         }, py::call_guard<py::gil_scoped_release>());
@@ -136,8 +171,22 @@ PYBIND11_MODULE(_impactcert, m) {
         o.jobs = jobs;
         return o;
     };
+    py::class_<ic::Obligation>(m, "Obligation")
+        .def_readonly("id", &ic::Obligation::id)
+        .def_readonly("claimed", &ic::Obligation::claimed)
+        .def_readonly("verdict", &ic::Obligation::verdict)
+        .def_readonly("checks", &ic::Obligation::checks)
+        .def_readonly("method", &ic::Obligation::method)
+        .def_readonly("limit", &ic::Obligation::limit)
+        .def_readonly("counterexample", &ic::Obligation::counterexample);
+    py::class_<ic::Report>(m, "Report")
+        .def_readonly("law", &ic::Report::law)
+        .def_readonly("verdict", &ic::Report::verdict)
+        .def_readonly("exit_status", &ic::Report::exit_status)
+        .def_readonly("obligations", &ic::Report::obligations)
+        .def_readonly("json", &ic::Report::json);
     m.def("_verify", [verify_options](const ic::Law& law, std::size_t max_pieces, std::size_t max_memory_mb, unsigned jobs) {
-        return ic::verify(law, verify_options(max_pieces, max_memory_mb, jobs)).json;
+        return ic::verify(law, verify_options(max_pieces, max_memory_mb, jobs));
     }, py::call_guard<py::gil_scoped_release>());
     m.def("_certify", [verify_options](const ic::Law& law, std::size_t max_pieces, std::size_t max_memory_mb, unsigned jobs) {
         return ic::certify(law, verify_options(max_pieces, max_memory_mb, jobs));
@@ -163,31 +212,28 @@ PYBIND11_MODULE(_impactcert, m) {
         o.name = name;
         o.batch = batch;
         const std::size_t dim = velocities ? law.velocities() : law.contacts();
-        // Called without the GIL by the fuzzer: take it, call Python on an (N, dim) array.
-        const ic::BatchFunction call = [&implementation, dim](const double* in, double* out, std::size_t count) {
-            py::gil_scoped_acquire gil;
-            py::array_t<double> points({count, dim});
-            std::memcpy(points.mutable_data(), in, count * dim * sizeof(double));
-            py::object answer = implementation(points);
-            auto values = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(answer);
-            if (!values || values.ndim() != 2 || static_cast<std::size_t>(values.shape(0)) != count ||
-                static_cast<std::size_t>(values.shape(1)) != dim)
-                throw py::value_error("the implementation must return an array of shape (" + std::to_string(count) + ", " +
-                                      std::to_string(dim) + ") for an input of that shape");
-            std::memcpy(out, values.data(), count * dim * sizeof(double));
-        };
-        std::exception_ptr failure;
-        ic::FuzzResult r;
-        {
-            py::gil_scoped_release release;
-            try {
-                r = ic::fuzz(law, call, o);
-            } catch (...) {
-                failure = std::current_exception();
-            }
-        }
-        if (failure)
-            std::rethrow_exception(failure);
-        return r.json;
+        return run_batches(implementation, dim, [&](const ic::BatchFunction& call) { return ic::fuzz(law, call, o); });
+    });
+    m.def("_fuzz_consistency", [](const ic::System& system, py::function implementation, std::uint64_t seed,
+                                  std::uint64_t samples, double seconds, double max_rel_error, bool velocities,
+                                  std::optional<std::vector<std::string>> restitution, const std::string& reference,
+                                  const std::vector<std::string>& require, const std::string& range,
+                                  const std::string& name, std::size_t batch) {
+        ic::ConsistencyOptions o;
+        o.seed = seed;
+        o.samples = samples;
+        o.seconds = seconds;
+        o.max_rel_error = max_rel_error;
+        o.velocities = velocities;
+        if (restitution)
+            o.restitution = vector_of(*restitution);
+        o.reference = reference;
+        o.require = require;
+        o.range = range;
+        o.name = name;
+        o.batch = batch;
+        const std::size_t dim = velocities ? system.velocities() : system.contacts();
+        return run_batches(implementation, dim,
+                           [&](const ic::BatchFunction& call) { return ic::fuzz_consistency(system, call, o); });
     });
 }

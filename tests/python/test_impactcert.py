@@ -187,3 +187,38 @@ def test_the_gil_is_released_during_exact_work():
     # Held for the whole call, the GIL would have let the counter run only between the calls.
     assert elapsed > 0.2, elapsed
     assert ticks > 0.5 * elapsed / 0.002, (ticks, elapsed)
+
+
+def strip_run_details(report):
+    """A fuzz report without what names the implementation, the times, the replay commands and
+    nondeterminism (only a separate process can answer one input twice differently)."""
+    for key in ("seconds", "samples_per_second", "implementation", "stderr"):
+        report.pop(key, None)
+    for section in ("checked_properties", "violations"):
+        report.get(section, {}).pop("nondeterministic", None)
+    def walk(x):
+        if isinstance(x, dict):
+            x.pop("replay", None)
+            for v in x.values():
+                walk(v)
+        elif isinstance(x, list):
+            for v in x:
+                walk(v)
+    walk(report)
+    return report
+
+
+def test_consistency_fuzzing_of_a_python_callable_matches_the_command_line():
+    # The map that changes nothing: balls pass through each other (kinematic), against the
+    # Newton law as reference; the command line gets the same map through a pipe.
+    echo = os.environ["IMPACTCERT_ECHO_IMPL"]
+    r = ic.fuzz_consistency(ic.System.chain([1, 2, 1]), lambda p: p.copy(), samples=500, seed=4, velocities=True,
+                            max_rel_error=1e-6, reference="approaching", restitution=1)
+    assert r.verdict == "violations" and r.exit_status == 1
+    assert r.report["violations"]["kinematic"] > 0
+    c = cli("fuzz", "--json", "--jobs", "1", "--masses", "1,2,1", "--velocities", "--samples", "500", "--seed", "4",
+            "--max-rel-error", "1e-6", "--reference", "approaching", "--restitution", "1", "--impl-cmd", echo)
+    assert c.returncode == 1
+    assert strip_run_details(r.report) == strip_run_details(json.loads(c.stdout))
+    with pytest.raises(ic.InputError, match="--require: unknown property"):
+        ic.fuzz_consistency(ic.System.chain([1, 1]), lambda p: p, require=["speed"])

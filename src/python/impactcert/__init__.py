@@ -21,7 +21,7 @@ from fractions import Fraction
 from . import _impactcert
 
 __all__ = ["Error", "InputError", "LimitError", "System", "Law", "Derivation", "Obligation", "Report",
-           "CheckResult", "FuzzResult", "derive", "verify", "certify", "check_certificate", "fuzz",
+           "CheckResult", "FuzzResult", "derive", "verify", "certify", "check_certificate", "fuzz", "fuzz_consistency",
            "version", "Fraction"]
 
 __version__ = _impactcert.version()
@@ -180,7 +180,12 @@ class Law:
         return [tuple(_fraction(t) for t in v) for v in texts]
 
     def pieces_at(self, gamma_minus):
+        """The names of the pieces whose closed cones hold gamma-."""
         return list(self._native._pieces_at(_exact_list(gamma_minus, "gamma-")))
+
+    def energy(self, gamma):
+        """|gamma|_H^2 = gamma^T H gamma (twice the kinetic energy gamma stands for), exactly."""
+        return _fraction(self._native._energy(_exact_list(gamma, "gamma")))
 
     def __repr__(self):
         return f"<impactcert.Law {self.name}: {self.pieces} pieces, {self.contacts} contacts>"
@@ -201,16 +206,16 @@ class Derivation:
 
 
 class Obligation:
-    """One proof obligation's verdict, with its exact counterexample when refuted."""
+    """One proof obligation's verdict, with its exact counterexample (Fractions) when refuted."""
 
-    def __init__(self, d):
-        self.id = d["id"]
-        self.claimed = d["claimed"]
-        self.verdict = d["verdict"]
-        self.checks = d.get("checks", 0)
-        self.method = d.get("method", "")
-        self.limit = d.get("limit", "")
-        self.counterexample = _exact_json(d["counterexample"]) if d.get("counterexample") is not None else None
+    def __init__(self, native):
+        self.id = native.id
+        self.claimed = native.claimed
+        self.verdict = native.verdict
+        self.checks = native.checks
+        self.method = native.method
+        self.limit = native.limit
+        self.counterexample = _exact_json(_json.loads(native.counterexample)) if native.counterexample else None
 
     def __repr__(self):
         return f"<{self.id}: {self.verdict}{' (claimed)' if self.claimed else ''}>"
@@ -219,13 +224,12 @@ class Obligation:
 class Report:
     """The verdict of verify(): every obligation, and the JSON `impactcert verify --json` prints."""
 
-    def __init__(self, text):
-        self.json = text
-        d = _json.loads(text)
-        self.law = d.get("law", "")
-        self.verdict = d["verdict"]
-        self.exit_status = {"proved": 0, "refuted": 1}.get(self.verdict, 3)
-        self.obligations = [Obligation(o) for o in d["obligations"]]
+    def __init__(self, native):
+        self.json = native.json
+        self.law = native.law
+        self.verdict = native.verdict
+        self.exit_status = native.exit_status
+        self.obligations = [Obligation(o) for o in native.obligations]
 
     def __getitem__(self, obligation_id):
         for o in self.obligations:
@@ -236,7 +240,7 @@ class Report:
     def __repr__(self):
         rows = [f"impactcert verify: {self.law}: {self.verdict}"]
         for o in self.obligations:
-            rows.append(f"  {o.id:<20}{'yes' if o.claimed else 'no':<5}{o.verdict:<10}{o.method}")
+            rows.append(f"  {o.id:<20}{'yes' if o.claimed else 'no':<9}{o.verdict:<10}{o.checks:>8}   {o.method}")
             if o.counterexample is not None:
                 rows.append(f"      counterexample: {_json.dumps(o.counterexample, default=str)}")
         return "\n".join(rows)
@@ -246,7 +250,11 @@ class Report:
         rows = "".join(
             f"<tr><td><code>{_html.escape(o.id)}</code></td><td>{'yes' if o.claimed else 'no'}</td>"
             f"<td style='color:{colour.get(o.verdict, '#000')}'>{o.verdict}</td><td>{o.checks}</td>"
-            f"<td>{_html.escape(o.method)}</td></tr>" for o in self.obligations)
+            f"<td>{_html.escape(o.method)}</td></tr>"
+            + (f"<tr><td></td><td colspan='4'><small>counterexample: "
+               f"{_html.escape(_json.dumps(o.counterexample, default=str))}</small></td></tr>"
+               if o.counterexample is not None else "")
+            for o in self.obligations)
         return (f"<p><b>{_html.escape(self.law)}</b>: "
                 f"<span style='color:{colour.get(self.verdict, '#000')}'>{self.verdict}</span></p>"
                 f"<table><tr><th>obligation</th><th>claimed</th><th>verdict</th><th>checks</th>"
@@ -321,3 +329,16 @@ def fuzz(law, implementation, samples=100000, seed=1, seconds=0.0, max_ulps=None
     return FuzzResult(_impactcert._fuzz(law._native, implementation, seed, samples, float(seconds), max_ulps,
                                         None if max_rel_error is None else float(max_rel_error), velocities,
                                         range or "", allow_extreme, name, batch))
+
+
+def fuzz_consistency(system, implementation, samples=100000, seed=1, seconds=0.0, max_rel_error=1e-9,
+                     velocities=False, restitution=None, reference="", require=(), range=None,
+                     name="Python callable", batch=1024):
+    """Check a black-box impact map of a System against the laws of mechanics alone (no law needed):
+    `impactcert fuzz --masses|--system` without --law, in-process. Findings are decided exactly at
+    the implementation's doubles; with reference ("approaching", "newton", "poisson" or a law
+    file) each is law-level or solver-level; restitution adds the restitution property."""
+    return FuzzResult(_impactcert._fuzz_consistency(
+        system._native, implementation, seed, samples, float(seconds), float(max_rel_error), velocities,
+        None if restitution is None else _exact_list(restitution, "restitution"), reference,
+        list(require), range or "", name, batch))
