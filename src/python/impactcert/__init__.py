@@ -333,7 +333,7 @@ def fuzz(law, implementation, samples=100000, seed=1, seconds=0.0, max_ulps=None
 
 def fuzz_consistency(system, implementation, samples=100000, seed=1, seconds=0.0, max_rel_error=1e-9,
                      velocities=False, restitution=None, reference="", require=(), range=None,
-                     name="Python callable", batch=1024):
+                     name="Python callable", batch=2048):
     """Check a black-box impact map of a System against the laws of mechanics alone (no law needed):
     `impactcert fuzz --masses|--system` without --law, in-process. Findings are decided exactly at
     the implementation's doubles; with reference ("approaching", "newton", "poisson" or a law
