@@ -59,17 +59,38 @@ if [ -f "$build/libimpactcert.so" ]; then
     dpkg-deb -I "$lib" shlibs | grep -q "^libimpactcert 0 libimpactcert0 (>= "
     dpkg-deb -I "$lib" triggers | grep -q "activate-noawait ldconfig"
     dpkg-deb -f "$dev" Depends | grep -q "libimpactcert0 (= "
-    # Only the API's names are exported: nothing of the core (impactcert::Model, CGAL, PPL); the
-    # standard library's templates it instantiates keep their default visibility.
+    # Only the API's names are exported: nothing of the core (impactcert's other namespaces, CGAL,
+    # PPL, nlohmann-json, the checker); the standard library's templates it instantiates over the
+    # API's types keep their default visibility.
     exported=$(nm -D --defined-only "$dir/root/usr/lib/libimpactcert.so.0" | awk '{print $3}' | c++filt)
-    if grep -vE '^impactcert::api::|^(typeinfo|vtable|typeinfo name) for (impactcert::api::|std::)|^std::|^_init$|^_fini$' <<<"$exported" | grep -q .; then
-        echo "libimpactcert exports more than the API:" >&2
-        grep -vE '^impactcert::api::|^(typeinfo|vtable|typeinfo name) for (impactcert::api::|std::)|^std::|^_init$|^_fini$' <<<"$exported" | head -5 >&2
+    leaked=$(sed 's/impactcert::api::[A-Za-z_:]*//g' <<<"$exported" |
+             grep -E 'impactcert::|CGAL|Parma_Polyhedra|nlohmann|impactcert_check' || true)
+    if [ -n "$leaked" ] || ! grep -q '^impactcert::api::verify(' <<<"$exported"; then
+        echo "libimpactcert exports more than the API (or not the API):" >&2
+        head -5 <<<"$leaked" >&2
         exit 1
     fi
+    # Each file in its own package: the library in libimpactcert0, the header, link and targets in
+    # -dev, the module in python3-impactcert, none of them in impactcert.
+    contents() { dpkg-deb -c "$1" | awk '{print $6}'; }
+    # (`! cmd` never stops a `set -e` script: absent says it and exits.)
+    absent() {
+        if contents "$1" | grep -qE "$2"; then
+            echo "$(basename "$1") holds a file it should not: $(contents "$1" | grep -E "$2" | head -1)" >&2
+            exit 1
+        fi
+    }
+    contents "$lib" | grep -q '/usr/lib/libimpactcert.so.0.1.0$'
+    absent "$lib" 'include/|cmake/|python3/|libimpactcert.so$'
+    contents "$dev" | grep -q '/usr/include/impactcert/impactcert.hpp$'
+    contents "$dev" | grep -q '/usr/lib/libimpactcert.so$'
+    absent "$dev" 'libimpactcert.so.0|float_law.hpp'
+    absent "$deb" 'libimpactcert|impactcert.hpp|python3/'
     if ls "$dir"/out/python3-impactcert_*.deb >/dev/null 2>&1; then
         python=$(ls "$dir"/out/python3-impactcert_*.deb)
         dpkg-deb -f "$python" Depends | grep -q "python3-numpy"
+        contents "$python" | grep -q 'python3/dist-packages/impactcert/__init__.py$'
+        absent "$python" 'libimpactcert.so|include/'
         PYTHONPATH="$dir/root/usr/lib/python3/dist-packages" LD_LIBRARY_PATH="$dir/root/usr/lib" /usr/bin/python3 -c '
 import impactcert as ic
 law = ic.derive(ic.System.chain([1, 1, 1])).law

@@ -28,30 +28,40 @@ int main(int argc, char** argv) {
     o.name = "Box2D in-process (box2d_inprocess)";
     bool json = false;
     box2d_cradle::Options engine;
-    for (int i = 1; i < argc; ++i) {
-        const std::string flag = argv[i];
-        if (flag == "--json") {
-            json = true;
-            continue;
+    try {
+        // A whole number of samples or a seed, exactly as the command line reads one.
+        auto count = [](const std::string& flag, const std::string& text) {
+            const mpq_class x = ic::parse_exact(text, flag);
+            if (x.get_den() != 1 || sgn(x) < 0 || x.get_num() > mpz_class("18446744073709551615"))
+                throw ic::InputError(flag + ": expected an integer in [0, 2^64 - 1], got \"" + text + "\"");
+            return std::stoull(x.get_num().get_str());
+        };
+        for (int i = 1; i < argc; ++i) {
+            const std::string flag = argv[i];
+            if (flag == "--json") {
+                json = true;
+                continue;
+            }
+            if (i + 1 >= argc)
+                throw ic::InputError(flag + ": needs a value");
+            const std::string value = argv[++i];
+            if (flag == "--samples")
+                o.samples = count(flag, value);
+            else if (flag == "--seed")
+                o.seed = count(flag, value);
+            else if (flag == "--restitution") {
+                // Exact for the checker; Box2D takes it in float (within an ulp of float).
+                const mpq_class e = ic::parse_exact(value, "--restitution");
+                o.restitution = ic::Vector{e};
+                engine.restitution = static_cast<float>(e.get_d());
+            } else if (flag == "--reference")
+                o.reference = value;
+            else
+                throw ic::InputError("unknown option " + flag);
         }
-        if (i + 1 >= argc) {
-            std::fprintf(stderr, "box2d_inprocess: %s needs a value\n", flag.c_str());
-            return 2;
-        }
-        const std::string value = argv[++i];
-        if (flag == "--samples")
-            o.samples = std::strtoull(value.c_str(), nullptr, 10);
-        else if (flag == "--seed")
-            o.seed = std::strtoull(value.c_str(), nullptr, 10);
-        else if (flag == "--restitution") {
-            engine.restitution = std::strtof(value.c_str(), nullptr);
-            o.restitution = ic::Vector{mpq_class(value)};
-        } else if (flag == "--reference")
-            o.reference = value;
-        else {
-            std::fprintf(stderr, "box2d_inprocess: unknown option %s\n", flag.c_str());
-            return 2;
-        }
+    } catch (const ic::Error& e) {
+        std::cerr << "box2d_inprocess: " << e.what() << "\n";
+        return e.exit_status();
     }
     try {
         // Each call: a batch of points of 3 ball velocities; one Box2D world per point.
@@ -70,8 +80,8 @@ int main(int argc, char** argv) {
         if (json)
             std::cout << r.json;
         else
-            std::cout << "box2d_inprocess: " << r.samples << " samples, " << r.violating << " with findings: "
-                      << r.verdict << "\n";
+            std::cout << "box2d_inprocess: " << r.samples << " samples, " << r.violating << " findings: " << r.verdict
+                      << "\n";
         return r.exit_status;
     } catch (const ic::Error& e) {
         std::cerr << "box2d_inprocess: " << e.what() << "\n";

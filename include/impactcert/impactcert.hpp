@@ -60,6 +60,11 @@ class IMPACTCERT_API LimitError : public Error {
     explicit LimitError(const std::string& message) : Error(3, message) {}
 };
 
+// An exact number written as the command line takes it: an integer, p/q, a decimal ("0.9" is
+// 9/10), a decimal exponent ("1e-300" is 10^-300) or a hex float (a dyadic rational). InputError
+// naming `where` otherwise.
+IMPACTCERT_API Rational parse_exact(const std::string& text, const std::string& where = "number");
+
 // ---------------------------------------------------------------------------------------------
 // Systems: the mechanics a law is derived from (masses M, contact directions W, friction).
 
@@ -118,6 +123,10 @@ class IMPACTCERT_API Law {
     // |gamma|_H^2 = gamma^T H gamma, twice the kinetic energy of the velocity that gamma stands
     // for (H = G^-1 in contact velocities, the metric of the energetic obligation), exactly.
     Rational energy(const Vector& gamma) const;
+    // The law's picture, as `impactcert report` draws it (SVG text): two contacts, the cones and
+    // their images in the metric H; three, the cones on the unit sphere; up to ten, S on each
+    // plane of two contacts; "" beyond (or where that figure would be too large to draw).
+    std::string figure_svg() const;
 
     struct Impl;
     explicit Law(std::shared_ptr<const Impl> impl) : impl_(std::move(impl)) {}

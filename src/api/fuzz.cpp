@@ -76,11 +76,11 @@ FuzzResult fuzz(const Law& law, const BatchFunction& implementation, const FuzzO
     FuzzResult result = translated([&] {
         const Model& model = law.impl().model;
         if (o.max_ulps && o.max_rel_error)
-            throw api::InputError("max_ulps and max_rel_error: give one tolerance");
+            throw api::InputError("--max-ulps and --max-rel-error: give one tolerance");
         if (o.max_rel_error && !(*o.max_rel_error >= 0 && std::isfinite(*o.max_rel_error)))
-            throw api::InputError("max_rel_error: must be a finite number >= 0");
+            throw api::InputError("--max-rel-error: must be a finite number >= 0");
         if (!(o.seconds >= 0 && std::isfinite(o.seconds)))
-            throw api::InputError("seconds: must be a finite number >= 0");
+            throw api::InputError("--seconds: must be a finite number >= 0");
         if (o.batch == 0 || o.batch > 65536)
             throw api::InputError("batch: expected 1..65536 points per call");
         const fuzz::LawFacts facts = fuzz::law_facts(model, o.velocities);
@@ -125,6 +125,8 @@ FuzzResult fuzz_consistency(const System& system, const BatchFunction& implement
         throw api::InputError("fuzz: no implementation (an empty function)");
     auto failure = std::make_shared<Failure>();
     FuzzResult result = translated([&] {
+        if (!(o.seconds >= 0 && std::isfinite(o.seconds)))
+            throw api::InputError("--seconds: must be a finite number >= 0");
         if (o.batch == 0 || o.batch > 65536)
             throw api::InputError("batch: expected 1..65536 points per call");
         fuzz::ConsistencyRequest q;

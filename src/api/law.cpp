@@ -9,6 +9,7 @@
 #include "derive/derived_law.hpp"
 #include "model/law_json.hpp"
 #include "model/paper_law.hpp"
+#include "report/report.hpp"
 #include "sweep/sweep.hpp"
 
 namespace impactcert::api {
@@ -45,24 +46,33 @@ Vector to_public(const impactcert::Vector& v) {
 }
 
 void rethrow_as_api() {
+    // Every message on one line, as the command line prints it.
     try {
         throw;
     } catch (const impactcert::InputError& e) {
-        throw api::InputError(e.what());
+        throw api::InputError(one_line_text(e.what()));
     } catch (const Json::exception& e) {
-        throw api::InputError(e.what());
+        throw api::InputError(one_line_text(e.what()));
     } catch (const DeriveLimit& e) {
-        throw api::LimitError(std::string("derive: ") + e.what());
+        throw api::LimitError(one_line_text(std::string("derive: ") + e.what()));
     } catch (const SweepLimit& e) {
-        throw api::LimitError(e.what());
+        throw api::LimitError(one_line_text(e.what()));
     } catch (const LimitExceeded& e) {
-        throw api::LimitError(e.what());
+        throw api::LimitError(one_line_text(e.what()));
     }
 }
 
 } // namespace detail
 
 using detail::translated;
+
+Rational parse_exact(const std::string& text, const std::string& where) {
+    std::string why;
+    const auto x = parse_cli_number(text, &why);
+    if (!x)
+        throw api::InputError(one_line_text(where + ": \"" + text + "\" is not a number" + (why.empty() ? "" : " (" + why + ")")));
+    return detail::to_public(*x);
+}
 
 // ---- System
 
@@ -152,6 +162,15 @@ std::vector<std::string> Law::pieces_at(const Vector& gamma_minus) const {
         for (const auto p : m.pieces_containing(detail::to_internal(gamma_minus, "gamma-")))
             out.push_back(m.pieces()[p].name);
         return out;
+    });
+}
+
+std::string Law::figure_svg() const {
+    return translated([&] {
+        const Model& m = impl_->model;
+        if (m.contacts() <= 3)
+            return cones_svg(m);
+        return planes_svg(m); // "" where it does not fit
     });
 }
 

@@ -20,6 +20,12 @@ struct InputError : std::runtime_error {
     throw InputError(path + ": " + reason);
 }
 
+// A message as one line of plain text: the backslash doubled, and control characters (C0, DEL,
+// C1, U+2028 and U+2029) written as \n, \r, \t or \uXXXX, so that a name or key taken from the
+// input can neither break an error line nor send escape sequences to a terminal. The command line
+// prints every message through it, and the library's exceptions carry it.
+std::string one_line_text(const std::string& text);
+
 // The parts of such a place: "base[i]", and a key or a text quoted as it appears ("name").
 inline std::string idx(const std::string& base, std::size_t i) { return base + "[" + std::to_string(i) + "]"; }
 inline std::string in_quotes(const std::string& s) { return "\"" + s + "\""; }

@@ -12,20 +12,7 @@ namespace impactcert::cli {
 
 // A comma-separated list of command-line numbers ("1,m,1" has no names here: see sweep).
 std::vector<Rational> number_list(const std::string& option, const std::string& text) {
-    std::vector<Rational> out;
-    std::size_t start = 0;
-    while (true) {
-        const std::size_t comma = text.find(',', start);
-        const std::string item = text.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
-        std::string why;
-        const auto x = parse_cli_number(item, &why);
-        if (!x)
-            throw InputError(option + ": \"" + item + "\" is not a number" + (why.empty() ? "" : " (" + why + ")"));
-        out.push_back(*x);
-        if (comma == std::string::npos)
-            return out;
-        start = comma + 1;
-    }
+    return parse_number_list(option, text);
 }
 
 // Splits on white space and commas; parentheses and brackets are decoration.

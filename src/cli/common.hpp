@@ -26,11 +26,8 @@ constexpr int kExitBadInput = 2;
 constexpr int kExitUndecided = 3;
 constexpr int kExitInternal = 4;
 
-// A message as one line of plain text: the backslash doubled, and control characters (C0, DEL,
-// C1, U+2028 and U+2029) written as \n, \r, \t or \uXXXX, so that a name or key taken from the
-// input can neither break an error line nor send escape sequences to a terminal. (The checker
-// escapes its messages with its own copy, one_line in src/checker/check.cpp: it shares no code.)
-std::string one_line_text(const std::string& text);
+// Messages are printed through one_line_text (base/errors.hpp). (The checker escapes its messages
+// with its own copy, one_line in src/checker/check.cpp: it shares no code.)
 
 // The program's name at the start of its messages ("impactcert", "impactcert-verify"); set by
 // run_program.

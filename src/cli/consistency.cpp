@@ -34,17 +34,13 @@ struct Setup {
 // The options as the library's request (fuzz/consistency_report.hpp: checks, messages, the
 // reference law), then the implementation, which only the command line makes.
 Setup setup(const FuzzArgs& a) {
-    if (a.impl_given && a.impl_cmd_given)
-        throw InputError("--impl and --impl-cmd: give one implementation");
-    if (!(a.timeout > 0 && std::isfinite(a.timeout)))
-        throw InputError("--impl-timeout: must be a finite number of seconds > 0");
     fuzz::ConsistencyRequest q;
-    q.system = system_from(a.system);
+    q.system_source = [&a] { return system_from(a.system); };
     q.velocities = a.velocities;
     q.max_ulps_given = a.max_ulps.has_value();
     q.max_rel_error = a.max_rel_error;
     if (a.restitution_given)
-        q.restitution = a.restitution.empty() ? std::vector<Rational>{} : number_list("--restitution", a.restitution);
+        q.restitution_text = a.restitution;
     q.reference = a.reference;
     q.reference_given = a.reference_given;
     q.require = tokens_of(a.require);
@@ -54,7 +50,20 @@ Setup setup(const FuzzArgs& a) {
     q.seconds = a.options.seconds;
     q.jobs = a.options.jobs;
     q.keep = a.options.keep;
-    Setup s{fuzz::plan_consistency(q), nullptr, nullptr};
+    // The command line's own checks, where they always came: --junit writable before the run
+    // (after --require and --range), one implementation and its timeout after the tolerance.
+    auto between = [&](fuzz::PlanStage stage) {
+        if (stage == fuzz::PlanStage::options) {
+            if (!a.junit.empty())
+                write_file(a.junit, ""); // writable before the run, not after it
+            return;
+        }
+        if (a.impl_given && a.impl_cmd_given)
+            throw InputError("--impl and --impl-cmd: give one implementation");
+        if (!(a.timeout > 0 && std::isfinite(a.timeout)))
+            throw InputError("--impl-timeout: must be a finite number of seconds > 0");
+    };
+    Setup s{fuzz::plan_consistency(q, between), nullptr, nullptr};
     const std::size_t dim = a.velocities ? s.plan.mech.balls() : s.plan.mech.contacts();
     if (!a.float_law.empty()) {
         if (a.impl_given || a.impl_cmd_given)
@@ -208,8 +217,6 @@ int run_consistency_fuzz(const FuzzArgs& a) {
 }
 
 int run_consistency_fuzz_at(const FuzzArgs& a, const FuzzArgs& given, const std::vector<std::uint64_t>& efforts) {
-    if (!a.junit.empty())
-        write_file(a.junit, ""); // writable before the run, not after it
     Setup s = setup(a);
     fuzz::ConsistencyOptions& o = s.plan.options;
     const std::string& rbuf = s.plan.R_text;

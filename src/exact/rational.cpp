@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "exact/rational.hpp"
 
+#include "base/errors.hpp"
+
 #include <cctype>
 
 namespace impactcert {
@@ -266,6 +268,23 @@ std::string short_text(const Rational& x) {
     gmp_snprintf(buf, sizeof buf, "~%.6Fe", f);
     mpf_clear(f);
     return std::string(buf) + " [" + std::to_string(s.size()) + " characters exact]";
+}
+
+std::vector<Rational> parse_number_list(const std::string& option, const std::string& text) {
+    std::vector<Rational> out;
+    std::size_t start = 0;
+    while (true) {
+        const std::size_t comma = text.find(',', start);
+        const std::string item = text.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
+        std::string why;
+        const auto x = parse_cli_number(item, &why);
+        if (!x)
+            throw InputError(option + ": \"" + item + "\" is not a number" + (why.empty() ? "" : " (" + why + ")"));
+        out.push_back(*x);
+        if (comma == std::string::npos)
+            return out;
+        start = comma + 1;
+    }
 }
 
 } // namespace impactcert

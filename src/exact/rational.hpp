@@ -15,6 +15,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace impactcert {
 
@@ -34,6 +35,10 @@ std::optional<Rational> parse_rational(std::string_view text, std::string* why =
 // and decimals "[+-]digits[.digits](e|E)[+-]digits", exact (1e300 is 10^300). An exponent of
 // magnitude above 100000 is an input error (its power of ten would be absurdly long to form).
 std::optional<Rational> parse_cli_number(std::string_view text, std::string* why = nullptr);
+
+// A comma-separated list in the command-line grammar (an option's value: "1,2,1"); InputError
+// "OPTION: "x" is not a number (why)" at the first item that is not one.
+std::vector<Rational> parse_number_list(const std::string& option, const std::string& text);
 
 // Canonical text: "0", "-7", "3/4", "-7/12".
 std::string to_string(const Rational& x);

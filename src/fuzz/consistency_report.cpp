@@ -11,7 +11,7 @@
 
 namespace impactcert::fuzz {
 
-ConsistencyPlan plan_consistency(const ConsistencyRequest& a) {
+ConsistencyPlan plan_consistency(const ConsistencyRequest& a, const std::function<void(PlanStage)>& between) {
     ConsistencyPlan s;
     ConsistencyOptions& o = s.options;
     for (const auto& item : a.require) {
@@ -19,7 +19,7 @@ ConsistencyPlan plan_consistency(const ConsistencyRequest& a) {
             o.nonexpansive = true;
         else if (item == "continuity")
             o.continuity = true;
-        else if (item == "restitution" && !a.restitution)
+        else if (item == "restitution" && !a.restitution && !a.restitution_text)
             throw InputError("--require restitution: give the restitution with --restitution E");
         else if (item != "kinematic" && item != "kinetic" && item != "momentum" && item != "energy" &&
                  item != "friction_cone" && item != "coulomb" && item != "at-rest" && item != "restitution" &&
@@ -30,21 +30,23 @@ ConsistencyPlan plan_consistency(const ConsistencyRequest& a) {
     }
     if (!a.range.empty())
         std::tie(o.range_lo, o.range_hi) = parse_range(a.range);
-    s.system = a.system;
+    if (between)
+        between(PlanStage::options);
+    s.system = a.system_source ? a.system_source() : a.system;
     s.mech = make_mechanics(s.system);
     // --restitution: the restitution property (frictionless: wherever every impact law agrees;
     // with friction: Newton's, at every approaching contact that pushes) and the restitution of a
     // reference law named (approaching, newton).
     std::vector<Rational> restitution;
-    if (a.restitution) {
-        if (a.restitution->empty())
+    if (a.restitution || a.restitution_text) {
+        if (a.restitution_text ? a.restitution_text->empty() : a.restitution->empty())
             throw InputError("--restitution: expected E or one value per contact, got an empty text");
         // With friction the property is Newton's: against a reference law file (which may be a
         // sequential or Poisson-type law) it would contradict the reference the user declares.
         if (s.mech.has_friction() && !a.reference.empty() && a.reference != "approaching" && a.reference != "newton")
             throw InputError("--restitution: with friction the restitution property is Newton's, which a reference law "
                              "file need not be; give --reference approaching or newton, or no --restitution");
-        restitution = *a.restitution;
+        restitution = a.restitution_text ? parse_number_list("--restitution", *a.restitution_text) : *a.restitution;
         if (restitution.size() == 1 && s.mech.normals > 1)
             restitution.assign(s.mech.normals, restitution[0]);
         if (restitution.size() != s.mech.normals)
@@ -63,6 +65,8 @@ ConsistencyPlan plan_consistency(const ConsistencyRequest& a) {
         s.R = *a.max_rel_error;
     }
     s.R_text = shortest_decimal(s.R);
+    if (between)
+        between(PlanStage::tolerance);
     const std::size_t dim = a.velocities ? s.mech.balls() : s.mech.contacts();
     if (dim > kMaxDim)
         throw InputError("fuzz: at most " + std::to_string(kMaxDim) + " input components, the system has " +

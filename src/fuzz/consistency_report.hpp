@@ -6,7 +6,8 @@
 //
 // Contract:
 //   - plan_consistency: the command line's checks and messages, in its order (--require,
-//     --range, --restitution, --max-ulps, --max-rel-error, the dimension, --reference); a
+//     --range, [between], --restitution, --max-ulps, --max-rel-error, [between], the dimension,
+//     --reference); a
 //     reference by name is derived here (approaching, newton, poisson; with friction the Newton
 //     law with Coulomb friction, refused where it is not a function), a file is read and must
 //     have the system's M and W. The plan's options point at its own reference law.
@@ -24,6 +25,7 @@
 #include "prover/worst_case.hpp"
 
 #include <array>
+#include <functional>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -34,10 +36,12 @@ namespace impactcert::fuzz {
 
 struct ConsistencyRequest {
     System system;
+    std::function<System()> system_source;            // when set, the system is made by it, after --require and --range
     bool velocities = false;
     bool max_ulps_given = false;                      // refused: there is no exact law to count ulps against
     std::optional<double> max_rel_error;              // else 1e-9
     std::optional<std::vector<Rational>> restitution; // --restitution: one value, or one per contact
+    std::optional<std::string> restitution_text;      // or as the option's text (parsed here, in order)
     std::string reference;                            // "": none; approaching, newton, poisson, or a law file
     bool reference_given = false;                     // given, even as an empty text
     std::vector<std::string> require;                 // --require's items
@@ -58,7 +62,12 @@ struct ConsistencyPlan {
     ConsistencyOptions options;        // options.reference is reference.get()
 };
 
-ConsistencyPlan plan_consistency(const ConsistencyRequest& request);
+// `between` (optional) is called after the options (--require, --range) and after the tolerance
+// (--restitution, --max-ulps, --max-rel-error): the command line checks its own options there, so
+// that its messages come in the order they always came.
+enum class PlanStage { options, tolerance };
+ConsistencyPlan plan_consistency(const ConsistencyRequest& request,
+                                 const std::function<void(PlanStage)>& between = {});
 
 std::array<bool, kProperties> checked_properties(const ConsistencyPlan& plan, bool nondeterminism);
 

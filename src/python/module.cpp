@@ -24,24 +24,26 @@ namespace ic = impactcert::api;
 
 namespace {
 
+// Exact numbers cross the boundary as hexadecimal text ("-1f/3", GMP's base 16): Python converts
+// its ints to and from base 16 without the 4,300-digit limit it puts on decimal text.
 ic::Vector vector_of(const std::vector<std::string>& texts) {
     ic::Vector out;
     for (std::size_t i = 0; i < texts.size(); ++i) {
         mpq_class x;
-        if (x.set_str(texts[i], 10) != 0)
-            throw ic::InputError("[" + std::to_string(i) + "]: \"" + texts[i] + "\" is not a rational number");
-        if (sgn(x.get_den()) == 0)
-            throw ic::InputError("[" + std::to_string(i) + "]: zero denominator");
+        if (x.set_str(texts[i], 16) != 0 || sgn(x.get_den()) == 0)
+            throw ic::InputError("[" + std::to_string(i) + "]: not an exact number from the impactcert package");
         x.canonicalize();
         out.push_back(x);
     }
     return out;
 }
 
+std::string text_of(const mpq_class& x) { return x.get_str(16); }
+
 std::vector<std::string> texts_of(const ic::Vector& v) {
     std::vector<std::string> out;
     for (const auto& x : v)
-        out.push_back(x.get_str());
+        out.push_back(text_of(x));
     return out;
 }
 
@@ -55,11 +57,15 @@ std::string run_batches(const py::function& implementation, std::size_t dim, Run
         py::array_t<double> points({count, dim});
         std::memcpy(points.mutable_data(), in, count * dim * sizeof(double));
         py::object answer = implementation(points);
+        // Real numbers only: a complex array would be cut to its real part by the conversion.
+        if (py::isinstance<py::array>(answer) && py::array(answer).dtype().kind() == 'c')
+            throw ic::InputError("the implementation returned complex numbers; expected an array of floats of shape (" +
+                                 std::to_string(count) + ", " + std::to_string(dim) + ")");
         auto values = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(answer);
         if (!values || values.ndim() != 2 || static_cast<std::size_t>(values.shape(0)) != count ||
             static_cast<std::size_t>(values.shape(1)) != dim)
-            throw py::value_error("the implementation must return an array of shape (" + std::to_string(count) + ", " +
-                                  std::to_string(dim) + ") for an input of that shape");
+            throw ic::InputError("the implementation must return an array of shape (" + std::to_string(count) + ", " +
+                                 std::to_string(dim) + ") for an input of that shape");
         std::memcpy(out, values.data(), count * dim * sizeof(double));
     };
     std::exception_ptr failure;
@@ -82,6 +88,10 @@ std::string run_batches(const py::function& implementation, std::size_t dim, Run
 PYBIND11_MODULE(_impactcert, m) {
     m.doc() = "impactcert's C++ library (use the impactcert package, not this module)";
     m.def("version", &ic::version);
+    // A number in the command line's grammar (p/q, decimals, exponents, hex floats), as hex text.
+    m.def("_parse_exact", [](const std::string& text, const std::string& where) {
+        return text_of(ic::parse_exact(text, where));
+    });
 
     // The library's errors as impactcert.InputError / LimitError / Error (defined in Python, so
     // that InputError is also a ValueError and LimitError a RuntimeError), with .exit_status.
@@ -128,6 +138,7 @@ PYBIND11_MODULE(_impactcert, m) {
         .def_property_readonly("velocities", &ic::Law::velocities)
         .def_property_readonly("pieces", &ic::Law::pieces)
         .def("piece_names", &ic::Law::piece_names)
+        .def("figure_svg", &ic::Law::figure_svg, py::call_guard<py::gil_scoped_release>())
         .def("to_json", &ic::Law::to_json)
         .def("write", &ic::Law::write, py::arg("path"), py::call_guard<py::gil_scoped_release>())
         .def("_evaluate", [](const ic::Law& law, const std::vector<std::string>& gamma) {
@@ -137,7 +148,7 @@ PYBIND11_MODULE(_impactcert, m) {
             return out;
         }, py::call_guard<py::gil_scoped_release>())
         .def("_energy", [](const ic::Law& law, const std::vector<std::string>& gamma) {
-            return law.energy(vector_of(gamma)).get_str();
+            return text_of(law.energy(vector_of(gamma)));
         }, py::call_guard<py::gil_scoped_release>())
         .def("_pieces_at", [](const ic::Law& law, const std::vector<std::string>& gamma) {
             return law.pieces_at(vector_of(gamma));

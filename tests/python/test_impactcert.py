@@ -42,6 +42,8 @@ def test_derived_law_and_verdict_are_the_command_lines(tmp_path):
     with pytest.raises(KeyError):
         report["no-such-obligation"]
     assert "energetic" in repr(report) and "<table>" in report._repr_html_()
+    # In a notebook the report shows the law's picture too (the report's cones figure).
+    assert "<svg" in report._repr_html_() and d.law.figure_svg() in d.law._repr_html_()
 
 
 def test_a_refutation_carries_the_exact_witness_as_fractions(tmp_path):
@@ -222,3 +224,71 @@ def test_consistency_fuzzing_of_a_python_callable_matches_the_command_line():
     assert strip_run_details(r.report) == strip_run_details(json.loads(c.stdout))
     with pytest.raises(ic.InputError, match="--require: unknown property"):
         ic.fuzz_consistency(ic.System.chain([1, 1]), lambda p: p, require=["speed"])
+
+
+def test_witness_names_stay_names_and_numbers_are_exact():
+    law = ic.derive(ic.System.chain([1, 1, 1]), restitution="1/2").law
+    cex = ic.verify(law)["P1"].counterexample
+    # Sequential pieces are named by their words ("121"): names, not numbers.
+    assert isinstance(cex["piece_a"], str) and isinstance(cex["piece_b"], str)
+    assert cex["piece_a"] in law.piece_names() and cex["piece_b"] in law.piece_names()
+    assert all(isinstance(x, Fraction) for x in cex["gamma"])
+
+
+def test_numbers_beyond_pythons_decimal_limit():
+    law = ic.Law.paper()
+    e10, e01, e11 = law.energy([1, 0]), law.energy([0, 1]), law.energy([1, 1])
+    cross = (e11 - e10 - e01) / 2
+    big = 10 ** 5000  # beyond the 4,300 digits Python converts to decimal text
+    assert law.energy([big, 1]) == big * big * e10 + e01 + 2 * big * cross
+    # A decimal string of 5,001 digits, and the exact value back.
+    assert law.evaluate(["1" + "0" * 5000, "0"]) == (Fraction(big), Fraction(0))
+
+
+def test_the_command_lines_grammar_for_exact_text():
+    chain = ic.System.chain([1, 1, 1])
+    assert (ic.derive(chain, restitution="0.9").law.to_json() ==
+            ic.derive(chain, restitution=Fraction(9, 10)).law.to_json())
+    assert ic.Law.paper().evaluate(["-1e0", np.int64(0)]) == (Fraction(0), Fraction(1))
+    for bad in ("1_000", "1/0", "", "nan"):
+        with pytest.raises(ic.InputError, match="gamma-"):
+            ic.Law.paper().evaluate([bad, 0])
+    with pytest.raises(ic.InputError, match="is a float"):
+        ic.Law.paper().evaluate([np.float64(-1), 0])
+
+
+def test_bad_implementations_and_options_are_input_errors():
+    law = ic.Law.paper()
+    with pytest.raises(ic.InputError, match="complex"):
+        ic.fuzz(law, lambda p: p.astype(complex), samples=10)
+    with pytest.raises(ic.InputError, match="shape"):
+        ic.fuzz(law, lambda p: p[:, :1], samples=10)
+    with pytest.raises(ic.InputError, match="implementation"):
+        ic.fuzz(law, "not a function", samples=10)
+    with pytest.raises(ic.InputError, match="--samples"):
+        ic.fuzz(law, lambda p: p, samples=-1)
+    chain = ic.System.chain([1, 1, 1])
+    for seconds in (float("nan"), -1.0, float("inf")):
+        with pytest.raises(ic.InputError, match="--seconds"):
+            ic.fuzz_consistency(chain, lambda p: p, seconds=seconds)
+    # --require as one text, as the command line takes it.
+    r = ic.fuzz_consistency(chain, lambda p: p.copy(), samples=50, require="nonexpansive", velocities=True)
+    assert r.report["checked_properties"]["nonexpansive"] is True
+    assert ic.fuzz(law, lambda p: p, samples=10, max_ulps=np.int64(2)).report["tolerance"] == "--max-ulps 2"
+
+
+def test_messages_are_one_line(tmp_path):
+    with pytest.raises(ic.InputError) as e:
+        ic.Law.read(tmp_path / "no\nsuch")
+    assert "\n" not in str(e.value) and "\\n" in str(e.value)
+
+
+def test_the_command_lines_order_of_checks_in_consistency_mode(tmp_path):
+    # --require is checked before --junit is written: a bad option leaves no file behind.
+    junit = tmp_path / "j.xml"
+    r = cli("fuzz", "--masses", "1,1,1", "--require", "bogus", "--junit", str(junit), "--impl-cmd", "cat")
+    assert r.returncode == 2 and "--require: unknown property" in r.stderr and not junit.exists()
+    r = cli("fuzz", "--masses", "1,1,1", "--range", "5..1", "--restitution", "abc", "--impl-cmd", "cat")
+    assert r.returncode == 2 and "--range" in r.stderr
+    r = cli("fuzz", "--masses", "1,1,1", "--require", "bogus", "--impl", "x.so:f", "--impl-cmd", "cat")
+    assert r.returncode == 2 and "--require" in r.stderr

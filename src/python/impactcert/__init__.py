@@ -8,9 +8,11 @@ caller had in mind: 0.1 is 3602879701896397/36028797018963968). The exact work r
 the GIL released.
 
     >>> import impactcert as ic
-    >>> law = ic.derive(ic.System.chain([1, 1, 1]), restitution="9/10").law
+    >>> law = ic.derive(ic.System.chain([1, 1, 1])).law
     >>> ic.verify(law).verdict
     'proved'
+
+docs/python.md walks through the module (a doctest that CI runs).
 """
 
 import html as _html
@@ -47,31 +49,33 @@ class LimitError(Error, RuntimeError):
     exit_status = 3
 
 
+def _hex(q):
+    """An exact value as the compiled module takes it: hexadecimal "p/q" (no 4,300-digit limit)."""
+    n, d = q.numerator, q.denominator
+    return f"{'-' if n < 0 else ''}{abs(n):x}/{d:x}"
+
+
 def _exact_text(x, where):
-    """The canonical text "p/q" of an exact value, or InputError saying why it is not one."""
+    """The text the compiled module takes for an exact value, or InputError saying why it is not one."""
     if isinstance(x, bool):
         raise InputError(f"{where}: expected a rational number, got a bool")
-    if isinstance(x, float):
+    if isinstance(x, float) or (hasattr(x, "dtype") and getattr(x.dtype, "kind", "") in "fc"):
         raise InputError(f"{where}: {x!r} is a float; give an exact value (int, Fraction or a string "
                          f"such as \"3/4\"): a float is rarely the number meant "
-                         f"(0.1 is {Fraction(0.1)})")
+                         f"(0.1 is 3602879701896397/36028797018963968)")
     if isinstance(x, _numbers.Rational):
-        q = Fraction(x.numerator, x.denominator)
-        return f"{q.numerator}/{q.denominator}"
+        return _hex(x)
+    if hasattr(x, "dtype") and getattr(x.dtype, "kind", "") in "iu":  # NumPy integers
+        return _hex(Fraction(int(x)))
     if isinstance(x, str):
-        try:
-            q = Fraction(x.strip())
-        except (ValueError, ZeroDivisionError) as e:
-            raise InputError(f"{where}: \"{x}\" is not a rational number ({e})") from None
-        if "." in x or "e" in x.lower():
-            raise InputError(f"{where}: \"{x}\": give an integer or a fraction p/q")
-        return f"{q.numerator}/{q.denominator}"
-    raise InputError(f"{where}: expected a rational number (int, Fraction, numbers.Rational or \"p/q\"), "
-                     f"got {type(x).__name__}")
+        # The command line's grammar: integers, p/q, decimals ("0.9" is 9/10), exponents, hex floats.
+        return _impactcert._parse_exact(x.strip(), where)
+    raise InputError(f"{where}: expected a rational number (int, Fraction, numbers.Rational or a string "
+                     f"such as \"3/4\"), got {type(x).__name__}")
 
 
 def _exact_list(xs, where):
-    if isinstance(xs, (str, _numbers.Number)):
+    if isinstance(xs, (str, _numbers.Number)) or (hasattr(xs, "dtype") and getattr(xs, "ndim", 1) == 0):
         xs = [xs]
     try:
         items = list(xs)
@@ -81,21 +85,32 @@ def _exact_list(xs, where):
 
 
 def _fraction(text):
-    return Fraction(text)
+    """A Fraction from the compiled module's hexadecimal "p/q"."""
+    n, _, d = text.partition("/")
+    return Fraction(int(n, 16), int(d, 16) if d else 1)
 
 
-def _exact_json(value):
-    """A witness or report value with its exact strings ("p/q", "-3") turned into Fractions."""
+# Keys of witnesses whose values are names (pieces, modes, words), never numbers: "121" there is
+# the piece named 121.
+_NAME_PARTS = ("piece", "mode", "word", "name", "reason", "detail", "symmetr", "identit", "outcome", "method", "limit")
+_NAME_KEYS = ("id", "via", "what", "format", "verdict", "law", "kind", "generator")
+
+
+def _is_name_key(key):
+    return key is not None and (key in _NAME_KEYS or any(part in key.lower() for part in _NAME_PARTS))
+
+
+def _exact_json(value, key=None):
+    """A witness or report value with its exact numbers ("p/q", "-3") as Fractions, names kept."""
     if isinstance(value, dict):
-        return {k: _exact_json(v) for k, v in value.items()}
+        return {k: _exact_json(v, k) for k, v in value.items()}
     if isinstance(value, list):
-        return [_exact_json(v) for v in value]
-    if isinstance(value, str):
-        try:
-            if value and (value[0].isdigit() or value[0] == "-") and all(c in "0123456789-/" for c in value):
-                return Fraction(value)
-        except (ValueError, ZeroDivisionError):
-            pass
+        return [_exact_json(v, key) for v in value]
+    if isinstance(value, str) and not _is_name_key(key):
+        body = value[1:] if value.startswith("-") else value
+        num, _, den = body.partition("/")
+        if num.isdigit() and (not den or den.isdigit()):
+            return _fraction(_impactcert._parse_exact(value, key or "witness"))
     return value
 
 
@@ -187,8 +202,17 @@ class Law:
         """|gamma|_H^2 = gamma^T H gamma (twice the kinetic energy gamma stands for), exactly."""
         return _fraction(self._native._energy(_exact_list(gamma, "gamma")))
 
+    def figure_svg(self):
+        """The law's picture as `impactcert report` draws it (SVG text; "" when it has none)."""
+        return self._native.figure_svg()
+
     def __repr__(self):
         return f"<impactcert.Law {self.name}: {self.pieces} pieces, {self.contacts} contacts>"
+
+    def _repr_html_(self):
+        svg = self.figure_svg()
+        head = f"<p><b>{_html.escape(self.name)}</b>: {self.pieces} pieces, {self.contacts} contacts</p>"
+        return head + svg
 
 
 class Derivation:
@@ -224,7 +248,8 @@ class Obligation:
 class Report:
     """The verdict of verify(): every obligation, and the JSON `impactcert verify --json` prints."""
 
-    def __init__(self, native):
+    def __init__(self, native, law=None):
+        self._law = law
         self.json = native.json
         self.law = native.law
         self.verdict = native.verdict
@@ -255,10 +280,11 @@ class Report:
                f"{_html.escape(_json.dumps(o.counterexample, default=str))}</small></td></tr>"
                if o.counterexample is not None else "")
             for o in self.obligations)
+        figure = self._law.figure_svg() if self._law is not None else ""
         return (f"<p><b>{_html.escape(self.law)}</b>: "
                 f"<span style='color:{colour.get(self.verdict, '#000')}'>{self.verdict}</span></p>"
                 f"<table><tr><th>obligation</th><th>claimed</th><th>verdict</th><th>checks</th>"
-                f"<th>method</th></tr>{rows}</table>")
+                f"<th>method</th></tr>{rows}</table>{figure}")
 
 
 class CheckResult:
@@ -304,7 +330,7 @@ def derive(system, kind="sequential", restitution=(), rule="most-negative", max_
 
 def verify(law, max_pieces=500000, max_memory_mb=640, jobs=1):
     """Every proof obligation of the law, decided exactly (`impactcert verify`)."""
-    return Report(_impactcert._verify(law._native, max_pieces, max_memory_mb, jobs))
+    return Report(_impactcert._verify(law._native, max_pieces, max_memory_mb, jobs), law)
 
 
 def certify(law, max_pieces=500000, max_memory_mb=640, jobs=1):
@@ -317,18 +343,30 @@ def check_certificate(text):
     return CheckResult(*_impactcert._check_certificate(text))
 
 
+def _check_run(implementation, samples, seed, batch):
+    if not callable(implementation):
+        raise InputError(f"implementation: expected a function of an (N, n) array, got {type(implementation).__name__}")
+    for name, value in (("--samples", samples), ("--seed", seed), ("batch", batch)):
+        if isinstance(value, bool) or not isinstance(value, _numbers.Integral) or value < 0 or value >= 2 ** 64:
+            raise InputError(f"{name}: expected an integer in [0, 2^64 - 1], got {value!r}")
+
+
 def fuzz(law, implementation, samples=100000, seed=1, seconds=0.0, max_ulps=None, max_rel_error=None,
          velocities=False, range=None, allow_extreme=False, name="Python callable", batch=1024):
     """Fuzz a float implementation against the exact law, in-process (`impactcert fuzz --law`).
 
     implementation(points) takes an (N, n) NumPy array of float64 (n: the law's contacts, or its
-    velocities with velocities=True) and returns an (N, n) array. It is called with batches of up
-    to `batch` points; the exact work runs in C++ without the GIL."""
-    if max_ulps is not None and (isinstance(max_ulps, bool) or not isinstance(max_ulps, int) or max_ulps < 0):
-        raise InputError("max_ulps: expected an integer >= 0")
-    return FuzzResult(_impactcert._fuzz(law._native, implementation, seed, samples, float(seconds), max_ulps,
+    velocities with velocities=True) and returns an (N, n) array of floats. Each call holds the
+    points of up to `batch` samples (a close pair is two points); the exact work runs in C++
+    without the GIL."""
+    _check_run(implementation, samples, seed, batch)
+    if max_ulps is not None:
+        if isinstance(max_ulps, bool) or not isinstance(max_ulps, _numbers.Integral) or max_ulps < 0:
+            raise InputError("--max-ulps: expected an integer >= 0")
+        max_ulps = int(max_ulps)
+    return FuzzResult(_impactcert._fuzz(law._native, implementation, int(seed), int(samples), float(seconds), max_ulps,
                                         None if max_rel_error is None else float(max_rel_error), velocities,
-                                        range or "", allow_extreme, name, batch))
+                                        range or "", allow_extreme, name, int(batch)))
 
 
 def fuzz_consistency(system, implementation, samples=100000, seed=1, seconds=0.0, max_rel_error=1e-9,
@@ -338,7 +376,10 @@ def fuzz_consistency(system, implementation, samples=100000, seed=1, seconds=0.0
     `impactcert fuzz --masses|--system` without --law, in-process. Findings are decided exactly at
     the implementation's doubles; with reference ("approaching", "newton", "poisson" or a law
     file) each is law-level or solver-level; restitution adds the restitution property."""
+    _check_run(implementation, samples, seed, batch)
+    if isinstance(require, str):
+        require = [r for r in require.replace(",", " ").split() if r]
     return FuzzResult(_impactcert._fuzz_consistency(
-        system._native, implementation, seed, samples, float(seconds), float(max_rel_error), velocities,
-        None if restitution is None else _exact_list(restitution, "restitution"), reference,
-        list(require), range or "", name, batch))
+        system._native, implementation, int(seed), int(samples), float(seconds), float(max_rel_error), velocities,
+        None if restitution is None else _exact_list(restitution, "--restitution"), reference,
+        list(require), range or "", name, int(batch)))
