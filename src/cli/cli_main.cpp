@@ -235,6 +235,7 @@ int main(int argc, char** argv) {
     sequential_cmd->add_option("--rule", derive_args.rule, "which approaching contact impacts first: most-negative, left-first or right-first; any: every admissible order (the law when the order never matters, else exit 1 with a witness)")->capture_default_str();
     sequential_cmd->add_option("--max-words", derive_args.max_words, "with --rule any: limit on the admissible words (cells) examined; undecided (exit 3) beyond it")->check(natural_text)->capture_default_str();
     sequential_cmd->add_option("--max-impacts", derive_args.max_impacts, "longest impact sequence allowed")->check(natural_text)->capture_default_str();
+    sequential_cmd->add_flag("--stream", derive_args.stream, "write the pieces as they are found (needs -o FILE): memory grows with the exploration's frontier and the largest bucket of regions, not with the law; the same law, its pieces in another order; spill files beside FILE, removed at the end");
     newton_cmd->add_option("--restitution-tangential", newton_args.restitution_tangential, "with friction: e_T of every tangent, in [0, 1] (default: the system's, else 0)");
     newton_cmd->add_option("--max-modes", newton_args.max_modes, "with friction: limit on the contact modes enumerated (their pairs are compared); undecided (exit 3) beyond it")->check(natural_text)->capture_default_str();
     newton_cmd->add_flag("--json", newton_args.json, "with friction and exit 1 (not a function): the exact witness as JSON on standard output");

@@ -47,6 +47,12 @@ int run_derive_sequential(const DeriveArgs& a) {
                         ? o.System::restitution
                         : restitution_list(a.restitution.empty() ? "1" : a.restitution, mech.normals);
     const bool any_order = a.rule == "any";
+    if (a.stream && (a.out.empty() || a.out == "-"))
+        throw InputError("--stream: give the law file with -o FILE (the pieces are written as they are found)");
+    if (a.stream && any_order)
+        throw InputError("--stream: not with --rule any (every order is compared in memory)");
+    if (a.stream && mech.has_friction())
+        throw InputError("--stream: not with friction (the sequential law with friction is derived in memory)");
     o.rule = any_order ? ImpactRule::most_negative : parse_rule(a.rule);
     o.max_impacts = a.max_impacts;
     o.max_bits = a.max_bits;
@@ -101,7 +107,7 @@ int run_derive_sequential(const DeriveArgs& a) {
                      std::to_string(order.words) + " admissible words, the longest " + std::to_string(order.max_word) +
                      " impacts; impactcert derive sequential --rule any)";
     }
-    DeriveResult r = derive_sequential(o);
+    DeriveResult r = a.stream ? derive_sequential_streamed(o, a.out) : derive_sequential(o);
     if (r.law && any_order)
         r.law->description += order_note;
     if (r.not_a_function) {
@@ -128,6 +134,11 @@ int run_derive_sequential(const DeriveArgs& a) {
             write_stdout(j.dump(2) + "\n");
         }
         return kExitUndecided;
+    }
+    if (a.stream) {
+        std::cerr << "impactcert: wrote " << a.out << " (" << r.pieces << " pieces, " << r.regions
+                  << " regions, longest word " << r.max_word << "; streamed)\n";
+        return kExitProved;
     }
     set_expected_claims(*r.law, o.restitution);
     emit(a.out, law_file_text(*r.law),

@@ -43,6 +43,7 @@ struct DeriveArgs {
     std::size_t max_impacts = 100, max_bits = kDefaultMaxBits, max_words = kDefaultMaxWords;
     std::size_t max_memory_mb = kDefaultDeriveMemoryMb;
     bool json = false;
+    bool stream = false; // sequential: --stream (derive_sequential_streamed)
 };
 int run_derive_sequential(const DeriveArgs& a);
 

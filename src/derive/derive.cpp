@@ -230,54 +230,75 @@ Sign integer_determinant_sign(const Matrix& a) {
     return sgn(m[(n - 1) * n + (n - 1)]) * sign > 0 ? Sign::positive : Sign::negative;
 }
 
+OutcomeTracker::OutcomeTracker(const Law& head, const std::function<std::optional<Vector>(const Vector&)>& simulate)
+    : mech_(make_mechanics(head.masses, head.M, head.W, head.friction)) {
+    // Classical outcomes, by the independent simulation, where every piece containing gamma-
+    // agrees with it.
+    for (auto experiment : classical_experiments(mech_.balls())) {
+        const auto u_plus = simulate(experiment.u_minus);
+        if (!u_plus)
+            continue;
+        experiment.u_plus = *u_plus;
+        Track track{experiment, transpose(mech_.W) * experiment.u_minus, true, false};
+        tracks_.push_back(std::move(track));
+    }
+}
+
+void OutcomeTracker::add(const PieceDecl& piece) {
+    // Containment by the signs of Cramer's determinants (gamma = R s, s >= 0), without building a
+    // Model: the pieces of a long word carry numbers of thousands of digits, and inverting every
+    // ray matrix cost more than the derivation.
+    const std::size_t c = mech_.contacts();
+    auto det = [c](const Matrix& a) -> Sign {
+        if (c == 2)
+            return sign_of(a(0, 0) * a(1, 1) - a(0, 1) * a(1, 0));
+        return integer_determinant_sign(a);
+    };
+    if (!piece.rays)
+        throw std::logic_error("declare_outcomes: a derived piece without rays");
+    std::optional<Matrix> R;
+    std::optional<Sign> whole;
+    for (auto& track : tracks_) {
+        if (!track.agree)
+            continue;
+        if (!R) {
+            R = Matrix::from_columns(*piece.rays);
+            whole = det(*R);
+        }
+        bool inside = *whole != Sign::zero;
+        for (std::size_t k = 0; k < c && inside; ++k) {
+            Matrix Rk = *R;
+            for (std::size_t i = 0; i < c; ++i)
+                Rk(i, k) = track.gamma[i];
+            const Sign sk = det(Rk);
+            inside = sk == Sign::zero || sk == *whole;
+        }
+        if (!inside)
+            continue;
+        track.inside_any = true;
+        const Vector impulse = mech_.H * (piece.Q * track.gamma - track.gamma);
+        track.agree = track.experiment.u_minus + mech_.M_inv * (mech_.W * impulse) == track.experiment.u_plus;
+    }
+}
+
+std::vector<OutcomeDecl> OutcomeTracker::outcomes() const {
+    std::vector<OutcomeDecl> out;
+    for (const auto& track : tracks_)
+        if (track.agree && track.inside_any)
+            out.push_back(track.experiment);
+    return out;
+}
+
 void declare_outcomes(Law& law, const std::vector<OutcomeDecl>& override_outcomes,
                       const std::function<std::optional<Vector>(const Vector&)>& simulate) {
     if (!override_outcomes.empty()) {
         law.outcomes = override_outcomes;
         return;
     }
-    // Classical outcomes, by the independent simulation, where every piece containing gamma-
-    // agrees with it. Containment by the signs of Cramer's determinants (gamma = R s, s >= 0),
-    // without building a Model: the pieces of a long word carry numbers of thousands of digits,
-    // and inverting every ray matrix cost more than the derivation.
-    const Mechanics mech = make_mechanics(law.masses, law.M, law.W, law.friction);
-    const std::size_t c = mech.contacts();
-    auto det = [c](const Matrix& a) -> Sign {
-        if (c == 2)
-            return sign_of(a(0, 0) * a(1, 1) - a(0, 1) * a(1, 0));
-        return integer_determinant_sign(a);
-    };
-    for (auto experiment : classical_experiments(mech.balls())) {
-        const auto u_plus = simulate(experiment.u_minus);
-        if (!u_plus)
-            continue;
-        const Vector gamma = transpose(mech.W) * experiment.u_minus;
-        bool agree = true, inside_any = false;
-        for (std::size_t p = 0; p < law.pieces.size() && agree; ++p) {
-            const PieceDecl& piece = law.pieces[p];
-            if (!piece.rays)
-                throw std::logic_error("declare_outcomes: a derived piece without rays");
-            const Matrix R = Matrix::from_columns(*piece.rays);
-            const Sign whole = det(R);
-            bool inside = whole != Sign::zero;
-            for (std::size_t k = 0; k < c && inside; ++k) {
-                Matrix Rk = R;
-                for (std::size_t i = 0; i < c; ++i)
-                    Rk(i, k) = gamma[i];
-                const Sign sk = det(Rk);
-                inside = sk == Sign::zero || sk == whole;
-            }
-            if (!inside)
-                continue;
-            inside_any = true;
-            const Vector impulse = mech.H * (piece.Q * gamma - gamma);
-            agree = experiment.u_minus + mech.M_inv * (mech.W * impulse) == *u_plus;
-        }
-        if (agree && inside_any) {
-            experiment.u_plus = *u_plus;
-            law.outcomes.push_back(experiment);
-        }
-    }
+    OutcomeTracker tracker(law, simulate);
+    for (const auto& piece : law.pieces)
+        tracker.add(piece);
+    law.outcomes = tracker.outcomes();
 }
 
 std::string system_text(const System& s) {
@@ -285,10 +306,6 @@ std::string system_text(const System& s) {
         return "a chain of " + std::to_string(s.masses.size()) + " balls, masses " + list_text(s.masses);
     return "system " + s.name + " (" + describe_system(s) + ")";
 }
-
-} // namespace derive_detail
-
-namespace {
 
 Law law_header(const DeriveOptions& options, std::size_t n) {
     Law law;
@@ -307,6 +324,39 @@ Law law_header(const DeriveOptions& options, std::size_t n) {
     return law;
 }
 
+std::vector<SingleImpactDecl> single_impacts_of(const std::map<std::size_t, std::string>& letter_piece,
+                                                const std::vector<Rational>& restitution) {
+    std::vector<SingleImpactDecl> out;
+    for (const auto& [k, name] : letter_piece)
+        out.push_back(SingleImpactDecl{name, static_cast<int>(k + 1), restitution[k]});
+    return out;
+}
+
+std::optional<IdentityDecl> identity_of(const std::string& name, const std::vector<std::size_t>& word,
+                                        const std::map<std::size_t, std::string>& letter_piece) {
+    if (word.size() < 2)
+        return std::nullopt;
+    IdentityDecl id;
+    id.lhs = name;
+    for (auto it = word.rbegin(); it != word.rend(); ++it) {
+        const auto letter = letter_piece.find(*it);
+        if (letter == letter_piece.end())
+            return std::nullopt; // a letter without its piece: no factorisation declared
+        id.product.push_back(letter->second);
+    }
+    return id;
+}
+
+std::function<std::optional<Vector>(const Vector&)> outcome_simulation(const DeriveOptions& options) {
+    return [&options](const Vector& u) {
+        return simulate_balls(options, options.restitution, options.rule, u, options.max_impacts);
+    };
+}
+
+} // namespace derive_detail
+
+namespace {
+
 // The declarations of a derived law from its pieces (name, word): single impacts (one-letter
 // words), factorisations, outcomes.
 void finish_law(const DeriveOptions& options, Law& law,
@@ -315,26 +365,11 @@ void finish_law(const DeriveOptions& options, Law& law,
     for (const auto& [name, word] : pieces)
         if (word.size() == 1 && !letter_piece.count(word[0]))
             letter_piece[word[0]] = name;
-    for (const auto& [k, name] : letter_piece)
-        law.single_impacts.push_back(SingleImpactDecl{name, static_cast<int>(k + 1), options.restitution[k]});
-    for (const auto& [name, word] : pieces) {
-        if (word.size() < 2)
-            continue;
-        IdentityDecl id;
-        id.lhs = name;
-        bool complete = true;
-        for (auto it = word.rbegin(); it != word.rend(); ++it) {
-            if (!letter_piece.count(*it))
-                complete = false;
-            else
-                id.product.push_back(letter_piece[*it]);
-        }
-        if (complete)
-            law.identities.push_back(id);
-    }
-    declare_outcomes(law, options.outcomes_override, [&](const Vector& u) {
-        return simulate_balls(options, options.restitution, options.rule, u, options.max_impacts);
-    });
+    law.single_impacts = single_impacts_of(letter_piece, options.restitution);
+    for (const auto& [name, word] : pieces)
+        if (auto id = identity_of(name, word, letter_piece))
+            law.identities.push_back(std::move(*id));
+    declare_outcomes(law, options.outcomes_override, outcome_simulation(options));
 }
 
 // Two contacts: the regions are sectors of the plane (derive_planar.hpp).
@@ -376,34 +411,22 @@ DeriveResult derive_planar(const DeriveOptions& options, const Mechanics& mech, 
 
 } // namespace
 
-DeriveResult derive_sequential(const DeriveOptions& options) {
-    const Mechanics mech = make_mechanics(options);
-    if (mech.has_friction()) {
-        validate(options, mech.normals);
-        return derive_sequential_friction(options, mech);
-    }
-    const std::size_t n = mech.balls(), c = mech.contacts();
-    validate(options, c);
-    const PplScope ppl;
-    const Matrix& G = mech.G;
-    std::vector<Matrix> Qk;
-    for (std::size_t k = 0; k < c; ++k) {
-        Qk.push_back(two_body_impact(G, k, options.restitution[k]));
-        check_bits(Qk.back(), options.max_bits, "the impact matrix of contact " + std::to_string(k + 1));
-    }
+namespace derive_detail {
 
-    DeriveResult result;
-    if (c == 2 && !options.polyhedral)
-        return derive_planar(options, mech, Qk);
-    std::vector<Region> regions;
+// The words of the sequential process, depth first (derive_regions.hpp): each final region to
+// `found`, or the first gamma- whose word exceeds max_impacts. The cells waiting are counted
+// against `budget`; what `found` keeps is the caller's to count.
+Explored explore_words(const DeriveOptions& options, const std::vector<Matrix>& Qk, RegionBudget& budget,
+                       const std::function<void(Region&&)>& found) {
+    const std::size_t c = Qk.size();
+    Explored result;
     std::vector<Region> work;
-    RegionBudget budget(options.max_memory_mb); // the regions found and the cells waiting
     work.push_back({cone_of(c, {}), Matrix::identity(c), {}, {}});
     budget.add(RegionBudget::bytes_of(work.back()), "regions");
     std::size_t nodes = 0;
     while (!work.empty()) {
         if (options.progress && ++nodes % 1024 == 0)
-            options.progress("regions", regions.size(), 0);
+            options.progress("regions", result.regions, 0);
         Region node = std::move(work.back());
         work.pop_back();
         budget.remove(RegionBudget::bytes_of(node));
@@ -442,8 +465,9 @@ DeriveResult derive_sequential(const DeriveOptions& options) {
             if (!full_dimensional(cell, c))
                 continue;
             if (branch == c) {
-                regions.push_back({cell, node.M, node.key, word_name(node.key, c)});
-                budget.add(RegionBudget::bytes_of(regions.back()), "regions");
+                ++result.regions;
+                result.max_word = std::max(result.max_word, node.key.size());
+                found(Region{cell, node.M, node.key, word_name(node.key, c)});
                 continue;
             }
             if (node.key.size() == options.max_impacts) {
@@ -466,9 +490,43 @@ DeriveResult derive_sequential(const DeriveOptions& options) {
             budget.add(RegionBudget::bytes_of(work.back()), "regions");
         }
     }
-    result.regions = regions.size();
-    for (const auto& region : regions)
-        result.max_word = std::max(result.max_word, region.key.size());
+    return result;
+}
+
+} // namespace derive_detail
+
+DeriveResult derive_sequential(const DeriveOptions& options) {
+    const Mechanics mech = make_mechanics(options);
+    if (mech.has_friction()) {
+        validate(options, mech.normals);
+        return derive_sequential_friction(options, mech);
+    }
+    const std::size_t n = mech.balls(), c = mech.contacts();
+    validate(options, c);
+    const PplScope ppl;
+    const Matrix& G = mech.G;
+    std::vector<Matrix> Qk;
+    for (std::size_t k = 0; k < c; ++k) {
+        Qk.push_back(two_body_impact(G, k, options.restitution[k]));
+        check_bits(Qk.back(), options.max_bits, "the impact matrix of contact " + std::to_string(k + 1));
+    }
+
+    DeriveResult result;
+    if (c == 2 && !options.polyhedral)
+        return derive_planar(options, mech, Qk);
+    std::vector<Region> regions;
+    RegionBudget budget(options.max_memory_mb); // the regions found and the cells waiting
+    const Explored explored = explore_words(options, Qk, budget, [&](Region&& region) {
+        budget.add(RegionBudget::bytes_of(region), "regions");
+        regions.push_back(std::move(region));
+    });
+    if (explored.not_finite) {
+        result.not_finite = explored.not_finite;
+        result.word = explored.word;
+        return result;
+    }
+    result.regions = explored.regions;
+    result.max_word = explored.max_word;
     Law law = law_header(options, n);
     const auto written = add_region_pieces(regions, c, law, options.progress, &budget);
     result.peak_bytes = budget.peak();

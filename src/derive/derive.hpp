@@ -67,6 +67,7 @@ struct DeriveResult {
     std::size_t regions = 0;           // word regions found
     std::size_t max_word = 0;          // longest word
     std::size_t peak_bytes = 0;        // the most the regions and pieces held (--max-memory's count)
+    std::size_t pieces = 0;            // the pieces written (a streamed derivation)
     // With friction: a gamma- where the written regions do not tile (a gap or an overlap of two
     // different maps: the fan's witness), and the fan's reason.
     std::optional<Vector> not_a_function;
@@ -76,6 +77,18 @@ struct DeriveResult {
 // With friction (SPEC section 9) each impact is the one-contact Newton law with friction of the
 // picked contact (derive_sequential_friction.cpp); the rules compare the normals only.
 DeriveResult derive_sequential(const DeriveOptions& options);
+// The same law streamed to a file (derive sequential --stream; derive_stream.cpp): the regions
+// spilled to bucket files by their map as the words are explored (only the cells waiting are held),
+// then each bucket's regions merged and triangulated and their pieces written, the identities
+// after them. Memory grows with the exploration's frontier and the largest bucket, not with the
+// law. The file is the in-memory law's text with the pieces and identities in another order
+// (buckets, not words); whole or absent (OutputFile). The spill files live in a directory made
+// beside `path` and are removed on every way out but a kill. Frictionless systems of three
+// contacts or more (the others are small: derive_sequential). `pieces` in the result counts the
+// pieces written; `law` stays empty.
+inline constexpr std::size_t kStreamBuckets = 64;
+DeriveResult derive_sequential_streamed(const DeriveOptions& options, const std::string& path,
+                                        std::size_t buckets = kStreamBuckets);
 DeriveResult derive_sequential_friction(const DeriveOptions& options, const Mechanics& mech);
 // The same process in body velocities, without G: each step the one-contact law solved by its
 // modes (simulate_newton_friction on the contact's columns). Nothing beyond `limit` impacts or

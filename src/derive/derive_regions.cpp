@@ -103,6 +103,8 @@ bool key_less(const Region& a, const Region& b) {
     return a.key.size() != b.key.size() ? a.key.size() < b.key.size() : a.key < b.key;
 }
 
+} // namespace
+
 // Stable sort by key through a permutation: a PPL polyhedron is copied, not moved, so each
 // region is copied once instead of n log n times.
 void sort_by_key(std::vector<Region>& regions) {
@@ -117,8 +119,6 @@ void sort_by_key(std::vector<Region>& regions) {
         sorted.push_back(std::move(regions[i]));
     regions = std::move(sorted);
 }
-
-} // namespace
 
 // PPL switches the FPU to rounding upward when it is initialised and expects that mode while it
 // works (for its inexact coefficient types, unused here); the rest of impactcert (the float law,
@@ -270,47 +270,38 @@ void RegionBudget::add(std::size_t bytes, const char* what) {
                           " MB (raise it with --max-memory)");
 }
 
-std::vector<WrittenPiece> add_region_pieces(std::vector<Region>& regions, std::size_t c, Law& law,
-                                           const DeriveProgress& progress, RegionBudget* budget) {
-    sort_by_key(regions);
-    // Regions with the same matrix (the braid relation Q1 Q2 Q1 = Q2 Q1 Q2 makes "121" and "212"
-    // one map) are merged where their union is convex (the test below). The merged piece keeps
-    // the first name.
-    std::map<std::string, std::vector<Region>> groups;
-    std::vector<std::string> order;
-    for (auto& region : regions) {
-        std::string key;
-        for (std::size_t i = 0; i < c; ++i)
-            key += to_string(region.M.row(i)) + ";";
-        if (!groups.count(key))
-            order.push_back(key);
-        groups[key].push_back(std::move(region));
-    }
+namespace {
+
+// Merging (proofs/README.md, "Derivation", merging): the helpers, on primitive integer vectors.
+using RegionInts = std::vector<mpz_class>; // a primitive (integer) vector
+RegionInts region_ints(const Vector& v) {
+    RegionInts out;
+    for (const auto& x : v)
+        out.emplace_back(mpq_numref(x.mpq()));
+    return out;
+}
+int region_dot_sign(const RegionInts& a, const RegionInts& b) {
+    thread_local mpz_class scratch;
+    scratch = 0;
+    for (std::size_t k = 0; k < a.size(); ++k)
+        mpz_addmul(scratch.get_mpz_t(), a[k].get_mpz_t(), b[k].get_mpz_t());
+    return sgn(scratch);
+}
+
+} // namespace
+
+void merge_group(std::vector<Region>& group, std::size_t c) {
     // Merging (proofs/README.md, "Derivation", merging). Two full-dimensional cones A, B with
     // disjoint interiors and a convex union are separated by a hyperplane H = {n . x = 0} that
     // holds a facet of each: n is a facet normal of A and -n one of B; and then A ∩ H = B ∩ H.
     // Both are cheap necessary conditions (facet normals and extreme rays, computed once per
     // shape); the decision is exact: A ∪ B is convex iff the hull's parts on the two sides of H
     // are A and B. A pair found not mergeable is not tested again until one of them changes.
-    using IntVector = std::vector<mpz_class>; // a primitive (integer) vector
-    auto integer = [](const Vector& v) {
-        IntVector out;
-        for (const auto& x : v)
-            out.emplace_back(mpq_numref(x.mpq()));
-        return out;
-    };
-    mpz_class scratch;
-    auto sign_of_dot = [&scratch](const IntVector& a, const IntVector& b) {
-        scratch = 0;
-        for (std::size_t k = 0; k < a.size(); ++k)
-            mpz_addmul(scratch.get_mpz_t(), a[k].get_mpz_t(), b[k].get_mpz_t());
-        return sgn(scratch);
-    };
     struct Shape {
         std::set<Vector> normals;                 // facet normals, primitive
-        std::vector<std::pair<Vector, IntVector>> facets; // each normal, and its negation as integers
-        std::vector<IntVector> normal_ints;
-        std::vector<IntVector> rays; // extreme rays (lines left out: the filter only weakens)
+        std::vector<std::pair<Vector, RegionInts>> facets; // each normal, and its negation as integers
+        std::vector<RegionInts> normal_ints;
+        std::vector<RegionInts> rays; // extreme rays (lines left out: the filter only weakens)
         std::size_t version = 0;
     };
     std::size_t next_version = 0;
@@ -320,17 +311,17 @@ std::vector<WrittenPiece> add_region_pieces(std::vector<Region>& regions, std::s
         for (const auto& a : d.constraints)
             sh.normals.insert(primitive_ray(a));
         for (const auto& n : sh.normals) {
-            sh.facets.emplace_back(Rational(-1) * n, integer(n));
-            sh.normal_ints.push_back(integer(n));
+            sh.facets.emplace_back(Rational(-1) * n, region_ints(n));
+            sh.normal_ints.push_back(region_ints(n));
         }
         for (const auto& r : d.rays)
-            sh.rays.push_back(integer(r));
+            sh.rays.push_back(region_ints(r));
         sh.version = next_version++;
         return sh;
     };
-    auto inside = [&](const IntVector& r, const Shape& sh) {
+    auto inside = [&](const RegionInts& r, const Shape& sh) {
         for (const auto& a : sh.normal_ints)
-            if (sign_of_dot(a, r) < 0)
+            if (region_dot_sign(a, r) < 0)
                 return false;
         return true;
     };
@@ -342,10 +333,10 @@ std::vector<WrittenPiece> add_region_pieces(std::vector<Region>& regions, std::s
                 continue;
             bool same_facet = true;
             for (const auto& r : sa.rays)
-                if (same_facet && sign_of_dot(n, r) == 0)
+                if (same_facet && region_dot_sign(n, r) == 0)
                     same_facet = inside(r, sb);
             for (const auto& r : sb.rays)
-                if (same_facet && sign_of_dot(n, r) == 0)
+                if (same_facet && region_dot_sign(n, r) == 0)
                     same_facet = inside(r, sa);
             if (!same_facet)
                 continue;
@@ -361,6 +352,135 @@ std::vector<WrittenPiece> add_region_pieces(std::vector<Region>& regions, std::s
         }
         return std::nullopt;
     };
+    if (group.size() > 1) {
+        // The first pair (a, b), a < b, in order, that merges is merged, until none does;
+        // regions stay at their places (a merged-away one is marked), so that the order is
+        // that of the list, and a pair is only looked at when b has a facet normal opposite
+        // to one of a's (the other pairs fail the first necessary condition).
+        std::vector<Shape> shapes;
+        for (const auto& r : group)
+            shapes.push_back(shape_of(r.cone));
+        std::vector<bool> alive(group.size(), true);
+        std::map<Vector, std::set<std::size_t>> having; // facet normal -> regions
+        for (std::size_t r = 0; r < group.size(); ++r)
+            for (const auto& n : shapes[r].normals)
+                having[n].insert(r);
+        std::set<std::pair<std::size_t, std::size_t>> apart; // versions known not mergeable
+        for (bool changed = true; changed;) {
+            changed = false;
+            for (std::size_t a = 0; a < group.size() && !changed; ++a) {
+                if (!alive[a])
+                    continue;
+                std::set<std::size_t> candidates;
+                for (const auto& facet : shapes[a].facets)
+                    if (auto it = having.find(facet.first); it != having.end())
+                        for (auto b : it->second)
+                            if (b > a)
+                                candidates.insert(b);
+                for (const std::size_t b : candidates) {
+                    const auto versions = std::make_pair(shapes[a].version, shapes[b].version);
+                    if (apart.count(versions))
+                        continue;
+                    if (auto hull = merge(group[a].cone, group[b].cone, shapes[a], shapes[b])) {
+                        for (const std::size_t r : {a, b})
+                            for (const auto& n : shapes[r].normals)
+                                having[n].erase(r);
+                        group[a].cone = *hull;
+                        shapes[a] = shape_of(group[a].cone);
+                        for (const auto& n : shapes[a].normals)
+                            having[n].insert(a);
+                        alive[b] = false;
+                        changed = true;
+                        break;
+                    }
+                    apart.insert(versions);
+                }
+            }
+        }
+        std::vector<Region> kept;
+        for (std::size_t r = 0; r < group.size(); ++r)
+            if (alive[r])
+                kept.push_back(std::move(group[r]));
+        group = std::move(kept);
+    }
+}
+
+std::vector<PieceDecl> region_pieces(const Region& region, std::size_t c) {
+    std::vector<PPL::C_Polyhedron> pointed;
+    if (describe(region.cone, c).has_lines) {
+        // Not pointed: split by the orthants first.
+        for (std::size_t mask = 0; mask < (std::size_t{1} << c); ++mask) {
+            PPL::C_Polyhedron part = region.cone;
+            for (std::size_t k = 0; k < c; ++k) {
+                Vector e = unit_vector(c, k);
+                if (mask & (std::size_t{1} << k))
+                    e = Rational(-1) * e;
+                part.add_constraint(nonneg(e));
+            }
+            if (full_dimensional(part, c))
+                pointed.push_back(part);
+        }
+    } else {
+        pointed.push_back(region.cone);
+    }
+    std::vector<std::vector<Vector>> simplices;
+    for (const auto& part : pointed) {
+        const Cone d = describe(part, c);
+        std::vector<std::size_t> all(d.rays.size());
+        for (std::size_t i = 0; i < all.size(); ++i)
+            all[i] = i;
+        std::vector<RaySet> zero_sets;
+        std::vector<RegionInts> ray_ints;
+        for (const auto& r : d.rays)
+            ray_ints.push_back(region_ints(r));
+        for (const auto& a : d.constraints) {
+            const RegionInts normal = region_ints(a); // PPL's coefficients: integers
+            RaySet zero(d.rays.size());
+            for (std::size_t r = 0; r < d.rays.size(); ++r)
+                zero[r] = region_dot_sign(normal, ray_ints[r]) == 0;
+            zero_sets.push_back(std::move(zero));
+        }
+        std::vector<std::vector<std::size_t>> tri;
+        triangulate(zero_sets, all, c, tri);
+        for (const auto& t : tri) {
+            std::vector<Vector> rs;
+            for (auto i : t)
+                rs.push_back(d.rays[i]);
+            simplices.push_back(rs);
+        }
+    }
+    std::vector<PieceDecl> out;
+    for (std::size_t s = 0; s < simplices.size(); ++s) {
+        PieceDecl piece;
+        piece.name = simplices.size() == 1 ? region.name : region.name + "." + std::to_string(s + 1);
+        piece.Q = region.M;
+        piece.rays = simplices[s];
+        out.push_back(std::move(piece));
+    }
+    return out;
+}
+
+std::string map_key(const Matrix& M) {
+    std::string key;
+    for (std::size_t i = 0; i < M.rows(); ++i)
+        key += to_string(M.row(i)) + ";";
+    return key;
+}
+
+std::vector<WrittenPiece> add_region_pieces(std::vector<Region>& regions, std::size_t c, Law& law,
+                                           const DeriveProgress& progress, RegionBudget* budget) {
+    sort_by_key(regions);
+    // Regions with the same matrix (the braid relation Q1 Q2 Q1 = Q2 Q1 Q2 makes "121" and "212"
+    // one map) are merged where their union is convex (merge_group). The merged piece keeps the
+    // first name.
+    std::map<std::string, std::vector<Region>> groups;
+    std::vector<std::string> order;
+    for (auto& region : regions) {
+        std::string key = map_key(region.M);
+        if (!groups.count(key))
+            order.push_back(key);
+        groups[key].push_back(std::move(region));
+    }
     std::vector<Region> merged;
     std::size_t group_index = 0;
     for (const auto& key : order) {
@@ -368,57 +488,7 @@ std::vector<WrittenPiece> add_region_pieces(std::vector<Region>& regions, std::s
             progress("merge", group_index, order.size());
         ++group_index;
         auto& group = groups[key];
-        if (group.size() > 1) {
-            // The first pair (a, b), a < b, in order, that merges is merged, until none does;
-            // regions stay at their places (a merged-away one is marked), so that the order is
-            // that of the list, and a pair is only looked at when b has a facet normal opposite
-            // to one of a's (the other pairs fail the first necessary condition).
-            std::vector<Shape> shapes;
-            for (const auto& r : group)
-                shapes.push_back(shape_of(r.cone));
-            std::vector<bool> alive(group.size(), true);
-            std::map<Vector, std::set<std::size_t>> having; // facet normal -> regions
-            for (std::size_t r = 0; r < group.size(); ++r)
-                for (const auto& n : shapes[r].normals)
-                    having[n].insert(r);
-            std::set<std::pair<std::size_t, std::size_t>> apart; // versions known not mergeable
-            for (bool changed = true; changed;) {
-                changed = false;
-                for (std::size_t a = 0; a < group.size() && !changed; ++a) {
-                    if (!alive[a])
-                        continue;
-                    std::set<std::size_t> candidates;
-                    for (const auto& facet : shapes[a].facets)
-                        if (auto it = having.find(facet.first); it != having.end())
-                            for (auto b : it->second)
-                                if (b > a)
-                                    candidates.insert(b);
-                    for (const std::size_t b : candidates) {
-                        const auto versions = std::make_pair(shapes[a].version, shapes[b].version);
-                        if (apart.count(versions))
-                            continue;
-                        if (auto hull = merge(group[a].cone, group[b].cone, shapes[a], shapes[b])) {
-                            for (const std::size_t r : {a, b})
-                                for (const auto& n : shapes[r].normals)
-                                    having[n].erase(r);
-                            group[a].cone = *hull;
-                            shapes[a] = shape_of(group[a].cone);
-                            for (const auto& n : shapes[a].normals)
-                                having[n].insert(a);
-                            alive[b] = false;
-                            changed = true;
-                            break;
-                        }
-                        apart.insert(versions);
-                    }
-                }
-            }
-            std::vector<Region> kept;
-            for (std::size_t r = 0; r < group.size(); ++r)
-                if (alive[r])
-                    kept.push_back(std::move(group[r]));
-            group = std::move(kept);
-        }
+        merge_group(group, c);
         for (auto& r : group)
             merged.push_back(std::move(r));
     }
@@ -429,63 +499,15 @@ std::vector<WrittenPiece> add_region_pieces(std::vector<Region>& regions, std::s
     for (std::size_t index = 0; index < regions.size(); ++index) {
         if (progress && index % 256 == 0)
             progress("pieces", index, regions.size());
-        const Region& region = regions[index];
-        std::vector<PPL::C_Polyhedron> pointed;
-        if (describe(region.cone, c).has_lines) {
-            // Not pointed: split by the orthants first.
-            for (std::size_t mask = 0; mask < (std::size_t{1} << c); ++mask) {
-                PPL::C_Polyhedron part = region.cone;
-                for (std::size_t k = 0; k < c; ++k) {
-                    Vector e = unit_vector(c, k);
-                    if (mask & (std::size_t{1} << k))
-                        e = Rational(-1) * e;
-                    part.add_constraint(nonneg(e));
-                }
-                if (full_dimensional(part, c))
-                    pointed.push_back(part);
-            }
-        } else {
-            pointed.push_back(region.cone);
-        }
-        std::vector<std::vector<Vector>> simplices;
-        for (const auto& part : pointed) {
-            const Cone d = describe(part, c);
-            std::vector<std::size_t> all(d.rays.size());
-            for (std::size_t i = 0; i < all.size(); ++i)
-                all[i] = i;
-            std::vector<RaySet> zero_sets;
-            std::vector<IntVector> ray_ints;
-            for (const auto& r : d.rays)
-                ray_ints.push_back(integer(r));
-            for (const auto& a : d.constraints) {
-                const IntVector normal = integer(a); // PPL's coefficients: integers
-                RaySet zero(d.rays.size());
-                for (std::size_t r = 0; r < d.rays.size(); ++r)
-                    zero[r] = sign_of_dot(normal, ray_ints[r]) == 0;
-                zero_sets.push_back(std::move(zero));
-            }
-            std::vector<std::vector<std::size_t>> tri;
-            triangulate(zero_sets, all, c, tri);
-            for (const auto& t : tri) {
-                std::vector<Vector> rs;
-                for (auto i : t)
-                    rs.push_back(d.rays[i]);
-                simplices.push_back(rs);
-            }
-        }
-        for (std::size_t s = 0; s < simplices.size(); ++s) {
-            PieceDecl piece;
-            piece.name = simplices.size() == 1 ? region.name : region.name + "." + std::to_string(s + 1);
-            piece.Q = region.M;
-            piece.rays = simplices[s];
+        for (auto& piece : region_pieces(regions[index], c)) {
             if (budget) {
                 std::size_t bytes = sizeof(PieceDecl) + piece.name.size() + matrix_bytes(piece.Q);
                 for (const auto& r : *piece.rays)
                     bytes += vector_bytes(r);
                 budget->add(bytes, "regions and pieces");
             }
-            law.pieces.push_back(piece);
             written.push_back({piece.name, index});
+            law.pieces.push_back(std::move(piece));
         }
     }
     return written;

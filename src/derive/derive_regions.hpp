@@ -20,6 +20,7 @@
 #include <ppl.hh>
 
 #include <functional>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -86,6 +87,16 @@ struct WrittenPiece {
 // over A's facet constraints a_i >= 0. The union and the map on it are unchanged.
 void remove_overlaps(std::vector<Region>& regions, std::size_t c);
 
+// The regions of one map (sorted by key) merged where the union of two is convex: the first pair
+// (a, b), a < b, that merges is merged into a's place, until none does (proofs/README.md,
+// "Derivation", merging). The merged region keeps the first key and name.
+void merge_group(std::vector<Region>& group, std::size_t c);
+// A region's pieces: cut by the orthants first when it is not pointed, then triangulated; one
+// simplicial cone keeps the region's name, parts are NAME.1, NAME.2, ...
+std::vector<PieceDecl> region_pieces(const Region& region, std::size_t c);
+// The text that tells maps apart (their rows, canonical).
+std::string map_key(const Matrix& M);
+
 // Sorts by key, merges, triangulates; appends pieces to law.pieces. `regions` is replaced by
 // the merged list (indices of WrittenPiece::region refer to it).
 // `budget`, when given, holds the regions already; the pieces written are added to it.
@@ -114,5 +125,46 @@ std::vector<OutcomeDecl> classical_experiments(std::size_t n);
 // containing gamma- reproduces (simulate: u- -> u+, or nothing).
 void declare_outcomes(Law& law, const std::vector<OutcomeDecl>& override_outcomes,
                       const std::function<std::optional<Vector>(const Vector&)>& simulate);
+// The same, one piece at a time (a streamed derivation holds no list of pieces).
+class OutcomeTracker {
+  public:
+    OutcomeTracker(const Law& head, const std::function<std::optional<Vector>(const Vector&)>& simulate);
+    void add(const PieceDecl& piece);
+    std::vector<OutcomeDecl> outcomes() const;
+
+  private:
+    struct Track {
+        OutcomeDecl experiment; // u_plus: the simulation's
+        Vector gamma;           // W^T u-
+        bool agree = true, inside_any = false;
+    };
+    Mechanics mech_;
+    std::vector<Track> tracks_;
+};
+
+// ---- The sequential law (derive.cpp), shared with its streamed form (derive_stream.cpp).
+
+// The law's head: name, description, system (no pieces, no declarations).
+Law law_header(const DeriveOptions& options, std::size_t n);
+// The words of the sequential process, depth first: each final region (key = word, name, map,
+// cone) handed to `found`, or the first gamma- whose word exceeds max_impacts (with that word).
+// The cells waiting are counted against `budget`; what `found` keeps is the caller's to count.
+struct Explored {
+    std::optional<Vector> not_finite;
+    std::string word;
+    std::size_t regions = 0, max_word = 0;
+};
+Explored explore_words(const DeriveOptions& options, const std::vector<Matrix>& Qk, RegionBudget& budget,
+                       const std::function<void(Region&&)>& found);
+// Declarations from the pieces: the single impacts (contact -> a piece of its one-letter word),
+// the factorisation of a piece of a word of two letters or more (nothing when a letter has no
+// piece), and the simulation the outcomes are declared by.
+std::vector<SingleImpactDecl> single_impacts_of(const std::map<std::size_t, std::string>& letter_piece,
+                                                const std::vector<Rational>& restitution);
+std::optional<IdentityDecl> identity_of(const std::string& name, const std::vector<std::size_t>& word,
+                                        const std::map<std::size_t, std::string>& letter_piece);
+std::function<std::optional<Vector>(const Vector&)> outcome_simulation(const DeriveOptions& options);
+// Stable sort by key (shorter words first, then lexicographic).
+void sort_by_key(std::vector<Region>& regions);
 
 } // namespace impactcert::derive_detail

@@ -76,4 +76,70 @@ Json not_a_function_json(const NotAFunction& w) {
     return j;
 }
 
+namespace {
+
+constexpr const char* kEmptyPieces = "\"pieces\": []";
+
+// An entry of a top-level array of the law file: the object's 2-space text, indented by 4.
+std::string entry_text(const nlohmann::ordered_json& j) {
+    const std::string text = j.dump(2);
+    std::string out = "    ";
+    for (const char ch : text) {
+        out += ch;
+        if (ch == '\n')
+            out += "    ";
+    }
+    return out;
+}
+
+// The law's text with empty pieces and no identities: where "pieces" goes, and what follows it.
+std::pair<std::string, std::string> split_at_pieces(Law law) {
+    law.pieces.clear();
+    law.identities.clear();
+    const std::string text = law_file_text(law);
+    const auto at = text.find(kEmptyPieces);
+    if (at == std::string::npos)
+        throw std::logic_error("LawTextWriter: no \"pieces\" in the law's text");
+    return {text.substr(0, at), text.substr(at + std::string(kEmptyPieces).size())};
+}
+
+} // namespace
+
+LawTextWriter::LawTextWriter(std::ostream& out, const Law& head) : out_(out) {
+    prefix_ = split_at_pieces(head).first;
+    out_ << prefix_ << "\"pieces\": [";
+}
+
+void LawTextWriter::piece(const PieceDecl& piece) {
+    if (identities_ || finished_)
+        throw std::logic_error("LawTextWriter: a piece after the identities");
+    out_ << (pieces_++ ? ",\n" : "\n") << entry_text(piece_to_json(piece));
+}
+
+void LawTextWriter::close_pieces() { out_ << (pieces_ ? "\n  ]" : "]"); }
+
+void LawTextWriter::identity(const IdentityDecl& identity) {
+    if (finished_)
+        throw std::logic_error("LawTextWriter: an identity after the end");
+    if (!identities_) {
+        close_pieces();
+        out_ << ",\n  \"identities\": [";
+    }
+    out_ << (identities_++ ? ",\n" : "\n") << entry_text(identity_to_json(identity));
+}
+
+void LawTextWriter::finish(Law tail) {
+    if (finished_)
+        throw std::logic_error("LawTextWriter: finished twice");
+    if (identities_)
+        out_ << "\n  ]";
+    else
+        close_pieces();
+    const auto [prefix, suffix] = split_at_pieces(std::move(tail));
+    if (prefix != prefix_)
+        throw std::logic_error("LawTextWriter: the tail's head is not the head written");
+    out_ << suffix;
+    finished_ = true;
+}
+
 } // namespace impactcert

@@ -16,6 +16,7 @@
 #include "derive/derive.hpp"
 #include "model/law.hpp"
 
+#include <ostream>
 #include <string>
 #include <vector>
 
@@ -29,6 +30,27 @@ Json not_a_function_json(const Vector& gamma_minus, const std::string& reason);
 // friction is not a function: at gamma- = (...) REASON".
 std::string not_a_function_text(const Vector& gamma_minus, const std::string& reason);
 std::string not_a_function_text(const NotAFunction& w);
+
+// A law file written piece by piece (derive sequential --stream), byte for byte the text
+// law_file_text gives for the same law with its pieces and identities in the order they are
+// written: the head up to "pieces" at construction, each piece, then each identity, then the rest
+// from `tail` (the head with its single impacts, outcomes and claims; its pieces and identities
+// are not written again). std::logic_error when the tail's head differs from the head's.
+class LawTextWriter {
+  public:
+    LawTextWriter(std::ostream& out, const Law& head);
+    void piece(const PieceDecl& piece);
+    void identity(const IdentityDecl& identity);
+    void finish(Law tail);
+    std::size_t pieces() const { return pieces_; }
+
+  private:
+    std::ostream& out_;
+    std::string prefix_;
+    std::size_t pieces_ = 0, identities_ = 0;
+    bool finished_ = false;
+    void close_pieces();
+};
 Json not_a_function_json(const NotAFunction& w);
 
 } // namespace impactcert

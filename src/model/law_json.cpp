@@ -504,6 +504,37 @@ Model load_model_file(const std::string& path, std::size_t max_pieces, std::size
     }
 }
 
+namespace {
+
+nlohmann::ordered_json law_vector_json(const Vector& v) {
+    nlohmann::ordered_json a = nlohmann::ordered_json::array();
+    for (const auto& x : v)
+        a.push_back(to_string(x));
+    return a;
+}
+
+} // namespace
+
+nlohmann::ordered_json piece_to_json(const PieceDecl& p) {
+    nlohmann::ordered_json piece;
+    piece["name"] = p.name;
+    nlohmann::ordered_json Q = nlohmann::ordered_json::array();
+    for (std::size_t i = 0; i < p.Q.rows(); ++i)
+        Q.push_back(law_vector_json(p.Q.row(i)));
+    piece["Q"] = Q;
+    if (p.rays) {
+        nlohmann::ordered_json rays = nlohmann::ordered_json::array();
+        for (const auto& r : *p.rays)
+            rays.push_back(law_vector_json(r));
+        piece["rays"] = rays;
+    }
+    return piece;
+}
+
+nlohmann::ordered_json identity_to_json(const IdentityDecl& d) {
+    return nlohmann::ordered_json{{"lhs", d.lhs}, {"product", d.product}};
+}
+
 nlohmann::ordered_json law_to_json(const Law& law) {
     using OJson = nlohmann::ordered_json;
     auto vec = [](const Vector& v) {
@@ -545,23 +576,13 @@ nlohmann::ordered_json law_to_json(const Law& law) {
     if (!law.velocity_names.empty() || !law.contact_names.empty())
         out["coordinates"] = OJson{{"velocities", law.velocity_names}, {"contacts", law.contact_names}};
     OJson pieces = OJson::array();
-    for (const auto& p : law.pieces) {
-        OJson piece;
-        piece["name"] = p.name;
-        piece["Q"] = mat(p.Q);
-        if (p.rays) {
-            OJson rays = OJson::array();
-            for (const auto& r : *p.rays)
-                rays.push_back(vec(r));
-            piece["rays"] = rays;
-        }
-        pieces.push_back(piece);
-    }
+    for (const auto& p : law.pieces)
+        pieces.push_back(piece_to_json(p));
     out["pieces"] = pieces;
     if (!law.identities.empty()) {
         OJson ids = OJson::array();
         for (const auto& d : law.identities)
-            ids.push_back(OJson{{"lhs", d.lhs}, {"product", d.product}});
+            ids.push_back(identity_to_json(d));
         out["identities"] = ids;
     }
     if (!law.single_impacts.empty()) {

@@ -39,5 +39,8 @@ Model load_model_file(const std::string& path, std::size_t max_pieces = Limits{}
 // expanded); for verify --stream, which validates and expands it itself (stream.hpp).
 Law load_law_declaration(const std::string& path);
 nlohmann::ordered_json law_to_json(const Law& law);
+// One entry of "pieces" and of "identities", as law_to_json writes them.
+nlohmann::ordered_json piece_to_json(const PieceDecl& piece);
+nlohmann::ordered_json identity_to_json(const IdentityDecl& identity);
 
 } // namespace impactcert
