@@ -110,7 +110,7 @@ TEST_CASE("derive --stream: the in-memory law, canonically ordered, on chains of
     CHECK(canonical(in_memory(chain({"1", "1", "1", "1"}, "9/10"))) != canonical(in_memory(chain({"1", "1", "1", "1"}, "8/10"))));
 }
 
-TEST_CASE("derive --stream: a limit leaves no file; the memory counted is the frontier and one bucket", "[derive][stream]") {
+TEST_CASE("derive --stream: a limit leaves no file, and the memory counted is the frontier and one bucket", "[derive][stream]") {
     const std::string path = scratch("limited.json");
     std::remove(path.c_str());
     DeriveOptions o = chain({"1", "2", "1", "3"}, "1/2");
