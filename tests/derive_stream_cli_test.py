@@ -7,6 +7,7 @@ it writes the law.
 Usage: derive_stream_cli_test.py IMPACTCERT"""
 
 import glob
+import json
 import os
 import shutil
 import signal
@@ -25,6 +26,13 @@ def check(ok, what):
     global failures
     print(("ok   " if ok else "FAIL ") + what)
     failures += not ok
+
+
+def canonical(path):
+    d = json.load(open(path))
+    d["pieces"].sort(key=lambda p: p["name"])
+    d.get("identities", []).sort(key=lambda p: p["lhs"])
+    return d
 
 
 def run(*args):
@@ -72,9 +80,44 @@ try:
     r = run("--masses", "1,1,1,1,1", "--restitution", "9/10", "--stream", "-o", law)
     check(r.returncode == 0 and "1400 pieces" in r.stderr, f"the next run writes the law: {r.stderr.strip()}")
     m = run("--masses", "1,1,1,1,1", "--restitution", "9/10", "-o", os.path.join(tmp, "memory.json"))
-    check(m.returncode == 0 and os.path.getsize(law) == os.path.getsize(os.path.join(tmp, "memory.json")),
-          "the streamed law has the in-memory law's size (the same text, pieces reordered)")
+    check(m.returncode == 0 and canonical(law) == canonical(os.path.join(tmp, "memory.json")),
+          "the streamed law is the in-memory law (pieces and identities sorted)")
     check(len(glob.glob(os.path.join(tmp, ".law.json.derive-spill-*"))) == 1, "the finished run removed its own spill directory")
+    # Interrupted while the pieces are written (its longest phase for a large law): no temporary
+    # output file, no spill. (5 balls, e = 1/3: 22,670 pieces in about 8 s; the writing starts
+    # once the exploration ends.)
+    slow = ["--masses", "1,3,2,1,2", "--restitution", "1/3", "--stream"]
+    out = os.path.join(tmp, "slow.json")
+    q = subprocess.Popen([cli, "derive", "sequential", *slow, "-o", out], stdout=subprocess.DEVNULL,
+                         stderr=subprocess.DEVNULL)
+    deadline = time.time() + 60
+    while time.time() < deadline and not glob.glob(out + ".partial-*") and q.poll() is None:
+        time.sleep(0.02)
+    writing = bool(glob.glob(out + ".partial-*"))
+    q.send_signal(signal.SIGINT)
+    q.wait()
+    check(writing and not glob.glob(out + "*") and
+          not glob.glob(os.path.join(tmp, ".slow.json.derive-spill-*")),
+          "SIGINT while writing: neither the law, its temporary file nor the spill is left")
+    # A signal the caller ignores stays ignored (nohup, a background job): the run goes on.
+    q = subprocess.Popen([cli, "derive", "sequential", "--masses", "1,1,1,1,1", "--restitution", "1/3", "--stream",
+                          "-o", out], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
+                         preexec_fn=lambda: signal.signal(signal.SIGHUP, signal.SIG_IGN))
+    time.sleep(0.3)
+    q.send_signal(signal.SIGHUP)
+    check(q.wait() == 0 and os.path.exists(out), "SIGHUP ignored by the caller: the derivation finishes")
+    # An output through a symbolic link is written in place: a run stopped by a limit leaves the
+    # target as it was; a run that finishes writes it whole.
+    target, link = os.path.join(tmp, "target.json"), os.path.join(tmp, "link.json")
+    with open(target, "w") as f:
+        f.write("OLD\n")
+    os.symlink(target, link)
+    r = run("--masses", "1,3,2,1,2", "--restitution", "1/3", "--stream", "--max-memory", "1", "-o", link)
+    check(r.returncode == 3 and open(target).read() == "OLD\n", "a limit: the link's target untouched")
+    r = run("--masses", "1,2,1,3", "--restitution", "1/2", "--stream", "-o", link)
+    m = run("--masses", "1,2,1,3", "--restitution", "1/2", "-o", os.path.join(tmp, "m.json"))
+    check(r.returncode == 0 and os.path.islink(link) and canonical(target) == canonical(os.path.join(tmp, "m.json")),
+          "through the link: the target holds the law, the link stays a link")
 finally:
     shutil.rmtree(tmp, ignore_errors=True)
 

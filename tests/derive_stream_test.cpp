@@ -49,6 +49,26 @@ nlohmann::json canonical(const std::string& text) {
     return law;
 }
 
+// A chain with walls, and a system given by M and W (two bodies on a line and a wall, as a file).
+DeriveOptions walled(std::vector<const char*> masses, const char* e, Walls walls) {
+    DeriveOptions o = chain(masses, e);
+    std::vector<Rational> m;
+    for (auto x : masses)
+        m.push_back(q(x));
+    static_cast<System&>(o) = chain_system(m, walls);
+    o.restitution.assign(make_mechanics(o).contacts(), q(e));
+    return o;
+}
+
+DeriveOptions explicit_system(const char* e) {
+    DeriveOptions o;
+    static_cast<System&>(o) = parse_system_text(R"({"format": "impactcert-system/1", "name": "three bodies",
+        "M": [["2", "0", "0"], ["0", "1", "0"], ["0", "0", "3"]],
+        "contacts": {"W": [["-1", "0", "1"], ["1", "-1", "0"], ["0", "1", "0"]]}})", "system");
+    o.restitution.assign(3, q(e));
+    return o;
+}
+
 std::string scratch(const std::string& name) {
     const auto dir = std::filesystem::temp_directory_path() / ("impactcert-stream-" + std::to_string(getpid()));
     std::filesystem::create_directories(dir);
@@ -73,6 +93,9 @@ TEST_CASE("derive --stream: the in-memory law, canonically ordered, on chains of
         chain({"3", "1", "2", "1"}, "1/3", ImpactRule::right_first),
         chain({"1", "1", "1", "1", "1"}, "9/10"),
         chain({"2", "1", "1", "1", "2"}, "1"),
+        walled({"1", "2", "1"}, "1/2", Walls::left),
+        walled({"1", "1", "1"}, "9/10", Walls::right),
+        explicit_system("1/2"),
 #ifndef IMPACTCERT_SANITIZER_BUILD
         // 16,064 regions, 1,073 pieces: 5 s each way in Release (the sanitizer build leaves it out).
         chain({"1", "1", "1", "1", "1", "1"}, "1"),
@@ -106,8 +129,54 @@ TEST_CASE("derive --stream: the in-memory law, canonically ordered, on chains of
             CHECK(beside == 0);
         }
     }
-    // A negative control for the comparison: another restitution is another law.
-    CHECK(canonical(in_memory(chain({"1", "1", "1", "1"}, "9/10"))) != canonical(in_memory(chain({"1", "1", "1", "1"}, "8/10"))));
+    // Restitution 0 at one contact, 1/2 and 1 at the others; and outcomes given (--outcomes-from).
+    DeriveOptions mixed = chain({"1", "2", "1", "3"}, "1");
+    mixed.restitution = {q("0"), q("1/2"), q("1")};
+    DeriveOptions given = chain({"1", "1", "1", "1"}, "9/10");
+    given.outcomes_override = {OutcomeDecl{"given", {q("-1"), q("0"), q("0"), q("0")}, {q("0"), q("0"), q("0"), q("-1")}}};
+    for (const auto& o : {mixed, given}) {
+        const std::string path = scratch("law.json");
+        derive_sequential_streamed(o, path, 5);
+        CHECK(canonical(read(path)) == canonical(in_memory(o)));
+    }
+    // A negative control for the comparison: one entry of one piece changed is another document.
+    const std::string path = scratch("law.json");
+    derive_sequential_streamed(chain({"1", "1", "1", "1"}, "9/10"), path);
+    std::string changed = read(path);
+    changed.replace(changed.find("\"Q\": [") + 30, 1, "7");
+    CHECK(canonical(changed) != canonical(in_memory(chain({"1", "1", "1", "1"}, "9/10"))));
+    std::filesystem::remove_all(std::filesystem::path(path).parent_path());
+}
+
+TEST_CASE("derive --stream: the law file writer gives law_file_text byte for byte", "[derive][stream]") {
+    // In the law's own order, the streamed text is the whole law's text: with identities, without
+    // (nor single impacts), and with none of the declarations.
+    DeriveResult r = derive_sequential(chain({"1", "2", "1", "3"}, "1/2"));
+    REQUIRE(r.law);
+    set_expected_claims(*r.law, std::vector<Rational>(3, q("1/2")));
+    Law bare = *r.law;
+    bare.identities.clear();
+    bare.single_impacts.clear();
+    Law plain = bare;
+    plain.outcomes.clear();
+    plain.claims.reset();
+    plain.description.clear();
+    for (const Law* law : {&*r.law, &bare, &plain}) {
+        std::ostringstream out;
+        LawTextWriter writer(out, *law);
+        for (const auto& piece : law->pieces)
+            writer.piece(piece);
+        for (const auto& id : law->identities)
+            writer.identity(id);
+        writer.finish(*law);
+        CHECK(out.str() == law_file_text(*law));
+    }
+    // A tail that is not the head is a bug, not a law.
+    std::ostringstream out;
+    LawTextWriter writer(out, *r.law);
+    Law other = *r.law;
+    other.name = "another";
+    CHECK_THROWS_AS(writer.finish(other), std::logic_error);
 }
 
 TEST_CASE("derive --stream: a limit leaves no file, and the memory counted is the frontier and one bucket", "[derive][stream]") {

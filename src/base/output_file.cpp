@@ -15,7 +15,9 @@
 
 namespace impactcert {
 
-OutputFile::OutputFile(std::string path) : path_(std::move(path)) {
+OutputFile::OutputFile(std::string path) : OutputFile(std::move(path), false) {}
+
+OutputFile::OutputFile(std::string path, bool defer_in_place) : path_(std::move(path)) {
     // Through a temporary file only where the rename leaves the file as writing it in place
     // would: a new file, or a regular file of ours (one link, our user, writable by us), whose
     // mode the temporary file takes. Anything else -- a symbolic link (a rename would replace the
@@ -53,12 +55,42 @@ OutputFile::OutputFile(std::string path) : path_(std::move(path)) {
             temporary_.clear();
         }
     }
+    if (temporary_.empty() && defer_in_place) {
+        // Could it be opened? Without truncating it (an existing file), or creating it (the
+        // directory must let us).
+        errno = 0;
+        bool can = false;
+        if (exists) {
+            const int fd = ::open(path_.c_str(), O_WRONLY | O_CLOEXEC | O_NONBLOCK);
+            can = fd >= 0;
+            if (fd >= 0)
+                ::close(fd);
+        } else {
+            const auto slash = path_.rfind('/');
+            const std::string dir = slash == std::string::npos ? "." : slash == 0 ? "/" : path_.substr(0, slash);
+            can = ::access(dir.c_str(), W_OK | X_OK) == 0;
+        }
+        if (!can)
+            throw InputError(path_ + ": cannot write" + (errno ? std::string(": ") + std::strerror(errno) : ""));
+        deferred_ = true;
+        return;
+    }
     if (temporary_.empty()) {
         errno = 0;
         out_.open(path_, std::ios::binary | std::ios::trunc);
     }
     if (!out_)
         throw InputError(path_ + ": cannot write" + (errno ? std::string(": ") + std::strerror(errno) : ""));
+}
+
+void OutputFile::open_in_place() {
+    if (!deferred_)
+        return;
+    errno = 0;
+    out_.open(path_, std::ios::binary | std::ios::trunc);
+    if (!out_)
+        throw InputError(path_ + ": cannot write" + (errno ? std::string(": ") + std::strerror(errno) : ""));
+    deferred_ = false;
 }
 
 OutputFile::~OutputFile() {

@@ -18,16 +18,25 @@ namespace impactcert {
 class OutputFile {
   public:
     explicit OutputFile(std::string path);
+    // With defer_in_place, a file to be written in place is not opened, nor truncated, until
+    // open_in_place() (a writer that takes long stages its text elsewhere and copies it at the
+    // end): the constructor only checks that it could be opened.
+    OutputFile(std::string path, bool defer_in_place);
+    void open_in_place();
     OutputFile(const OutputFile&) = delete;
     OutputFile& operator=(const OutputFile&) = delete;
     ~OutputFile(); // without commit(): the temporary file is removed
     std::ostream& stream() { return out_; }
     void commit();
+    // Written in place (a link, a device, another's file: see above), so not whole-or-absent by
+    // itself; else the temporary file's path (a writer that takes long may remove it on a signal).
+    bool in_place() const { return temporary_.empty(); }
+    const std::string& temporary_path() const { return temporary_; }
 
   private:
     std::string path_, temporary_; // temporary_ empty: written in place
     std::ofstream out_;
-    bool committed_ = false;
+    bool committed_ = false, deferred_ = false;
 };
 
 void write_file(const std::string& path, const std::string& text); // checked, through OutputFile

@@ -53,8 +53,10 @@ std::optional<std::size_t> pick(ImpactRule rule, const Vector& gamma) {
     return k;
 }
 
+} // namespace
+
 // Validates the process; the system is validated by make_mechanics (the caller).
-void validate(const DeriveOptions& o, std::size_t c) {
+void derive_detail::validate(const DeriveOptions& o, std::size_t c) {
     if (o.restitution.size() != c)
         throw InputError("--restitution: expected one value or " + std::to_string(c) +
                          " (one per contact), got " + std::to_string(o.restitution.size()));
@@ -65,6 +67,8 @@ void validate(const DeriveOptions& o, std::size_t c) {
     if (o.max_impacts == 0)
         throw InputError("--max-impacts: must be at least 1");
 }
+
+namespace {
 
 std::string word_name(const std::vector<std::size_t>& word, std::size_t c) {
     if (word.empty())

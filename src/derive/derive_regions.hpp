@@ -144,6 +144,8 @@ class OutcomeTracker {
 
 // ---- The sequential law (derive.cpp), shared with its streamed form (derive_stream.cpp).
 
+// InputError unless the process is valid: one restitution in [0, 1] per contact, --max-impacts >= 1.
+void validate(const DeriveOptions& options, std::size_t contacts);
 // The law's head: name, description, system (no pieces, no declarations).
 Law law_header(const DeriveOptions& options, std::size_t n);
 // The words of the sequential process, depth first: each final region (key = word, name, map,

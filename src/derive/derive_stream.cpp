@@ -18,6 +18,7 @@
 #include "base/output_file.hpp"
 
 #include <atomic>
+#include <algorithm>
 #include <cerrno>
 #include <csignal>
 #include <cstdlib>
@@ -25,6 +26,7 @@
 #include <fstream>
 #include <functional>
 #include <sstream>
+#include <signal.h>
 #include <unistd.h>
 
 namespace impactcert {
@@ -34,9 +36,11 @@ using namespace derive_detail;
 namespace {
 
 // A directory of spill files beside the output, removed with everything in it on every way out:
-// its destructor, and SIGINT, SIGTERM or SIGHUP (the handler only calls unlink() and rmdir(),
-// which are async-signal-safe, then dies of the signal as it would have). Only a kill leaves it,
-// its name saying what it is. One at a time per process.
+// its destructor, and SIGINT, SIGTERM or SIGHUP (unless the process ignores them: nohup, a
+// background job). The handler only calls unlink() and rmdir(), which are async-signal-safe, on
+// the names registered (the spill files and the output's temporary file), then dies of the
+// signal as it would have. Only a kill leaves the directory, its name saying what it is. One at a
+// time per process.
 constexpr std::size_t kMaxSpillFiles = 256;
 std::atomic<const char*> g_spill_files[kMaxSpillFiles];
 std::atomic<const char*> g_spill_dir{nullptr};
@@ -57,7 +61,9 @@ class SpillDirectory {
         const auto slash = output.rfind('/');
         const std::string dir = slash == std::string::npos ? "." : output.substr(0, slash + 1);
         const std::string base = slash == std::string::npos ? output : output.substr(slash + 1);
-        std::string pattern = dir + (dir.back() == '/' ? "" : "/") + "." + base + ".derive-spill-XXXXXX";
+        // Named for the output when the name leaves room (NAME_MAX 255), else generically.
+        const std::string stem = base.size() <= 200 ? "." + base + ".derive-spill-" : ".impactcert-derive-spill-";
+        std::string pattern = dir + (dir.back() == '/' ? "" : "/") + stem + "XXXXXX";
         std::vector<char> buf(pattern.begin(), pattern.end());
         buf.push_back('\0');
         if (!mkdtemp(buf.data()))
@@ -65,16 +71,23 @@ class SpillDirectory {
         path_ = buf.data();
         files_.reserve(kMaxSpillFiles); // names stay where the handler reads them
         g_spill_dir = path_.c_str();
-        for (int sig : {SIGINT, SIGTERM, SIGHUP})
-            previous_.push_back(std::signal(sig, remove_spill_and_die));
+        for (const int sig : {SIGINT, SIGTERM, SIGHUP}) {
+            struct sigaction now{}, before{};
+            if (sigaction(sig, nullptr, &before) != 0 || before.sa_handler == SIG_IGN)
+                continue; // ignored (nohup, a background job): it stays ignored
+            now.sa_handler = remove_spill_and_die;
+            sigemptyset(&now.sa_mask);
+            if (sigaction(sig, &now, nullptr) == 0)
+                previous_.emplace_back(sig, before);
+        }
     }
     ~SpillDirectory() {
+        // The handlers first, then the names they read.
+        for (const auto& [sig, before] : previous_)
+            sigaction(sig, &before, nullptr);
         for (auto& f : g_spill_files)
             f = nullptr;
         g_spill_dir = nullptr;
-        const int sigs[] = {SIGINT, SIGTERM, SIGHUP};
-        for (std::size_t i = 0; i < previous_.size(); ++i)
-            std::signal(sigs[i], previous_[i]);
         for (const auto& f : files_)
             std::remove(f.c_str());
         ::rmdir(path_.c_str());
@@ -82,18 +95,30 @@ class SpillDirectory {
     SpillDirectory(const SpillDirectory&) = delete;
     SpillDirectory& operator=(const SpillDirectory&) = delete;
     std::string file(const std::string& name) {
-        if (files_.size() == kMaxSpillFiles)
-            throw std::logic_error("derive --stream: more spill files than the handler holds");
         files_.push_back(path_ + "/" + name);
-        g_spill_files[files_.size() - 1] = files_.back().c_str();
+        watch(files_.back());
         return files_.back();
+    }
+    // A file outside the directory the handler also removes (the output's temporary file); the
+    // destructor leaves it to its owner.
+    void watch(const std::string& path) {
+        if (watched_ == kMaxSpillFiles)
+            throw std::logic_error("derive --stream: more spill files than the handler holds");
+        outside_.reserve(kMaxSpillFiles);
+        const std::string* name = &path;
+        if (std::find(files_.begin(), files_.end(), path) == files_.end()) {
+            outside_.push_back(path);
+            name = &outside_.back();
+        }
+        g_spill_files[watched_++] = name->c_str();
     }
     const std::string& path() const { return path_; }
 
   private:
     std::string path_;
-    std::vector<std::string> files_;
-    std::vector<void (*)(int)> previous_;
+    std::vector<std::string> files_, outside_;
+    std::size_t watched_ = 0;
+    std::vector<std::pair<int, struct sigaction>> previous_;
 };
 
 // One region per line: name ; word (contacts, comma-separated) ; the map's entries ; the cone's
@@ -195,10 +220,9 @@ DeriveResult derive_sequential_streamed(const DeriveOptions& options, const std:
         }
         return r;
     }
-    if (options.restitution.size() != c)
-        throw std::logic_error("derive --stream: one restitution per contact expected");
-    if (bucket_count == 0 || bucket_count + 1 > kMaxSpillFiles)
-        throw std::logic_error("derive --stream: 1 to 255 buckets");
+    validate(options, c);
+    if (bucket_count == 0 || bucket_count + 3 > kMaxSpillFiles)
+        throw std::logic_error("derive --stream: 1 to 253 buckets");
     const PplScope ppl;
     std::vector<Matrix> Qk;
     for (std::size_t k = 0; k < c; ++k) {
@@ -235,8 +259,17 @@ DeriveResult derive_sequential_streamed(const DeriveOptions& options, const std:
 
     // 2. Bucket by bucket: the regions of each map merged in key order, triangulated, written.
     const Law head = law_header(options, n);
-    OutputFile out(path);
-    LawTextWriter writer(out.stream(), head);
+    OutputFile out(path, true);
+    // Whole or absent: the output's temporary file is removed on a signal too; an output written
+    // in place (a link, a device) is opened only at the end, and gets the law from a spill file
+    // in one piece.
+    std::optional<std::ofstream> staged;
+    if (out.in_place())
+        staged.emplace(spill.file("law"));
+    else
+        spill.watch(out.temporary_path());
+    std::ostream& law_text = staged ? static_cast<std::ostream&>(*staged) : out.stream();
+    LawTextWriter writer(law_text, head);
     std::optional<OutcomeTracker> outcomes;
     if (options.outcomes_override.empty())
         outcomes.emplace(head, outcome_simulation(options));
@@ -250,6 +283,8 @@ DeriveResult derive_sequential_streamed(const DeriveOptions& options, const std:
         std::size_t held = 0;
         {
             std::ifstream in(bucket_paths[b]);
+            if (!in)
+                throw InputError(bucket_paths[b] + ": cannot read the spill file back (removed?)");
             for (std::string line; std::getline(in, line);) {
                 Region r = read_region(line, c);
                 const std::size_t bytes = RegionBudget::bytes_of(r);
@@ -289,6 +324,8 @@ DeriveResult derive_sequential_streamed(const DeriveOptions& options, const std:
     bool identities = false;
     {
         std::ifstream in(words_path);
+        if (!in)
+            throw InputError(words_path + ": cannot read the spill file back (removed?)");
         for (std::string line; std::getline(in, line);) {
             const auto at = line.find(';');
             if (auto id = identity_of(line.substr(0, at), spilled_word(line.substr(at + 1)), letter_piece)) {
@@ -307,6 +344,15 @@ DeriveResult derive_sequential_streamed(const DeriveOptions& options, const std:
         tail.identities.push_back(IdentityDecl{});
     set_expected_claims(tail, options.restitution);
     writer.finish(tail);
+    if (staged) {
+        check_written(*staged, spill.path());
+        staged->close();
+        out.open_in_place();
+        std::ifstream in(spill.path() + "/law", std::ios::binary);
+        if (!in)
+            throw InputError(spill.path() + "/law: cannot read the spill file back (removed?)");
+        out.stream() << in.rdbuf();
+    }
     out.commit();
     result.pieces = writer.pieces();
     result.peak_bytes = budget.peak();
