@@ -6,7 +6,7 @@ set -euo pipefail
 IMPACTCERT_ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 IMPACTCERT_PACKAGES=(build-essential cmake ninja-build libcgal-dev libgmp-dev catch2 nlohmann-json3-dev
                      libcli11-dev libmimalloc-dev libbenchmark-dev libssl-dev z3 libppl-dev python3 python3-jsonschema libbox2d-dev help2man groff-base lintian
-                     librsvg2-bin pybind11-dev python3-dev python3-numpy python3-pytest)
+                     librsvg2-bin)
 
 ensure_packages() {
     local missing=() p
