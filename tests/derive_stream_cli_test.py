@@ -74,7 +74,7 @@ try:
         q.send_signal(sig)
         rc = q.wait()
         check(rc == -sig and not glob.glob(os.path.join(tmp, ".other.json.derive-spill-*")) and
-              not os.path.exists(os.path.join(tmp, "other.json")),
+              not glob.glob(os.path.join(tmp, "other.json*")),
               f"{signal.Signals(sig).name}: died of it, no law and no spill directory left")
     # A run after the kill writes the law (the stale spill directory is no obstacle).
     r = run("--masses", "1,1,1,1,1", "--restitution", "9/10", "--stream", "-o", law)
@@ -90,10 +90,13 @@ try:
     out = os.path.join(tmp, "slow.json")
     q = subprocess.Popen([cli, "derive", "sequential", *slow, "-o", out], stdout=subprocess.DEVNULL,
                          stderr=subprocess.DEVNULL)
+    # The temporary file exists from the start (the output is checked before the exploration);
+    # the pieces are being written once it holds text.
     deadline = time.time() + 60
-    while time.time() < deadline and not glob.glob(out + ".partial-*") and q.poll() is None:
+    writing = False
+    while time.time() < deadline and not writing and q.poll() is None:
+        writing = any(os.path.getsize(f) > 0 for f in glob.glob(out + ".partial-*"))
         time.sleep(0.02)
-    writing = bool(glob.glob(out + ".partial-*"))
     q.send_signal(signal.SIGINT)
     q.wait()
     check(writing and not glob.glob(out + "*") and
@@ -118,6 +121,18 @@ try:
     m = run("--masses", "1,2,1,3", "--restitution", "1/2", "-o", os.path.join(tmp, "m.json"))
     check(r.returncode == 0 and os.path.islink(link) and canonical(target) == canonical(os.path.join(tmp, "m.json")),
           "through the link: the target holds the law, the link stays a link")
+    # A FIFO with a reader gets the whole law once; a dangling link gets its target made.
+    fifo, got = os.path.join(tmp, "fifo"), os.path.join(tmp, "got.json")
+    os.mkfifo(fifo)
+    reader = subprocess.Popen(["sh", "-c", f"cat '{fifo}' > '{got}'"])
+    r = run("--masses", "1,2,1,3", "--restitution", "1/2", "--stream", "-o", fifo)
+    reader.wait(timeout=60)
+    check(r.returncode == 0 and canonical(got) == canonical(os.path.join(tmp, "m.json")), "through a FIFO: the whole law")
+    dangling = os.path.join(tmp, "dangling.json")
+    os.symlink(os.path.join(tmp, "made.json"), dangling)
+    r = run("--masses", "1,2,1,3", "--restitution", "1/2", "--stream", "-o", dangling)
+    check(r.returncode == 0 and canonical(os.path.join(tmp, "made.json")) == canonical(os.path.join(tmp, "m.json")),
+          "through a dangling link: its target made, with the law")
 finally:
     shutil.rmtree(tmp, ignore_errors=True)
 

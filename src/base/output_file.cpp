@@ -56,15 +56,21 @@ OutputFile::OutputFile(std::string path, bool defer_in_place) : path_(std::move(
         }
     }
     if (temporary_.empty() && defer_in_place) {
-        // Could it be opened? Without truncating it (an existing file), or creating it (the
-        // directory must let us).
+        // Could it be opened? Without opening it (a FIFO's reader would see an end of file),
+        // truncating it, or creating it: a regular file opened and closed, anything else asked
+        // (access), and a name that leads nowhere yet (absent, a dangling link) by its directory.
         errno = 0;
         bool can = false;
-        if (exists) {
-            const int fd = ::open(path_.c_str(), O_WRONLY | O_CLOEXEC | O_NONBLOCK);
-            can = fd >= 0;
-            if (fd >= 0)
-                ::close(fd);
+        struct stat target {};
+        if (::stat(path_.c_str(), &target) == 0) {
+            if (S_ISREG(target.st_mode)) {
+                const int fd = ::open(path_.c_str(), O_WRONLY | O_CLOEXEC);
+                can = fd >= 0;
+                if (fd >= 0)
+                    ::close(fd);
+            } else {
+                can = !S_ISDIR(target.st_mode) && ::access(path_.c_str(), W_OK) == 0;
+            }
         } else {
             const auto slash = path_.rfind('/');
             const std::string dir = slash == std::string::npos ? "." : slash == 0 ? "/" : path_.substr(0, slash);

@@ -95,6 +95,8 @@ class SpillDirectory {
     SpillDirectory(const SpillDirectory&) = delete;
     SpillDirectory& operator=(const SpillDirectory&) = delete;
     std::string file(const std::string& name) {
+        if (watched_ == kMaxSpillFiles) // before the vector grows: the handler holds its names
+            throw std::logic_error("derive --stream: more spill files than the handler holds");
         files_.push_back(path_ + "/" + name);
         watch(files_.back());
         return files_.back();
@@ -239,6 +241,15 @@ DeriveResult derive_sequential_streamed(const DeriveOptions& options, const std:
         if (!buckets.back())
             throw InputError(spill.path() + ": cannot write a spill file");
     }
+    // The output first, so that one that cannot be written is said before the exploration. Whole
+    // or absent: its temporary file is removed on a signal too; an output written in place (a
+    // link, a device) is opened only at the end, and gets the law from a spill file in one piece.
+    OutputFile out(path, true);
+    std::optional<std::ofstream> staged;
+    if (out.in_place())
+        staged.emplace(spill.file("law"));
+    else
+        spill.watch(out.temporary_path());
     // 1. The words, depth first: each final region to the bucket of its map.
     RegionBudget budget(options.max_memory_mb);
     const std::hash<std::string> hash;
@@ -259,15 +270,6 @@ DeriveResult derive_sequential_streamed(const DeriveOptions& options, const std:
 
     // 2. Bucket by bucket: the regions of each map merged in key order, triangulated, written.
     const Law head = law_header(options, n);
-    OutputFile out(path, true);
-    // Whole or absent: the output's temporary file is removed on a signal too; an output written
-    // in place (a link, a device) is opened only at the end, and gets the law from a spill file
-    // in one piece.
-    std::optional<std::ofstream> staged;
-    if (out.in_place())
-        staged.emplace(spill.file("law"));
-    else
-        spill.watch(out.temporary_path());
     std::ostream& law_text = staged ? static_cast<std::ostream&>(*staged) : out.stream();
     LawTextWriter writer(law_text, head);
     std::optional<OutcomeTracker> outcomes;
