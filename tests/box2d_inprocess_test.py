@@ -11,25 +11,9 @@ import json
 import subprocess
 import sys
 
+from report_details import strip_run_details
+
 impactcert, cradle, inprocess = sys.argv[1:4]
-
-
-def strip(report):
-    for key in ("seconds", "samples_per_second", "implementation", "stderr"):
-        report.pop(key, None)
-    for section in ("checked_properties", "violations"):
-        report.get(section, {}).pop("nondeterministic", None)
-
-    def walk(x):
-        if isinstance(x, dict):
-            x.pop("replay", None)
-            for v in x.values():
-                walk(v)
-        elif isinstance(x, list):
-            for v in x:
-                walk(v)
-    walk(report)
-    return report
 
 
 mine = subprocess.run([inprocess, "--json", "--samples", "1500", "--restitution", "1", "--reference", "approaching"],
@@ -41,6 +25,6 @@ a, b = json.loads(mine.stdout), json.loads(pipe.stdout)
 assert mine.returncode == pipe.returncode == 1, (mine.returncode, pipe.returncode, mine.stderr, pipe.stderr)
 # At e = 1 Box2D's law (restitution on approaching contacts) gains energy: law-level findings.
 assert a["violations"]["energy"] > 0 and a["levels"]["energy"]["law"] > 0, a["violations"]
-assert strip(a) == strip(b), "the in-process report differs from the --impl-cmd one"
+assert strip_run_details(a) == strip_run_details(b), "the in-process report differs from the --impl-cmd one"
 print(f"box2d in-process: {a['samples']} samples, {a['violations']['energy']} energy gains "
       f"({a['levels']['energy']['law']} law-level), the same report as through the pipe")
