@@ -10,6 +10,8 @@
 #include "report/report.hpp"
 #include "prover/smt.hpp"
 #include "sweep/sweep.hpp"
+#include "model/law_json.hpp"
+#include "model/scene.hpp"
 
 #include <unistd.h>
 
@@ -59,7 +61,10 @@ int run_report(const std::string& law_path, const std::string& dir, const Limits
 }
 
 struct SweepArgs {
-    std::string masses, restitution = "1", rule = "most-negative", out, shard;
+    std::string masses, restitution, rule = "most-negative", out, shard, system, scene, law = "sequential",
+        restitution_on = "all";
+    bool thresholds = false;
+    std::size_t threshold_digits = 10;
     std::vector<std::string> vary, merge;
     std::size_t max_impacts = 100, max_points = 100000, max_words = 2000;
     unsigned jobs = 1;
@@ -77,8 +82,8 @@ std::vector<std::string> items(const std::string& text) {
 
 int run_sweep_command(const SweepArgs& a, const Limits& limits) {
     if (!a.merge.empty()) {
-        if (!a.masses.empty() || !a.vary.empty() || !a.shard.empty())
-            throw InputError("--merge: the run is described by its parts; give no --masses, --vary or --shard");
+        if (!a.masses.empty() || !a.system.empty() || !a.scene.empty() || !a.vary.empty() || !a.shard.empty() || a.thresholds)
+            throw InputError("--merge: the run is described by its parts; give no --masses, --system, --scene, --vary, --thresholds or --shard");
         try {
             merge_sweep_parts(a.merge, a.out, a.max_points);
         } catch (const Json::exception& e) {
@@ -88,15 +93,39 @@ int run_sweep_command(const SweepArgs& a, const Limits& limits) {
         note_without_pdf(true);
         return kExitProved;
     }
-    if (a.masses.empty())
-        throw InputError("--masses is required (or --merge PART...)");
+    const int sources = !a.masses.empty() + !a.system.empty() + !a.scene.empty();
+    if (sources != 1)
+        throw InputError(sources == 0 ? "--masses, --system or --scene is required (or --merge PART...)"
+                                      : "--masses, --system and --scene: give one");
     if (a.vary.empty())
         throw InputError("--vary is required (or --merge PART...)");
     SweepSpec spec;
     if (!a.shard.empty())
         spec.shard = parse_shard(a.shard);
-    spec.masses = items(a.masses);
-    spec.restitution = items(a.restitution);
+    if (!a.masses.empty()) {
+        spec.masses = items(a.masses);
+        spec.restitution = items(a.restitution.empty() ? "1" : a.restitution);
+    } else {
+        const std::string& path = a.system.empty() ? a.scene : a.system;
+        spec.system_text = read_file_text(path);
+        spec.system_origin = path;
+        spec.system = parse_system_text(spec.system_text, path);
+        const bool scene = Json::parse(spec.system_text).value("format", "") == std::string(kSceneFormat);
+        if (!a.scene.empty() && !scene)
+            throw InputError("--scene " + path + ": not an impactcert-scene/1 file (use --system)");
+        if (!a.system.empty() && scene)
+            throw InputError("--system " + path + ": a scene (use --scene)");
+        if (!a.restitution.empty())
+            spec.restitution = items(a.restitution);
+    }
+    spec.law = parse_sweep_law(a.law);
+    spec.on = parse_restitution_on(a.restitution_on);
+    if (spec.law == SweepLaw::poisson && spec.on != RestitutionOn::all)
+        throw InputError("--restitution-on: the Poisson-type law has no such choice");
+    if (spec.law == SweepLaw::sequential && spec.on != RestitutionOn::all)
+        throw InputError("--restitution-on: the sequential law applies restitution at each impact (newton only)");
+    spec.thresholds = a.thresholds;
+    spec.threshold_digits = a.threshold_digits;
     spec.rule = parse_rule(a.rule);
     spec.max_impacts = a.max_impacts;
     spec.max_words = a.max_words;
@@ -250,7 +279,13 @@ int main(int argc, char** argv) {
 
     auto* sweep_cmd = app.add_subcommand("sweep", "derive + verify over a grid of parameters named in --masses/--restitution; writes DIR/sweep.csv, sweep.json, sweep.html and figures/ (one SVG and PDF per map); exit 0 when it ran (verdicts per point in the files), 2 on bad input, 3 beyond --max-points");
     sweep_cmd->add_option("--masses", sweep_args.masses, "ball masses, numbers or parameter names (1,m,1)");
-    sweep_cmd->add_option("--restitution", sweep_args.restitution, "E or E1,...,E(n-1), numbers or parameter names")->capture_default_str();
+    sweep_cmd->add_option("--system", sweep_args.system, "an impactcert-system/1 file instead of a chain; parameters mu, muK (contact K's friction), e, eK (restitution)");
+    sweep_cmd->add_option("--scene", sweep_args.scene, "an impactcert-scene/1 file instead of a chain (parameters as --system)");
+    sweep_cmd->add_option("--law", sweep_args.law, "the law derived at each point: sequential, newton or poisson")->capture_default_str();
+    sweep_cmd->add_option("--restitution-on", sweep_args.restitution_on, "newton: all or approaching")->capture_default_str();
+    sweep_cmd->add_option("--restitution", sweep_args.restitution, "E or E1,...,E(n-1), numbers or parameter names (default: 1; a scene's own)");
+    sweep_cmd->add_flag("--thresholds", sweep_args.thresholds, "one parameter: enclose each change of a verdict between grid points by exact bisection (energetic: with its polynomial), in sweep.json and sweep.html");
+    sweep_cmd->add_option("--threshold-digits", sweep_args.threshold_digits, "--thresholds: enclosures at most 10^-D wide")->check(CLI::Range(1, 100))->capture_default_str();
     sweep_cmd->add_option("--rule", sweep_args.rule, "most-negative, left-first or right-first")->capture_default_str();
     sweep_cmd->add_option("--max-impacts", sweep_args.max_impacts, "longest impact sequence allowed")->check(natural_text)->capture_default_str();
     sweep_cmd->add_option("--max-words", sweep_args.max_words, "the order-independent column: cells walked per point (and 100 pairs per cell); undecided beyond")->check(natural_text)->capture_default_str();

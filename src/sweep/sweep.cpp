@@ -1,5 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "sweep/sweep.hpp"
+#include "sweep/sweep_point.hpp"
+#include "sweep/threshold.hpp"
 
 #include "report/figure.hpp"
 #include "exact/exact_conditions.hpp"
@@ -32,19 +34,8 @@ namespace {
 // The sweep's column for order independence (sweep.csv header, the phase map's title).
 constexpr const char* kOrderColumn = "order-independent";
 
-bool is_name(const std::string& s) {
-    if (s.empty() || !(std::isalpha(static_cast<unsigned char>(s[0])) || s[0] == '_'))
-        return false;
-    return std::all_of(s.begin(), s.end(), [](char ch) { return std::isalnum(static_cast<unsigned char>(ch)) || ch == '_'; });
-}
-
-Rational number(const std::string& text, const std::string& where) {
-    std::string why;
-    const auto x = parse_cli_number(text, &why);
-    if (!x)
-        throw InputError(where + ": \"" + text + "\" is not a number" + (why.empty() ? "" : " (" + why + ")"));
-    return *x;
-}
+using sweep_detail::is_name;
+using sweep_detail::number;
 
 // Okabe & Ito (colour-blind safe): bluish green, vermillion, grey, orange; proved, refuted,
 // skipped, undecided.
@@ -80,6 +71,14 @@ struct Point {
 // The sweep's inputs, in the order sweep.json and the parts write them: masses, restitution,
 // rule, max_impacts, parameters with their grid values.
 void put_inputs(Json& j, const SweepSpec& spec) {
+    if (spec.system) {
+        // The file's document as read (parse_system_text reads it again when parts are merged).
+        j["system"] = Json::parse(spec.system_text);
+        j["law"] = to_string(spec.law);
+        j["restitution_on"] = spec.on == RestitutionOn::all ? "all" : "approaching";
+    }
+    if (spec.thresholds)
+        j["threshold_digits"] = spec.threshold_digits;
     j["masses"] = spec.masses;
     j["restitution"] = spec.restitution;
     j["rule"] = to_string(spec.rule);
@@ -122,41 +121,17 @@ Json order_entry(const DeriveOptions& o, std::size_t max_words) {
 
 // Derive and verify one grid point.
 Json evaluate(const SweepSpec& spec, const Point& point) {
-    auto resolve = [&](const std::string& item, const std::string& option) {
-        for (std::size_t p = 0; p < spec.parameters.size(); ++p)
-            if (spec.parameters[p].name == item)
-                return point.values[p];
-        return number(item, option);
-    };
-    DeriveOptions o;
-    for (const auto& m : spec.masses)
-        o.masses.push_back(resolve(m, "--masses"));
-    for (const auto& e : spec.restitution)
-        o.restitution.push_back(resolve(e, "--restitution"));
-    if (o.restitution.size() == 1 && o.masses.size() > 2)
-        o.restitution.assign(o.masses.size() - 1, o.restitution[0]);
-    o.rule = spec.rule;
-    o.max_impacts = spec.max_impacts;
-    o.max_memory_mb = spec.limits.max_memory_mb; // --max-memory bounds the derivation too
     Json out;
     Json at = Json::object();
     for (std::size_t p = 0; p < spec.parameters.size(); ++p)
         at[spec.parameters[p].name] = to_string(point.values[p]);
     out["point"] = at;
-    DeriveResult d;
-    try {
-        d = derive_sequential(o);
-    } catch (const DeriveLimit& e) {
-        out["derive"] = "undecided";
-        out["limit"] = e.what();
+    sweep_detail::PointLaw d = sweep_detail::law_at(spec, point.values);
+    out["derive"] = d.derive;
+    if (d.derive != "ok") {
+        out[sweep_detail::detail_key(d.derive)] = d.detail;
         return out;
     }
-    if (!d.law) {
-        out["derive"] = "not-finite";
-        out["not_finite"] = Json{{"gamma", to_json(*d.not_finite)}, {"word", d.word + "..."}};
-        return out;
-    }
-    out["derive"] = "ok";
     out["pieces"] = d.law->pieces.size();
     out["max_word"] = d.max_word;
     const Model model(*d.law);
@@ -171,7 +146,9 @@ Json evaluate(const SweepSpec& spec, const Point& point) {
         obligations[ob.id] = item;
     }
     out["obligations"] = obligations;
-    out["order"] = order_entry(o, spec.max_words);
+    // Every admissible order: a frictionless sequential law's question (a simultaneous law has
+    // no order of impacts; with friction the process is not offered).
+    out["order"] = d.sequential ? order_entry(*d.sequential, spec.max_words) : Json{{"verdict", "skipped"}};
     return out;
 }
 
@@ -227,6 +204,10 @@ SweepConditions sweep_conditions(const SweepSpec& spec) {
     c.family.max_impacts = spec.max_impacts;
     for (const auto& p : spec.parameters)
         c.family.parameters.push_back({p.name, p.values});
+    if (spec.system || spec.law != SweepLaw::sequential) {
+        c.result.why_not = "computed for the sequential law of a three-ball chain only";
+        return c;
+    }
     if (spec.rule != ImpactRule::most_negative) {
         c.result.why_not = "the rule is not most-negative (index rules have no tie jump)";
         return c;
@@ -240,6 +221,8 @@ SweepConditions sweep_conditions(const SweepSpec& spec) {
 // and every contact of a chain takes the first impact on an open set of gamma-: proofs/README.md,
 // "Where continuity holds"). So: everywhere, nowhere, or where each restitution parameter is 1.
 Json energy_condition(const SweepSpec& spec) {
+    if (spec.system || spec.law != SweepLaw::sequential)
+        return Json{{"holds", "not computed"}, {"why", "computed for the sequential law of a chain only"}};
     std::vector<std::string> lines;
     for (const auto& e : spec.restitution) {
         bool is_parameter = false;
@@ -397,6 +380,9 @@ std::string svg_map(const SweepSpec& spec, const std::vector<Json>& results, con
             } else if (r["derive"] == "undecided") {
                 verdict = "undecided";
                 detail = " derivation beyond a limit: " + r["limit"].get<std::string>();
+            } else if (r["derive"] == "not-a-function") {
+                verdict = "no law";
+                detail = " (not a function) " + r["not_a_function"].dump();
             } else {
                 detail = " gamma- = " + r["not_finite"]["gamma"].dump() + " needs more than " +
                          std::to_string(spec.max_impacts) + " impacts";
@@ -534,37 +520,29 @@ void run_sweep(SweepSpec spec, const std::string& dir, const std::function<void(
         for (std::size_t b = a + 1; b < spec.parameters.size(); ++b)
             if (spec.parameters[a].name == spec.parameters[b].name)
                 throw InputError("--vary: parameter \"" + spec.parameters[a].name + "\" given twice");
-    // Every name used must be varied, every varied name used.
-    std::vector<std::string> used;
-    for (const auto* list : {&spec.masses, &spec.restitution})
-        for (const auto& item : *list)
-            if (is_name(item)) {
-                bool known = false;
-                for (const auto& p : spec.parameters)
-                    known = known || p.name == item;
-                if (!known)
-                    throw InputError("\"" + item + "\" is not a number and not a --vary parameter");
-                used.push_back(item);
-            }
-    for (const auto& p : spec.parameters)
-        if (std::find(used.begin(), used.end(), p.name) == used.end())
-            throw InputError("--vary " + p.name + ": the parameter appears in neither --masses nor --restitution");
-    // Validate every input before any work (bad input is exit 2 with one line): the constants
-    // first, then the size of the grid, then each parameter's values where it is used.
+    if (spec.thresholds && spec.parameters.size() != 1)
+        throw InputError("--thresholds: give exactly one --vary parameter");
+    if (spec.thresholds && (spec.threshold_digits < 1 || spec.threshold_digits > 100))
+        throw InputError("--threshold-digits: expected 1 to 100");
     auto check = [&](const std::string& name, const Rational& x, bool mass) {
         if (mass && sign_of(x) != Sign::positive)
             throw InputError("--masses: " + name + " = " + to_string(x) + " is not a positive mass");
         if (!mass && (sign_of(x) == Sign::negative || x > Rational(1)))
             throw InputError("--restitution: " + name + " = " + to_string(x) + " is outside [0, 1]");
     };
-    for (const auto* list : {&spec.masses, &spec.restitution})
-        for (const auto& item : *list)
-            if (!is_name(item))
-                check(item, number(item, list == &spec.masses ? "--masses" : "--restitution"), list == &spec.masses);
-    if (spec.masses.size() < 2)
-        throw InputError("--masses: a chain needs at least two balls");
-    if (spec.restitution.size() != 1 && spec.restitution.size() != spec.masses.size() - 1)
-        throw InputError("--restitution: expected one value or one per contact (" + std::to_string(spec.masses.size() - 1) + ")");
+    if (!spec.system) {
+        // Every input is validated before any work (bad input is exit 2 with one line): the
+        // names, the constants, then the size of the grid, then each parameter's values.
+        sweep_detail::validate_parameters(spec);
+        for (const auto* list : {&spec.masses, &spec.restitution})
+            for (const auto& item : *list)
+                if (!is_name(item))
+                    check(item, number(item, list == &spec.masses ? "--masses" : "--restitution"), list == &spec.masses);
+        if (spec.masses.size() < 2)
+            throw InputError("--masses: a chain needs at least two balls");
+        if (spec.restitution.size() != 1 && spec.restitution.size() != spec.masses.size() - 1)
+            throw InputError("--restitution: expected one value or one per contact (" + std::to_string(spec.masses.size() - 1) + ")");
+    }
     std::size_t total = 1;
     for (const auto& p : spec.parameters)
         total *= p.count; // at most 10,000^2: no overflow
@@ -574,16 +552,19 @@ void run_sweep(SweepSpec spec, const std::string& dir, const std::function<void(
     std::vector<SweepParameter> gridded = spec.parameters;
     for (auto& p : gridded) {
         p.values = grid_values(p);
-        for (const auto& x : p.values) {
-            for (const auto& m : spec.masses)
-                if (m == p.name)
-                    check(p.name, x, true);
-            for (const auto& e : spec.restitution)
-                if (e == p.name)
-                    check(p.name, x, false);
-        }
+        if (!spec.system)
+            for (const auto& x : p.values) {
+                for (const auto& m : spec.masses)
+                    if (m == p.name)
+                        check(p.name, x, true);
+                for (const auto& e : spec.restitution)
+                    if (e == p.name)
+                        check(p.name, x, false);
+            }
     }
     spec.parameters = gridded;
+    if (spec.system)
+        sweep_detail::validate_parameters(spec); // names, contacts and every grid value
     const auto& params = spec.parameters;
     std::vector<Point> points;
     const std::size_t n1 = params.size() > 1 ? params[1].values.size() : 1;
@@ -752,7 +733,7 @@ void write_sweep_part(const SweepSpec& spec, const std::vector<Json>& results, c
 namespace {
 
 // A point's result as write_sweep_outputs reads it; InputError naming the place otherwise.
-void check_point_shape(const Json& r, const std::string& where) {
+void check_point_shape(const Json& r, const std::string& where, bool friction) {
     auto fail = [&](const std::string& what) { throw InputError(where + "." + what); };
     if (!r.contains("point") || !r["point"].is_object())
         fail("point: expected an object");
@@ -762,12 +743,11 @@ void check_point_shape(const Json& r, const std::string& where) {
     if (!r.contains("derive") || !r["derive"].is_string())
         fail("derive: expected a string");
     const std::string derive = r["derive"].get<std::string>();
-    if (derive != "ok" && derive != "not-finite" && derive != "undecided")
-        fail("derive: expected ok, not-finite or undecided");
+    if (derive != "ok" && derive != "not-finite" && derive != "not-a-function" && derive != "undecided")
+        fail("derive: expected ok, not-finite, not-a-function or undecided");
     // Exactly the keys a single run writes for this kind of point.
-    const std::vector<std::string> keys = derive == "ok"           ? std::vector<std::string>{"point", "derive", "pieces", "max_word", "obligations", "order"}
-                                          : derive == "not-finite" ? std::vector<std::string>{"point", "derive", "not_finite"}
-                                                                   : std::vector<std::string>{"point", "derive", "limit"};
+    const std::vector<std::string> keys = derive == "ok" ? std::vector<std::string>{"point", "derive", "pieces", "max_word", "obligations", "order"}
+                                                         : std::vector<std::string>{"point", "derive", sweep_detail::detail_key(derive)};
     for (auto it = r.begin(); it != r.end(); ++it)
         if (std::find(keys.begin(), keys.end(), it.key()) == keys.end())
             fail(it.key() + ": not written for a point whose derivation is " + derive);
@@ -786,7 +766,7 @@ void check_point_shape(const Json& r, const std::string& where) {
     auto verdict_word = [](const Json& v) {
         return v.is_string() && (v == "proved" || v == "refuted" || v == "undecided" || v == "skipped");
     };
-    for (const char* id : kObligationIds)
+    for (const char* id : obligation_ids(friction))
         if (!r["obligations"].contains(id) || !r["obligations"][id].is_object() ||
             !r["obligations"][id].contains("verdict") || !verdict_word(r["obligations"][id]["verdict"]))
             fail(std::string("obligations.") + id + ".verdict: expected proved, refuted, undecided or skipped");
@@ -846,6 +826,19 @@ void merge_sweep_parts(const std::vector<std::string>& paths, const std::string&
     // The run's grid, then every point exactly where its shard owns it.
     SweepSpec spec;
     try {
+        if (run.contains("system")) {
+            spec.system_text = run.at("system").dump();
+            spec.system_origin = paths[0] + ": $.run.system";
+            spec.system = parse_system_text(spec.system_text, spec.system_origin);
+            spec.law = parse_sweep_law(run.at("law").get<std::string>());
+            spec.on = parse_restitution_on(run.at("restitution_on").get<std::string>());
+        }
+        if (run.contains("threshold_digits")) {
+            spec.thresholds = true;
+            spec.threshold_digits = run.at("threshold_digits").get<std::size_t>();
+            if (spec.threshold_digits < 1 || spec.threshold_digits > 100)
+                throw InputError(paths[0] + ": $.run.threshold_digits: expected 1 to 100");
+        }
         spec.masses = run.at("masses").get<std::vector<std::string>>();
         spec.restitution = run.at("restitution").get<std::vector<std::string>>();
         spec.rule = parse_rule(run.at("rule").get<std::string>());
@@ -864,6 +857,8 @@ void merge_sweep_parts(const std::vector<std::string>& paths, const std::string&
     }
     if (spec.parameters.empty() || spec.parameters.size() > 2)
         throw InputError(paths[0] + ": $.run.parameters: one or two parameters");
+    if (spec.thresholds && spec.parameters.size() != 1)
+        throw InputError(paths[0] + ": $.run.threshold_digits: thresholds need exactly one parameter");
     std::size_t total = 1;
     for (const auto& p : spec.parameters) {
         if (p.values.empty() || p.values.size() > 10000)
@@ -897,7 +892,7 @@ void merge_sweep_parts(const std::vector<std::string>& paths, const std::string&
                 throw InputError(where + ".point: is not the grid point at index " + std::to_string(expected));
             Json result = points[e];
             result.erase("index");
-            check_point_shape(result, where);
+            check_point_shape(result, where, sweep_friction(spec));
             results[expected] = std::move(result);
         }
         if (expected < total)
@@ -912,18 +907,19 @@ void merge_sweep_parts(const std::vector<std::string>& paths, const std::string&
 }
 
 void write_sweep_outputs(const SweepSpec& spec, const std::vector<Json>& results, const std::string& dir) {
+    const std::vector<const char*> ids = obligation_ids(sweep_friction(spec));
     // sweep.csv
     std::string csv;
     for (const auto& p : spec.parameters)
         csv += csv_field(p.name) + ",";
-    for (const char* id : kObligationIds)
+    for (const char* id : ids)
         csv += std::string(id) + ",";
     csv += std::string(kOrderColumn) + ",pieces,max_word,derive\n";
     for (const auto& r : results) {
         for (auto it = r["point"].begin(); it != r["point"].end(); ++it)
             csv += csv_field(it.value().get<std::string>()) + ",";
         const bool ok = r["derive"] == "ok";
-        for (const char* id : kObligationIds)
+        for (const char* id : ids)
             csv += (ok ? r["obligations"][id]["verdict"].get<std::string>() : std::string()) + ",";
         csv += (ok ? r["order"]["verdict"].get<std::string>() : std::string()) + ",";
         csv += (ok ? std::to_string(r["pieces"].get<std::size_t>()) : std::string()) + "," +
@@ -1010,10 +1006,16 @@ void write_sweep_outputs(const SweepSpec& spec, const std::vector<Json>& results
     put_inputs(doc, spec);
     doc["points"] = results;
     doc["exact_conditions"] = Json{{"P1", exact}, {"P2", energy_condition(spec)}};
+    Json thresholds;
+    if (spec.thresholds) {
+        thresholds = find_thresholds(spec, results);
+        doc["thresholds"] = thresholds;
+    }
     write(dir + "/sweep.json", doc.dump(1) + "\n");
 
     // sweep.html
-    std::string title = "impactcert sweep: masses " + [&] {
+    std::string title = spec.system ? "impactcert sweep: " + spec.system->name + ", the " + to_string(spec.law) + " law"
+                                    : "impactcert sweep: masses " + [&] {
         std::string s;
         for (const auto& m : spec.masses)
             s += (s.empty() ? "" : ",") + m;
@@ -1024,6 +1026,8 @@ void write_sweep_outputs(const SweepSpec& spec, const std::vector<Json>& results
             s += (s.empty() ? "" : ",") + e;
         return s;
     }() + ", rule " + to_string(spec.rule);
+    if (!spec.system && spec.law != SweepLaw::sequential)
+        title += ", the " + std::string(to_string(spec.law)) + " law";
     std::string html = "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>" +
                        xml_escape(title) + "</title>\n<style>\nbody{font-family:sans-serif;margin:2em;color:#222}"
                        ".maps{display:flex;flex-wrap:wrap;gap:18px}.map{border:1px solid #ddd;padding:6px}"
@@ -1034,7 +1038,7 @@ void write_sweep_outputs(const SweepSpec& spec, const std::vector<Json>& results
                        "<span style=\"background:#009E73\"></span>proved<span style=\"background:#D55E00\"></span>refuted"
                        "<span style=\"background:#E69F00\"></span>undecided<span style=\"background:#BBBBBB\"></span>skipped"
                        "<span style=\"background:#24292f\"></span>no finite law</p>\n<div class=\"maps\">\n";
-    for (const char* id : kObligationIds) {
+    for (const char* id : ids) {
         const bool overlay = std::string(id) == "P1" || std::string(id) == "nonexpansive";
         html += "<div class=\"map\"><h3>" + std::string(id) + (overlay && conditions.result.computed ? " (white dots: where P1 holds exactly)" : "") +
                 "</h3>\n" + svg_map(spec, results, id, overlay ? &conditions : nullptr) + "</div>\n";
@@ -1069,6 +1073,25 @@ void write_sweep_outputs(const SweepSpec& spec, const std::vector<Json>& results
     } else {
         html += "<p>Exact conditions not computed: " + xml_escape(conditions.result.why_not) + ".</p>\n";
     }
+    if (spec.thresholds) {
+        html += "<h2>Thresholds along " + xml_escape(spec.parameters[0].name) +
+                "</h2>\n<p>Each change of a verdict between neighbouring grid points, enclosed by exact bisection "
+                "(the law derived and decided at both ends); for energetic, the polynomial whose only root in the "
+                "enclosure is the threshold (sweep.json has every number).</p>\n<ul>\n";
+        for (const auto& t : thresholds) {
+            std::string line = t["column"].get<std::string>() + ": " + t["below"].get<std::string>() + " at " +
+                               t["in"][0].get<std::string>() + ", " + t["above"].get<std::string>() + " at " +
+                               t["in"][1].get<std::string>() + " (" + spec.parameters[0].name + " ~ " +
+                               t["approx"].get<std::string>() + ")";
+            if (t.contains("stopped"))
+                line += "; stopped: " + t["stopped"].get<std::string>();
+            if (t.contains("boundary") && t["boundary"].contains("polynomial"))
+                line += "; the root of " + t["boundary"]["polynomial"].get<std::string>() + " (piece " +
+                        t["boundary"]["piece"].get<std::string>() + ")";
+            html += "<li>" + xml_escape(line) + "</li>\n";
+        }
+        html += "</ul>\n";
+    }
     html += "</body>\n</html>\n";
     write(dir + "/sweep.html", html);
 
@@ -1081,8 +1104,8 @@ void write_sweep_outputs(const SweepSpec& spec, const std::vector<Json>& results
                                       {colour_of("refuted"), "refuted", LegendItem::Shape::square},
                                       {colour_of("undecided"), "undecided", LegendItem::Shape::square},
                                       {colour_of("skipped"), "skipped", LegendItem::Shape::square},
-                                      {colour_of(""), "no finite law", LegendItem::Shape::square}};
-    std::vector<std::string> maps(kObligationIds.begin(), kObligationIds.end());
+                                      {colour_of(""), spec.system ? "no law (not finite, or not a function)" : "no finite law", LegendItem::Shape::square}};
+    std::vector<std::string> maps(ids.begin(), ids.end());
     maps.push_back(kOrderColumn);
     for (const auto& id : maps) {
         const bool overlay = (id == "P1" || id == "nonexpansive") && conditions.result.computed;

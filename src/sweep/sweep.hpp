@@ -10,6 +10,11 @@
 // phase map per obligation, an SVG strip or grid, each cell's tooltip the exact point and
 // witness). Bad specifications are InputError. `jobs` worker processes share the points;
 // the output does not depend on their number.
+// A system or scene file (--system, --scene) takes the place of the chain: its parameters are
+// mu (every friction coefficient), muK (contact K's), e (every normal restitution), eK, or names
+// used in --restitution; the law is sequential, newton or poisson (--law). With --thresholds and
+// one parameter, every change of a verdict between neighbouring grid points is enclosed exactly
+// (threshold.hpp).
 #pragma once
 
 #include "derive/derive.hpp"
@@ -38,8 +43,18 @@ struct SweepLimit : std::runtime_error {
     using std::runtime_error::runtime_error;
 };
 
+enum class SweepLaw { sequential, newton, poisson };
+SweepLaw parse_sweep_law(const std::string& text); // InputError naming --law
+const char* to_string(SweepLaw law);
+
 struct SweepSpec {
-    std::vector<std::string> masses;      // items: numbers or parameter names
+    std::vector<std::string> masses;      // items: numbers or parameter names (a chain)
+    // ... or a system or scene file (--system/--scene): its text, where it came from, and the
+    // system it describes (parse_system_text); masses is then empty.
+    std::string system_text, system_origin;
+    std::optional<System> system;
+    SweepLaw law = SweepLaw::sequential;  // --law
+    RestitutionOn on = RestitutionOn::all; // --restitution-on (newton)
     std::vector<std::string> restitution; // one item (every contact) or one per contact
     ImpactRule rule = ImpactRule::most_negative;
     std::size_t max_impacts = 100;
@@ -49,7 +64,12 @@ struct SweepSpec {
     unsigned jobs = 1;
     std::size_t max_points = 100000; // --max-points: grid points in all
     std::optional<Shard> shard;      // --shard K/N: only the points k with k mod N = K - 1 (shard.hpp)
+    bool thresholds = false;         // --thresholds (one parameter): threshold.hpp
+    std::size_t threshold_digits = 10; // --threshold-digits: enclosures at most 10^-D wide
 };
+// Whether the sweep's laws have friction (a system with friction declarations): their verdicts
+// then include `coulomb` (obligation_ids(true)).
+bool sweep_friction(const SweepSpec& spec);
 
 // NAME=LO..HI:COUNT[:log]
 // Syntax only (no grid yet): NAME=LO..HI:COUNT[:log].
