@@ -202,6 +202,16 @@ try:
     if run(["sweep", "--masses", "1,m,1", "--restitution", "e", "--vary", "m=1/2..2:3", "--vary", "e=0..1:3",
             "--jobs", "1", "-o", sw], 0, stdout=False):
         check("sweep.schema.json", json.load(open(os.path.join(sw, "sweep.json"))), "sweep.json")
+    kane = os.path.join(SRC, "proofs", "kane", "gains", "system.json")
+    if run(["sweep", "--system", kane, "--law", "newton", "--restitution", "1/2", "--vary", "mu=0..1/2:6",
+            "--thresholds", "--jobs", "1", "-o", sw + "-kane"], 0, stdout=False):
+        doc = json.load(open(os.path.join(sw + "-kane", "sweep.json")))
+        check("sweep.schema.json", doc, "sweep.json of a system, with thresholds")
+        if not any(p["derive"] == "not-a-function" for p in doc["points"]) or not doc.get("thresholds"):
+            failures.append("the system sweep has no not-a-function point or no threshold to check")
+        bad = json.loads(json.dumps(doc))
+        bad["thresholds"][0]["in"] = ["0.1"]
+        rejects("sweep.schema.json", bad, "an enclosure with one end")
     if run(["sweep", "--masses", "1,m,1", "--restitution", "1/2", "--vary", "m=1/2..2:3", "--jobs", "1",
             "--shard", "1/2", "-o", sw], 0, stdout=False):
         check("sweep-part.schema.json", json.load(open(os.path.join(sw, "sweep.part-1-of-2.json"))), "sweep part")

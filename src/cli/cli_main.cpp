@@ -80,6 +80,31 @@ std::vector<std::string> items(const std::string& text) {
     return out;
 }
 
+// One line per threshold of DIR/sweep.json: the column, the change, the enclosure, and for
+// energetic the boundary's polynomial and its root.
+void print_thresholds(const std::string& path) {
+    const Json doc = Json::parse(read_file_text(path));
+    if (!doc.contains("thresholds"))
+        return;
+    const std::string name = doc["parameters"][0]["name"].get<std::string>();
+    for (const auto& t : doc["thresholds"]) {
+        std::cout << t["column"].get<std::string>() << ": " << t["below"].get<std::string>() << " -> "
+                  << t["above"].get<std::string>() << " at " << name << " in [" << t["in"][0].get<std::string>() << ", "
+                  << t["in"][1].get<std::string>() << "] (" << t["approx"].get<std::string>() << ")";
+        if (t.contains("stopped"))
+            std::cout << "; stopped: " << t["stopped"].get<std::string>();
+        if (t.contains("boundary")) {
+            const Json& b = t["boundary"];
+            if (b.contains("polynomial"))
+                std::cout << "; boundary " << b["polynomial"].get<std::string>() << " = 0 at "
+                          << (b.contains("root") ? b["root"].get<std::string>() : b["root_approx"].get<std::string>());
+            else
+                std::cout << "; no polynomial: " << b["why_not"].get<std::string>();
+        }
+        std::cout << "\n";
+    }
+}
+
 int run_sweep_command(const SweepArgs& a, const Limits& limits) {
     if (!a.merge.empty()) {
         if (!a.masses.empty() || !a.system.empty() || !a.scene.empty() || !a.vary.empty() || !a.shard.empty() || a.thresholds)
@@ -90,6 +115,7 @@ int run_sweep_command(const SweepArgs& a, const Limits& limits) {
             throw InputError(std::string("--merge: a part is not an impactcert-sweep-part/1 document (") + e.what() + ")");
         }
         std::cout << a.out << "/sweep.csv\n" << a.out << "/sweep.json\n" << a.out << "/sweep.html\n" << a.out << "/figures/\n";
+        print_thresholds(a.out + "/sweep.json");
         note_without_pdf(true);
         return kExitProved;
     }
@@ -146,6 +172,8 @@ int run_sweep_command(const SweepArgs& a, const Limits& limits) {
         std::cout << sweep_part_path(a.out, *spec.shard) << "\n";
     else
         std::cout << a.out << "/sweep.csv\n" << a.out << "/sweep.json\n" << a.out << "/sweep.html\n" << a.out << "/figures/\n";
+    if (spec.thresholds && !spec.shard)
+        print_thresholds(a.out + "/sweep.json");
     note_without_pdf(!spec.shard);
     return kExitProved; // the verdicts are data
 }
