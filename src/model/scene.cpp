@@ -55,13 +55,15 @@ P2 get_unit(const ReadJson& j, const std::string& path) {
     return n;
 }
 
+// A shape is a convex core -- one point (a disk), two (a segment, a capsule) or a convex polygon
+// (counter-clockwise, strictly convex) -- and a radius r >= 0 around it (a disk's radius, a
+// capsule's, a polygon's skin): the set of points within r of the core.
 struct Shape {
-    bool disk = true;
-    Rational r;  // disk
-    P2 a, b;     // disk: a is the centre; segment: the end points (world positions)
+    std::vector<P2> core; // world positions
+    Rational r;
     std::string path;
+    bool polygon() const { return core.size() >= 3; }
 };
-
 struct Body {
     std::string name;
     Rational m, J;
@@ -103,10 +105,293 @@ bool on_segment(const P2& a, const P2& b, const P2& q) {
     return sign_of(t) != Sign::negative && t <= dot(d, d);
 }
 
+// Squared distance from q to the core (a point, a segment, or a polygon's boundary or inside).
+Rational squared_distance(const Shape& s, const P2& q) {
+    if (s.core.size() == 1)
+        return dot(q - s.core[0], q - s.core[0]);
+    Rational best;
+    bool inside = s.polygon();
+    for (std::size_t k = 0; k < s.core.size(); ++k) {
+        const P2& a = s.core[k];
+        const P2& b = s.core[(k + 1) % s.core.size()];
+        if (s.core.size() == 2 && k == 1)
+            break;
+        const P2 c = closest_on_segment(a, b, q);
+        const Rational d2 = dot(q - c, q - c);
+        if (k == 0 || d2 < best)
+            best = d2;
+        if (s.polygon() && sign_of(cross(b - a, q - a)) == Sign::negative)
+            inside = false;
+    }
+    return inside ? Rational(0) : best;
+}
+
 bool on_shape(const Shape& s, const P2& q) {
-    if (s.disk)
-        return dot(q - s.a, q - s.a) == s.r * s.r;
-    return on_segment(s.a, s.b, q);
+    if (s.polygon() && sign_of(s.r) == Sign::zero) {
+        // on the boundary of a polygon: on one of its edges
+        for (std::size_t k = 0; k < s.core.size(); ++k)
+            if (on_segment(s.core[k], s.core[(k + 1) % s.core.size()], q))
+                return true;
+        return false;
+    }
+    return squared_distance(s, q) == s.r * s.r;
+}
+
+// The edges of a core: none for a point, one for a segment, n for a polygon.
+std::vector<std::pair<P2, P2>> edges(const Shape& s) {
+    std::vector<std::pair<P2, P2>> out;
+    if (s.core.size() == 2)
+        out.push_back({s.core[0], s.core[1]});
+    else if (s.polygon())
+        for (std::size_t k = 0; k < s.core.size(); ++k)
+            out.push_back({s.core[k], s.core[(k + 1) % s.core.size()]});
+    return out;
+}
+
+// Whether the cores' interiors overlap (a polygon's interior, or a segment crossing another
+// properly): no edge normal of either core separates them, touching allowed (max <= min).
+bool cores_overlap(const Shape& s, const Shape& t) {
+    if (!s.polygon() && !t.polygon()) {
+        if (s.core.size() == 2 && t.core.size() == 2) {
+            // two segments cross properly: each one's end points strictly on both sides of the other
+            auto sides = [](const P2& a, const P2& b, const P2& p, const P2& q) {
+                return static_cast<int>(sign_of(cross(b - a, p - a))) * static_cast<int>(sign_of(cross(b - a, q - a)));
+            };
+            return sides(s.core[0], s.core[1], t.core[0], t.core[1]) < 0 && sides(t.core[0], t.core[1], s.core[0], s.core[1]) < 0;
+        }
+        return false; // a point has no interior; touching is found by the distance
+    }
+    for (const Shape* owner : {&s, &t})
+        for (const auto& [a, b] : edges(*owner)) {
+            const P2 axis{b.y - a.y, a.x - b.x}; // an edge normal, unnormalised
+            Rational smin, smax, tmin, tmax;
+            for (std::size_t k = 0; k < s.core.size(); ++k) {
+                const Rational v = dot(s.core[k], axis);
+                if (k == 0 || v < smin)
+                    smin = v;
+                if (k == 0 || v > smax)
+                    smax = v;
+            }
+            for (std::size_t k = 0; k < t.core.size(); ++k) {
+                const Rational v = dot(t.core[k], axis);
+                if (k == 0 || v < tmin)
+                    tmin = v;
+                if (k == 0 || v > tmax)
+                    tmax = v;
+            }
+            if (!(smax > tmin) || !(tmax > smin))
+                return false; // separated or touching along this axis
+        }
+    return true;
+}
+
+// The unit normal of edge [a, b] (rotated by -90 degrees: outward for a counter-clockwise
+// polygon); InputError naming the shape when its length is irrational.
+P2 edge_normal(const P2& a, const P2& b, const std::string& path) {
+    const P2 d = b - a;
+    const auto len = rational_sqrt(dot(d, d));
+    if (!len)
+        input_error(path, "the edge from " + text(a) + " to " + text(b) + " has length sqrt(" + to_string(dot(d, d)) +
+                              "), not rational: its unit normal is irrational");
+    return (Rational(1) / *len) * P2{d.y, -d.x};
+}
+
+// Reads a shape of a body centred at c: "disk" (radius, optional "center"), "segment" (two end
+// points) or "polygon" (three or more vertices, convex), each offset from the centre, with an
+// optional "radius" (a capsule, a polygon's skin).
+Shape read_shape(const ReadJson& js, const std::string& sp, const P2& c) {
+    jr::expect_object(js, sp, {"disk", "segment", "polygon", "center", "radius"}, {});
+    Shape shape;
+    shape.path = sp;
+    const int kinds = js.contains("disk") + js.contains("segment") + js.contains("polygon");
+    if (kinds != 1)
+        input_error(sp, "expected exactly one of \"disk\" (a radius), \"segment\" (two end points) and \"polygon\" (its vertices)");
+    if (js.contains("disk")) {
+        if (js.contains("radius"))
+            input_error(sp + ".radius", "a disk's radius is \"disk\"");
+        shape.r = jr::get_rational(js["disk"], sp + ".disk");
+        if (sign_of(shape.r) != Sign::positive)
+            input_error(sp + ".disk", "radius must be positive, got " + to_string(shape.r));
+        shape.core.push_back(c + (js.contains("center") ? get_point(js["center"], sp + ".center") : P2{}));
+        return shape;
+    }
+    if (js.contains("center"))
+        input_error(sp + ".center", js.contains("segment") ? "a segment has end points, not a centre"
+                                                           : "a polygon has vertices, not a centre");
+    if (js.contains("radius")) {
+        shape.r = jr::get_rational(js["radius"], sp + ".radius");
+        if (sign_of(shape.r) == Sign::negative)
+            input_error(sp + ".radius", "must be >= 0, got " + to_string(shape.r));
+    }
+    if (js.contains("segment")) {
+        jr::expect_array(js["segment"], sp + ".segment");
+        if (js["segment"].size() != 2)
+            input_error(sp + ".segment", "expected two end points (offsets from the body's centre)");
+        for (std::size_t k = 0; k < 2; ++k)
+            shape.core.push_back(c + get_point(js["segment"][k], idx(sp + ".segment", k)));
+        if (shape.core[0] == shape.core[1])
+            input_error(sp + ".segment", "the end points coincide");
+        return shape;
+    }
+    jr::expect_array(js["polygon"], sp + ".polygon");
+    const std::size_t n = js["polygon"].size();
+    if (n < 3 || n > 64)
+        input_error(sp + ".polygon", "expected 3 to 64 vertices (offsets from the body's centre), got " + std::to_string(n));
+    for (std::size_t k = 0; k < n; ++k)
+        shape.core.push_back(c + get_point(js["polygon"][k], idx(sp + ".polygon", k)));
+    // Strictly convex, either orientation (made counter-clockwise), simple (turning once).
+    Sign turn = Sign::zero;
+    for (std::size_t k = 0; k < n; ++k) {
+        const P2& a = shape.core[k];
+        const P2& b = shape.core[(k + 1) % n];
+        const P2& d = shape.core[(k + 2) % n];
+        const Sign t = sign_of(cross(b - a, d - b));
+        if (t == Sign::zero)
+            input_error(idx(sp + ".polygon", (k + 1) % n), "three consecutive vertices on a line (or repeated): give a strictly convex polygon");
+        if (turn != Sign::zero && t != turn)
+            input_error(idx(sp + ".polygon", (k + 1) % n), "the polygon is not convex here");
+        turn = t;
+    }
+    // A star polygon turns one way at every vertex too, but winds more than once: convexity is
+    // checked as "every other vertex strictly on the inner side of every edge".
+    for (std::size_t k = 0; k < n; ++k)
+        for (std::size_t m = 0; m < n; ++m) {
+            if (m == k || m == (k + 1) % n)
+                continue;
+            if (sign_of(cross(shape.core[(k + 1) % n] - shape.core[k], shape.core[m] - shape.core[k])) != turn)
+                input_error(sp + ".polygon", "the polygon is not convex (or its edges cross)");
+        }
+    if (turn == Sign::negative)
+        std::reverse(shape.core.begin(), shape.core.end());
+    return shape;
+}
+// Where a shape touches a boundary: its core's vertices at distance exactly r from the line
+// (two for an edge lying on it), each as (point, the boundary's normal). InputError when the
+// shape reaches beyond the boundary (an overlap at the impact).
+std::vector<std::pair<P2, P2>> touch_boundary(const Shape& s, const Boundary& bd) {
+    Rational lowest;
+    for (std::size_t k = 0; k < s.core.size(); ++k) {
+        const Rational h = dot(s.core[k] - bd.p, bd.n);
+        if (k == 0 || h < lowest)
+            lowest = h;
+    }
+    if (lowest < s.r)
+        input_error(s.path, "reaches beyond the boundary " + in_quotes(bd.name) + ": its core is at distance " +
+                                to_string(lowest) + " from it, less than its radius " + to_string(s.r) +
+                                " (the shapes of a scene touch, never overlap)");
+    std::vector<std::pair<P2, P2>> out;
+    if (lowest == s.r)
+        for (const P2& v : s.core)
+            if (dot(v - bd.p, bd.n) == s.r)
+                out.push_back({v - s.r * bd.n, bd.n});
+    return out;
+}
+
+// The contact normal at x from core `from` (edge [a, b] through x) towards core `to`, when the
+// edge's line has `to` on one side (weakly); nothing when `to` lies on both sides or, for a
+// polygon, on its inner side. A segment, which has no inner side, is oriented by `to_centre`
+// when `to` lies on its line.
+std::optional<P2> normal_from_edge(const Shape& from, const P2& a, const P2& b, const Shape& to, const P2& to_centre) {
+    bool left = false, right = false;
+    for (const P2& o : to.core) {
+        const Sign t = sign_of(cross(b - a, o - a));
+        left = left || t == Sign::positive;
+        right = right || t == Sign::negative;
+    }
+    if (left && right)
+        return std::nullopt;
+    const P2 outward = edge_normal(a, b, from.path); // the right-hand side of a -> b
+    if (right)
+        return outward;
+    if (from.polygon())
+        return std::nullopt; // the inner side of a counter-clockwise polygon
+    if (left)
+        return Rational(-1) * outward;
+    const Sign side = sign_of(dot(to_centre - a, outward));
+    if (side == Sign::zero)
+        return std::nullopt;
+    return side == Sign::positive ? outward : Rational(-1) * outward;
+}
+
+// Where two shapes of different bodies touch (centres cs, ct): each contact as (point, unit
+// normal from s's body to t's). The cores' closest pairs are found among each vertex of one and
+// each edge (or the point) of the other; the shapes touch where that distance equals the sum of
+// the radii. With a positive sum the normal is the closest pair's direction (rational: its length
+// is the sum); with none, the touching cores' common edge line gives it. InputError naming both
+// shapes for an overlap, an undefined normal or irrational geometry.
+std::vector<std::pair<P2, P2>> touch(const Shape& s, const Shape& t, const P2& cs, const P2& ct) {
+    const std::string where = s.path + " and " + t.path;
+    if (cores_overlap(s, t))
+        input_error(where, "the shapes overlap at the impact (their cores' interiors meet); a scene's shapes touch");
+    auto features = [](const Shape& sh) {
+        auto e = edges(sh);
+        if (e.empty())
+            e.push_back({sh.core[0], sh.core[0]});
+        return e;
+    };
+    std::optional<Rational> best;
+    std::vector<std::pair<P2, P2>> pairs; // closest points (on s's core, on t's)
+    auto consider = [&](const P2& p, const P2& q) {
+        const Rational d2 = dot(q - p, q - p);
+        if (!best || d2 < *best) {
+            best = d2;
+            pairs.clear();
+        }
+        if (d2 == *best && std::find_if(pairs.begin(), pairs.end(), [&](const auto& x) { return x.first == p && x.second == q; }) == pairs.end())
+            pairs.push_back({p, q});
+    };
+    for (const P2& v : s.core)
+        for (const auto& [a, b] : features(t))
+            consider(v, closest_on_segment(a, b, v));
+    for (const P2& w : t.core)
+        for (const auto& [a, b] : features(s))
+            consider(closest_on_segment(a, b, w), w);
+    const Rational sum = s.r + t.r;
+    if (*best < sum * sum)
+        input_error(where, "the shapes overlap at the impact: their cores are " + to_string(*best) +
+                               " apart squared, less than the square of their radii's sum " + to_string(sum));
+    std::vector<std::pair<P2, P2>> out;
+    if (*best > sum * sum)
+        return out;
+    if (sign_of(sum) == Sign::positive) {
+        for (const auto& [p, q] : pairs) {
+            const P2 n = (Rational(1) / sum) * (q - p);
+            out.push_back({p + s.r * n, n});
+        }
+        return out;
+    }
+    // Touching cores: one normal for all the touching points, from an edge through one of them
+    // whose line has the other core on one side.
+    std::optional<P2> normal;
+    for (const auto& [x, unused] : pairs) {
+        (void)unused;
+        for (int side = 0; side < 2; ++side) {
+            const Shape& from = side == 0 ? s : t;
+            const Shape& to = side == 0 ? t : s;
+            for (const auto& [a, b] : edges(from)) {
+                if (!on_segment(a, b, x))
+                    continue;
+                auto n = normal_from_edge(from, a, b, to, side == 0 ? ct : cs);
+                if (!n)
+                    continue;
+                if (side == 1)
+                    n = Rational(-1) * *n; // from s to t
+                if (normal && !(*normal == *n))
+                    input_error(where, "touch at " + text(x) + " with two possible normals, " + text(*normal) + " and " +
+                                           text(*n) + ": the normal is not defined (list this contact)");
+                normal = n;
+            }
+        }
+    }
+    if (!normal)
+        input_error(where, "touch at " + text(pairs.front().first) +
+                               " where no edge line separates them (corners, or a body's centre on the line): the "
+                               "normal is not defined (list this contact)");
+    for (const auto& [x, unused] : pairs) {
+        (void)unused;
+        out.push_back({x, *normal});
+    }
+    return out;
 }
 
 } // namespace
@@ -140,33 +425,8 @@ System parse_scene(const ReadJson& doc) {
             input_error(bp + ".inertia", "must be positive, got " + to_string(body.J));
         if (jb.contains("shapes")) {
             jr::expect_array(jb["shapes"], bp + ".shapes");
-            for (std::size_t s = 0; s < jb["shapes"].size(); ++s) {
-                const std::string sp = idx(bp + ".shapes", s);
-                const ReadJson& js = jb["shapes"][s];
-                jr::expect_object(js, sp, {"disk", "segment", "center"}, {});
-                Shape shape;
-                shape.path = sp;
-                if (js.contains("disk") == js.contains("segment"))
-                    input_error(sp, "expected exactly one of \"disk\" (a radius) and \"segment\" (two end points)");
-                if (js.contains("disk")) {
-                    shape.r = jr::get_rational(js["disk"], sp + ".disk");
-                    if (sign_of(shape.r) != Sign::positive)
-                        input_error(sp + ".disk", "radius must be positive, got " + to_string(shape.r));
-                    shape.a = body.c + (js.contains("center") ? get_point(js["center"], sp + ".center") : P2{});
-                } else {
-                    if (js.contains("center"))
-                        input_error(sp + ".center", "a segment has end points, not a centre");
-                    jr::expect_array(js["segment"], sp + ".segment");
-                    if (js["segment"].size() != 2)
-                        input_error(sp + ".segment", "expected two end points (offsets from the body's centre)");
-                    shape.disk = false;
-                    shape.a = body.c + get_point(js["segment"][0], sp + ".segment[0]");
-                    shape.b = body.c + get_point(js["segment"][1], sp + ".segment[1]");
-                    if (shape.a == shape.b)
-                        input_error(sp + ".segment", "the end points coincide");
-                }
-                body.shapes.push_back(shape);
-            }
+            for (std::size_t s = 0; s < jb["shapes"].size(); ++s)
+                body.shapes.push_back(read_shape(jb["shapes"][s], idx(bp + ".shapes", s), body.c));
         }
         bodies.push_back(body);
     }
@@ -193,79 +453,27 @@ System parse_scene(const ReadJson& doc) {
         if (doc.contains("contacts") && !doc["contacts"].is_string())
             input_error("$.contacts", "expected \"find\" or a list of contacts");
         auto add = [&](int i, int j, const P2& p, const P2& n, const std::string& where) {
+            // One contact per point of a pair of bodies: a vertex shared by two shapes of a body
+            // (two segments of an outline) is found by each, and counted once.
+            for (const Contact& other : contacts)
+                if (other.i == i && other.j == j && other.p == p) {
+                    if (!(other.n == n))
+                        input_error(where, "touches at " + text(p) + " with the normal " + text(n) + ", and " + other.path +
+                                               " there with " + text(other.n) + ": the normal is not defined (list this contact)");
+                    return;
+                }
             contacts.push_back(Contact{i, j, p, n, name_of(i) + "/" + name_of(j), where, {}, {}});
         };
-        for (std::size_t i = 0; i < bodies.size(); ++i) {
-            for (std::size_t si = 0; si < bodies[i].shapes.size(); ++si) {
-                const Shape& s = bodies[i].shapes[si];
-                // against the boundaries
-                for (std::size_t k = 0; k < boundaries.size(); ++k) {
-                    const Boundary& bd = boundaries[k];
-                    const int bi = -static_cast<int>(k) - 2;
-                    if (s.disk) {
-                        if (dot(s.a - bd.p, bd.n) == s.r)
-                            add(bi, static_cast<int>(i), s.a - s.r * bd.n, bd.n, s.path);
-                    } else {
-                        for (const P2& e : {s.a, s.b})
-                            if (sign_of(dot(e - bd.p, bd.n)) == Sign::zero)
-                                add(bi, static_cast<int>(i), e, bd.n, s.path);
-                    }
-                }
-                // against the shapes of later bodies
+        for (std::size_t i = 0; i < bodies.size(); ++i)
+            for (const Shape& sh : bodies[i].shapes) {
+                for (std::size_t k = 0; k < boundaries.size(); ++k)
+                    for (const auto& [p, n] : touch_boundary(sh, boundaries[k]))
+                        add(-static_cast<int>(k) - 2, static_cast<int>(i), p, n, sh.path);
                 for (std::size_t j = i + 1; j < bodies.size(); ++j)
-                    for (const Shape& t : bodies[j].shapes) {
-                        const std::string where = s.path + " and " + t.path;
-                        if (s.disk && t.disk) {
-                            const P2 d = t.a - s.a;
-                            if (dot(d, d) == (s.r + t.r) * (s.r + t.r)) {
-                                const P2 n = (Rational(1) / (s.r + t.r)) * d;
-                                add(static_cast<int>(i), static_cast<int>(j), s.a + s.r * n, n, where);
-                            }
-                        } else if (s.disk != t.disk) {
-                            const Shape& disk = s.disk ? s : t;
-                            const Shape& seg = s.disk ? t : s;
-                            const P2 q = closest_on_segment(seg.a, seg.b, disk.a);
-                            if (dot(disk.a - q, disk.a - q) == disk.r * disk.r) {
-                                // normal from the segment's body to the disk's
-                                const P2 n = (Rational(1) / disk.r) * (disk.a - q);
-                                if (s.disk)
-                                    add(static_cast<int>(i), static_cast<int>(j), q, Rational(-1) * n, where);
-                                else
-                                    add(static_cast<int>(i), static_cast<int>(j), q, n, where);
-                            }
-                        } else {
-                            // segment against segment: an end point of one on the other
-                            for (int side = 0; side < 2; ++side) {
-                                const Shape& edge = side == 0 ? s : t;
-                                const Shape& tip = side == 0 ? t : s;
-                                for (const P2& e : {tip.a, tip.b}) {
-                                    if (!on_segment(edge.a, edge.b, e))
-                                        continue;
-                                    if (e == edge.a || e == edge.b)
-                                        input_error(where, "two end points touch at " + text(e) +
-                                                               ": the normal is not defined (list this contact)");
-                                    const P2 d = edge.b - edge.a;
-                                    const auto len = rational_sqrt(dot(d, d));
-                                    if (!len)
-                                        input_error(edge.path, "the segment's length is sqrt(" + to_string(dot(d, d)) +
-                                                                   "), not rational: its unit normal is irrational");
-                                    P2 n = (Rational(1) / *len) * P2{-d.y, d.x};
-                                    // from the edge's body towards the tip's body (its centre's side)
-                                    const P2 tip_centre = bodies[side == 0 ? j : i].c;
-                                    const Sign toward = sign_of(dot(tip_centre - e, n));
-                                    if (toward == Sign::zero)
-                                        input_error(where, "the touching body's centre lies on the contact line: "
-                                                           "the normal's direction is not defined (list this contact)");
-                                    if (toward == Sign::negative)
-                                        n = Rational(-1) * n;
-                                    // normal from body i to body j
-                                    add(static_cast<int>(i), static_cast<int>(j), e, side == 0 ? n : Rational(-1) * n, where);
-                                }
-                            }
-                        }
-                    }
+                    for (const Shape& t : bodies[j].shapes)
+                        for (const auto& [p, n] : touch(sh, t, bodies[i].c, bodies[j].c))
+                            add(static_cast<int>(i), static_cast<int>(j), p, n, sh.path + " and " + t.path);
             }
-        }
         if (contacts.empty())
             input_error("$.contacts", "no two shapes touch (distance exactly zero): no contact found");
     } else {
@@ -449,7 +657,7 @@ System parse_scene(const ReadJson& doc) {
                 why = why.substr(colon + 2);
         std::string list;
         for (std::size_t k = 0; k < c && k < 6; ++k)
-            list += (k ? "; " : "") + std::to_string(k + 1) + ": " + contacts[k].name;
+            list += (k ? "; " : "") + std::to_string(k + 1) + ": " + out.contact_names[k];
         input_error(doc.contains("contacts") ? "$.contacts" : "$",
                     "the scene's contacts (" + list + (c > 6 ? "; ..." : "") + "): " + why +
                         "; a body with more contact columns than velocities (redundant contacts) is not supported yet");

@@ -117,8 +117,8 @@ Mechanics make_mechanics(const std::vector<Rational>& masses, const std::optiona
     }
     const std::size_t c = m.W.cols();
     if (c > n)
-        input_error(friction.empty() ? "$.contacts.W" : "$.contacts.friction", std::to_string(c) + " contacts but only " + std::to_string(n) +
-                                        " velocities: the columns of W are linearly dependent");
+        input_error(friction.empty() ? "$.contacts.W" : "$.contacts.friction", std::to_string(c) + (friction.empty() ? " contacts" : " columns (normals and tangents)") +
+                                        " but only " + std::to_string(n) + " velocities: the columns of W are linearly dependent");
     m.G = transpose(m.W) * m.M_inv * m.W;
     auto H = inverse(m.G);
     if (!H) {

@@ -1,0 +1,235 @@
+#!/usr/bin/env python3
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""Scenes with polygons, capsules and skins (issue 43): contacts found exactly, laws checked by
+an independent oracle.
+
+For each scene of examples/scenes/ below, the contacts are written here by hand (point, normal,
+bodies); their columns of W are computed in fractions from the lever arms (and the tangent
+(n_y, -n_x) where the contact is rough) and must be the law's columns. The Newton law derived
+from the scene (restitution on all contacts and on approaching ones) must then give, at random
+rational u-, the gamma+ of the only solution the oracle finds by enumerating contact modes in
+body velocities (tests/oracles/friction_lcp.py: M, W and the Coulomb conditions, no G).
+Negative controls: a changed entry of Q is caught; a scene made of four segments landing on a
+corner has one contact (a shared vertex counted once); overlapping, non-convex, irrational and
+ill-defined geometry is one line naming the shape, exit 2.
+Usage: scene_shapes_test.py IMPACTCERT SOURCE_DIR SAMPLES_PER_LAW
+"""
+import json
+import os
+import random
+import shutil
+import subprocess
+import sys
+import tempfile
+from fractions import Fraction as F
+
+CLI, SRC = sys.argv[1], sys.argv[2]
+SAMPLES = int(sys.argv[3]) if len(sys.argv) > 3 else 850
+sys.path.insert(0, os.path.join(SRC, "tests"))
+sys.path.insert(0, os.path.join(SRC, "tests", "oracles"))
+from friction_lcp import System, solve  # noqa: E402
+from testkit import finish  # noqa: E402
+
+rng = random.Random(20261128)
+failures = []
+SCENES = os.path.join(SRC, "examples", "scenes")
+
+
+def fail(msg):
+    failures.append(msg)
+
+
+def run(args, expect=0):
+    p = subprocess.run([CLI] + args, capture_output=True, text=True)
+    if expect is not None and p.returncode != expect:
+        fail(f"{' '.join(args)}: exit {p.returncode}, expected {expect}: {p.stderr.strip()[:300]}")
+    return p
+
+
+# Each scene by hand: bodies (mass, inertia, centre) in order, and contacts (body a or None for a
+# boundary, body b, point, unit normal from a to b, mu).
+H = F(1, 2)
+HAND = {
+    # a 2 x 1 box flat on the ground: its two bottom corners
+    "box-landing-flat": ([(1, F(5, 12), (0, H))],
+                         [(None, 0, (-1, 0), (0, 1), 0), (None, 0, (1, 0), (0, 1), 0)]),
+    # a unit disk at (1, 1) in the corner of a floor and a wall
+    "ball-in-a-corner": ([(1, F(2, 5), (1, 1))],
+                         [(None, 0, (1, 0), (0, 1), 0), (None, 0, (0, 1), (1, 0), 0)]),
+    # a ladder from (3, 0) on a rough floor (mu 1/2) to (0, 4) on a smooth wall
+    "ladder": ([(1, F(25, 12), (F(3, 2), 2))],
+               [(None, 0, (3, 0), (0, 1), H), (None, 0, (0, 4), (1, 0), 0)]),
+    # a capsule (segment from -1 to 1, radius 1/4) lying on its side: the two ends of its flat
+    "capsule-on-its-side": ([(1, H, (0, F(1, 4)))],
+                            [(None, 0, (-1, 0), (0, 1), 0), (None, 0, (1, 0), (0, 1), 0)]),
+    # a 2 x 1 box tilted by (4/5, 3/5) with a skin of 1/10, on its lowest rounded corner, rough (1/4)
+    "rounded-box-on-a-corner": ([(1, F(5, 12), (0, F(11, 10)))],
+                                [(None, 0, (-H, 0), (0, 1), F(1, 4))]),
+    # a 1 x 1/2 box on a 2 x 1 box whose right edges line up: the upper box's bottom corners
+    "box-on-a-box": ([(2, F(5, 6), (0, H)), (1, F(5, 48), (H, F(5, 4)))],
+                     [(None, 0, (-1, 0), (0, 1), 0), (None, 0, (1, 0), (0, 1), 0),
+                      (0, 1, (1, 1), (0, 1), 0), (0, 1, (0, 1), (0, 1), 0)]),
+    # the block of docs/sweep.md, landing on a listed corner (rough, 1/2)
+    "block-on-a-corner": ([(1, F(5, 12), (0, 1))], [(None, 0, (-H, 0), (0, 1), H)]),
+}
+
+
+def hand_system(bodies, contacts):
+    n = 3 * len(bodies)
+    M = [[F(0)] * n for _ in range(n)]
+    for b, (m, J, _) in enumerate(bodies):
+        M[3 * b][3 * b] = M[3 * b + 1][3 * b + 1] = F(m)
+        M[3 * b + 2][3 * b + 2] = F(J)
+
+    def column(a, b, p, d):
+        col = [F(0)] * n
+        for body, s in ((a, -1), (b, 1)):
+            if body is None:
+                continue
+            cx, cy = (F(x) for x in bodies[body][2])
+            rx, ry = F(p[0]) - cx, F(p[1]) - cy
+            col[3 * body] += s * F(d[0])
+            col[3 * body + 1] += s * F(d[1])
+            col[3 * body + 2] += s * (rx * F(d[1]) - ry * F(d[0]))
+        return col
+
+    normals = [column(a, b, p, nrm) for (a, b, p, nrm, _) in contacts]
+    friction = [(k, F(mu), F(0), [column(a, b, p, (nrm[1], -nrm[0]))])
+                for k, (a, b, p, nrm, mu) in enumerate(contacts) if mu]
+    return M, normals, friction
+
+
+def law_columns(law):
+    W = law["contacts"]["W"]
+    cols = [[F(W[i][k]) for i in range(len(W))] for k in range(len(W[0]))]
+    tangents = [[F(x) for x in f["tangents"][0]] for f in law["contacts"].get("friction", [])]
+    return cols, tangents
+
+
+def pieces_of(law):
+    out = []
+    for piece in law["pieces"]:
+        d = len(piece["rays"][0])
+        R = [[F(r[i]) for r in piece["rays"]] for i in range(d)]
+        cols = [solve(R, [F(int(i == j)) for i in range(d)]) for j in range(d)]
+        Rinv = [[cols[j][i] for j in range(d)] for i in range(d)]
+        out.append((Rinv, [[F(x) for x in row] for row in piece["Q"]]))
+    return out
+
+
+def locate(pieces, gamma):
+    values = []
+    for Rinv, Q in pieces:
+        if any(sum(row[j] * gamma[j] for j in range(len(gamma))) < 0 for row in Rinv):
+            continue
+        v = [sum(Q[i][j] * gamma[j] for j in range(len(gamma))) for i in range(len(gamma))]
+        if v not in values:
+            values.append(v)
+    return values
+
+
+tmp = tempfile.mkdtemp(prefix="impactcert-shapes-")
+try:
+    compared = 0
+    for name, (bodies, contacts) in HAND.items():
+        scene = os.path.join(SCENES, name + ".json")
+        M, normals, friction = hand_system(bodies, contacts)
+        e = [F(1, 2)] * len(normals)
+        for on in ("all", "approaching"):
+            lawfile = os.path.join(tmp, f"{name}-{on}.json")
+            if run(["derive", "newton", "--system", scene, "--restitution", "1/2", "--restitution-on", on,
+                    "-o", lawfile]).returncode != 0:
+                continue
+            law = json.load(open(lawfile))
+            cols, tangents = law_columns(law)
+            if cols != normals or tangents != [c for (_, _, _, (c,)) in friction]:
+                fail(f"{name}: the law's columns {cols} / {tangents} are not the hand-computed "
+                     f"{normals} / {[c for (_, _, _, (c,)) in friction]}")
+                break
+            S = System(M, normals, friction)
+            pieces = pieces_of(law)
+            for _ in range(SAMPLES):
+                u = [F(rng.randint(-60, 60), rng.randint(1, 12)) for _ in range(S.n)]
+                sols = S.solutions(u, e, approaching=(on == "approaching"))
+                if len(sols) != 1:
+                    fail(f"{name}/{on}: u- = {u}: the oracle finds {len(sols)} solutions")
+                    continue
+                gm, expected = S.velocities(u), S.velocities(sols[0])
+                got = locate(pieces, gm)
+                if got != [expected]:
+                    fail(f"{name}/{on}: u- = {u}: law {got}, oracle {expected}")
+                    break
+                compared += 1
+            # Negative control: one entry of Q changed in the piece of the last gamma- is caught.
+            k = next(i for i, (Rinv, _) in enumerate(pieces)
+                     if all(sum(r[j] * gm[j] for j in range(len(gm))) >= 0 for r in Rinv))
+            j = next(j for j in range(len(gm)) if gm[j] != 0)
+            bad = json.loads(json.dumps(law))
+            bad["pieces"][k]["Q"][0][j] = str(F(bad["pieces"][k]["Q"][0][j]) + 1)
+            if locate(pieces_of(bad), gm) == [expected]:
+                fail(f"{name}/{on}: a changed Q still agrees with the oracle")
+        p = run(["verify", "--law", os.path.join(tmp, f"{name}-all.json")], None)
+        if p.returncode not in (0, 1):
+            fail(f"{name}: verify exit {p.returncode}: {p.stderr.strip()[:200]}")
+    if compared < 6 * SAMPLES:
+        fail(f"only {compared} inputs compared")
+    print(f"compared {compared} random rational inputs over {len(HAND)} scenes with the oracle")
+
+    # A box drawn as four segments, landing on a corner: the corner is on two segments, one contact.
+    outline = {"format": "impactcert-scene/1", "name": "outline",
+               "bodies": [{"name": "box", "mass": "1", "inertia": "5/12", "position": ["0", "1"], "shapes": [
+                   {"segment": [["-1/2", "-1"], ["11/10", "1/5"]]}, {"segment": [["11/10", "1/5"], ["1/2", "1"]]},
+                   {"segment": [["1/2", "1"], ["-11/10", "-1/5"]]}, {"segment": [["-11/10", "-1/5"], ["-1/2", "-1"]]}]}],
+               "boundaries": [{"name": "ground", "point": ["0", "0"], "normal": ["0", "1"]}], "friction": "1/2",
+               "restitution": "1/2"}
+
+    def scene_file(doc, tag):
+        path = os.path.join(tmp, tag + ".json")
+        with open(path, "w") as f:
+            json.dump(doc, f)
+        return path
+
+    p = run(["derive", "newton", "--system", scene_file(outline, "outline"), "-o", os.path.join(tmp, "outline-law.json")])
+    if p.returncode == 0 and len(json.load(open(os.path.join(tmp, "outline-law.json")))["contacts"]["W"][0]) != 1:
+        fail("outline: a shared vertex gave more than one contact")
+
+    # Bad geometry: one line naming the place, exit 2.
+    def box(position, polygon=None, radius=None, name="box"):
+        shape = {"polygon": polygon or [["-1", "-1/2"], ["1", "-1/2"], ["1", "1/2"], ["-1", "1/2"]]}
+        if radius is not None:
+            shape["radius"] = radius
+        return {"name": name, "mass": "1", "inertia": "1", "position": position, "shapes": [shape]}
+
+    ground = [{"name": "ground", "point": ["0", "0"], "normal": ["0", "1"]}]
+    BAD = [
+        ("sunk", {"bodies": [box(["0", "1/4"])], "boundaries": ground}, "$.bodies[0].shapes[0]", "beyond the boundary"),
+        ("skin sunk", {"bodies": [box(["0", "1/2"], radius="1/10")], "boundaries": ground}, "$.bodies[0].shapes[0]",
+         "beyond the boundary"),
+        ("overlap", {"bodies": [box(["0", "1/2"]), box(["1", "3/4"], name="b")], "boundaries": ground},
+         "$.bodies[0].shapes[0] and $.bodies[1].shapes[0]", "overlap"),
+        ("non-convex", {"bodies": [box(["0", "1"], polygon=[["-1", "-1"], ["0", "0"], ["1", "-1"], ["0", "1"]])],
+                        "boundaries": ground}, "$.bodies[0].shapes[0]", "convex"),
+        ("collinear", {"bodies": [box(["0", "1"], polygon=[["-1", "-1"], ["0", "-1"], ["1", "-1"], ["0", "1"]])],
+                       "boundaries": ground}, "$.bodies[0].shapes[0].polygon", "on a line"),
+        ("two vertices", {"bodies": [box(["0", "1"], polygon=[["-1", "-1"], ["1", "-1"]])], "boundaries": ground},
+         "$.bodies[0].shapes[0].polygon", "3 to 64"),
+        ("negative skin", {"bodies": [box(["0", "1/2"], radius="-1/10")], "boundaries": ground},
+         "$.bodies[0].shapes[0].radius", ">= 0"),
+        # two squares touching corner to corner: both edge lines through the corner separate them
+        ("corners", {"bodies": [box(["0", "0"], polygon=[["-1", "-1"], ["0", "-1"], ["0", "0"], ["-1", "0"]]),
+                                box(["0", "0"], polygon=[["0", "0"], ["1", "0"], ["1", "1"], ["0", "1"]], name="b")]},
+         "$.bodies[0].shapes[0] and $.bodies[1].shapes[0]", "normal is not defined"),
+        # a vertex on an edge of irrational length (from (0, -1) to (1, 1)): its unit normal is irrational
+        ("irrational", {"bodies": [box(["0", "0"], polygon=[["-1", "-1"], ["0", "-1"], ["1", "1"], ["-1", "1"]]),
+                                   box(["2", "0"], polygon=[["-3/2", "0"], ["1", "-2"], ["1", "0"]], name="b")]},
+         "$.bodies[0].shapes[0]", "not rational"),
+    ]
+    for tag, doc, where, needle in BAD:
+        doc = dict({"format": "impactcert-scene/1", "name": tag.replace(" ", "-")}, **doc)
+        p = run(["derive", "newton", "--system", scene_file(doc, tag.replace(" ", "-"))], 2)
+        if where not in p.stderr or needle not in p.stderr or p.stderr.count("\n") != 1:
+            fail(f"bad scene {tag}: {p.stderr!r}")
+finally:
+    shutil.rmtree(tmp, ignore_errors=True)
+
+finish(failures)
