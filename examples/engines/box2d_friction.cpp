@@ -1,12 +1,14 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // box2d_friction.cpp -- a planar scene in Box2D 2.4.1 with Coulomb friction and rotation, as an
 // `impactcert fuzz --impl-cmd` driver. It reads the same scene file (impactcert-scene/1) as
-// impactcert: bodies with disks, fixed boundary lines, friction and restitution (the scene's,
-// per pair, or per listed contact are not distinguished here: see below).
+// impactcert: bodies with disks, convex polygons, segments and capsules, fixed boundary lines,
+// friction and restitution (the scene's, per pair, or per listed contact are not distinguished
+// here: see below).
 //
 // What it computes: a fresh world without gravity, each body with its mass, moment of inertia and
-// the scene's position, its disks as circle fixtures, each boundary as a long static edge
-// through its point; the velocities (v_x, v_y, omega) of every body, in the scene's order, are
+// the scene's position, its disks as circle fixtures, its polygons as polygon fixtures (radius:
+// the scene's skin; segments and capsules are refused: Box2D 2.4 collides no edge with an edge
+// and has no capsule), each boundary as a long static edge through its point; the velocities (v_x, v_y, omega) of every body, in the scene's order, are
 // set from one stdin line; one Box2D step (dt = 1/60, --iterations velocity iterations, one
 // position iteration); the velocities after it are printed. Box2D's sequential-impulse solver
 // resolves each contact's friction (clamped to mu times the contact's current normal impulse: the
@@ -21,8 +23,8 @@
 //
 // Limits (Box2D's): float arithmetic (relative errors ~1e-7: fuzz with --max-rel-error 1e-5);
 // a body moves at most 2 m and turns at most pi/2 per step (speeds above 120 m/s and spins above
-// ~94 rad/s are clamped: keep --range within 0.01..10); only disks (segments would be polygons
-// with Box2D's skin, whose contact points sit 0.005 inside the shape: not the scene's).
+// ~94 rad/s are clamped: keep --range within 0.01..10); a polygon has at most 8 vertices
+// (b2_maxPolygonVertices), and Box2D may round a polygon's hull.
 //
 // The skin: Box2D gives every edge a radius of b2_polygonRadius (0.01 m) and puts a circle's
 // contact point halfway between the surfaces, 0.005 m above the scene's line: the impulse then
@@ -77,10 +79,15 @@ struct Scene {
     struct Disk {
         double r, cx, cy;
     };
+    struct Outline { // a polygon (3 to 8 vertices), offsets from the centre, and its skin
+        std::vector<double> x, y;
+        double r = 0;
+    };
     struct Body {
         std::string name;
         double m, J, x, y;
         std::vector<Disk> disks;
+        std::vector<Outline> outlines;
     };
     struct Line {
         std::string name;
@@ -107,12 +114,26 @@ Scene read_scene(const std::string& path) {
     Scene s;
     for (const auto& b : doc.at("bodies")) {
         Scene::Body body{b.at("name").get<std::string>(), value(b.at("mass"), "mass"), value(b.at("inertia"), "inertia"),
-                         value(b.at("position").at(0), "position"), value(b.at("position").at(1), "position"), {}};
+                         value(b.at("position").at(0), "position"), value(b.at("position").at(1), "position"), {}, {}};
         if (b.contains("shapes"))
             for (const auto& shape : b.at("shapes")) {
-                if (!shape.contains("disk"))
-                    fail(path + ": body " + body.name + ": only disks are driven (a segment would be a polygon "
-                                "with Box2D's skin)");
+                if (shape.contains("segment"))
+                    fail(path + ": body " + body.name + ": a segment or capsule is not driven (Box2D 2.4 collides no edge "
+                                "with an edge, and has no capsule)");
+                if (shape.contains("polygon")) {
+                    const auto& points = shape.at("polygon");
+                    Scene::Outline o;
+                    for (const auto& q : points) {
+                        o.x.push_back(value(q.at(0), "vertex"));
+                        o.y.push_back(value(q.at(1), "vertex"));
+                    }
+                    if (o.x.size() > b2_maxPolygonVertices)
+                        fail(path + ": body " + body.name + ": Box2D's polygons have at most 8 vertices");
+                    if (shape.contains("radius"))
+                        o.r = value(shape.at("radius"), "radius");
+                    body.outlines.push_back(o);
+                    continue;
+                }
                 double cx = 0, cy = 0;
                 if (shape.contains("center")) {
                     cx = value(shape.at("center").at(0), "center");
@@ -199,6 +220,19 @@ std::vector<float> impact(const Scene& s, int iterations, float edge_radius, con
             fd.shape = &circle;
             fd.density = 1.0f; // replaced by SetMassData
             fd.userData.pointer = reinterpret_cast<uintptr_t>(b.name.c_str());
+            body->CreateFixture(&fd);
+        }
+        for (const auto& o : b.outlines) {
+            b2FixtureDef fd;
+            fd.density = 1.0f;
+            fd.userData.pointer = reinterpret_cast<uintptr_t>(b.name.c_str());
+            std::vector<b2Vec2> v;
+            for (std::size_t k = 0; k < o.x.size(); ++k)
+                v.push_back(b2Vec2(static_cast<float>(o.x[k]), static_cast<float>(o.y[k])));
+            b2PolygonShape polygon;
+            polygon.Set(v.data(), static_cast<int32>(v.size())); // the convex hull, as Box2D computes it
+            polygon.m_radius = static_cast<float>(o.r);          // the scene's skin (0: none)
+            fd.shape = &polygon;
             body->CreateFixture(&fd);
         }
         b2MassData mass;
