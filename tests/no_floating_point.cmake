@@ -13,7 +13,8 @@ set(exact_sources
   derive/derive_regions.hpp derive/derive_regions.cpp derive/derive_planar.hpp
   derive/derive_planar.cpp derive/derive_order.cpp derive/derive_friction.cpp
   exact/exact_conditions.hpp exact/exact_conditions.cpp model/system.hpp model/system.cpp
-  model/scene.hpp model/scene.cpp base/json_read.hpp sweep/sweep.hpp sweep/sweep.cpp
+  model/scene.hpp model/scene.cpp model/scene3d.cpp base/json_read.hpp sweep/sweep.hpp sweep/sweep.cpp
+  sweep/sweep_point.hpp sweep/sweep_point.cpp sweep/threshold.hpp sweep/threshold.cpp
   base/limits.hpp)
 set(files "")
 foreach(name IN LISTS exact_sources)

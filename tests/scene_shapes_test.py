@@ -24,7 +24,8 @@ import tempfile
 from fractions import Fraction as F
 
 CLI, SRC = sys.argv[1], sys.argv[2]
-SAMPLES = int(sys.argv[3]) if len(sys.argv) > 3 else 850
+SAMPLES = int(sys.argv[3]) if len(sys.argv) > 3 else 630
+SAMPLES3 = max(1, SAMPLES // 8)  # scenes in space: the oracle enumerates 10 modes per rough contact
 sys.path.insert(0, os.path.join(SRC, "tests"))
 sys.path.insert(0, os.path.join(SRC, "tests", "oracles"))
 from friction_lcp import System, solve  # noqa: E402
@@ -69,6 +70,10 @@ HAND = {
     "box-on-a-box": ([(2, F(5, 6), (0, H)), (1, F(5, 48), (H, F(5, 4)))],
                      [(None, 0, (-1, 0), (0, 1), 0), (None, 0, (1, 0), (0, 1), 0),
                       (0, 1, (1, 1), (0, 1), 0), (0, 1, (0, 1), (0, 1), 0)]),
+    # a capsule (core from (-1/4, 5/4) to (3/4, 5/4), radius 1/4) lying on that box: skin to edge
+    "capsule-on-a-box": ([(2, F(5, 6), (0, H)), (1, F(1, 8), (F(1, 4), F(5, 4)))],
+                         [(None, 0, (-1, 0), (0, 1), 0), (None, 0, (1, 0), (0, 1), 0),
+                          (0, 1, (F(-1, 4), 1), (0, 1), 0), (0, 1, (F(3, 4), 1), (0, 1), 0)]),
     # the block of docs/sweep.md, landing on a listed corner (rough, 1/2)
     "block-on-a-corner": ([(1, F(5, 12), (0, 1))], [(None, 0, (-H, 0), (0, 1), H)]),
 }
@@ -102,8 +107,13 @@ def hand_system(bodies, contacts):
 def law_columns(law):
     W = law["contacts"]["W"]
     cols = [[F(W[i][k]) for i in range(len(W))] for k in range(len(W[0]))]
-    tangents = [[F(x) for x in f["tangents"][0]] for f in law["contacts"].get("friction", [])]
-    return cols, tangents
+    tangents = [[F(x) for x in t] for f in law["contacts"].get("friction", []) for t in f["tangents"]]
+    n = len(W)
+    if "M" in law:
+        M = [[F(x) for x in row] for row in law["M"]]
+    else:
+        M = [[F(law["masses"][i]) if i == j else F(0) for j in range(n)] for i in range(n)]
+    return cols, tangents, M
 
 
 def pieces_of(law):
@@ -128,27 +138,96 @@ def locate(pieces, gamma):
     return values
 
 
+# Scenes in space by hand: bodies (mass, principal moments, centre, rotation rows or None) and
+# contacts (body a or None, body b, point, unit normal from a to b, mu). A rough contact has the
+# tangents H e1, H e2 of the reflection H = I - 2 v v^T / v.v, v = n - e3 (docs/formats.md).
+R7 = [[F(3, 7), F(-2, 7), F(6, 7)], [F(6, 7), F(3, 7), F(-2, 7)], [F(-2, 7), F(6, 7), F(3, 7)]]
+RY = [[F(4, 5), 0, F(-3, 5)], [0, 1, 0], [F(3, 5), 0, F(4, 5)]]
+BOX_I = (F(5, 48), F(17, 48), F(5, 12))
+HAND3 = {
+    "3d-spinning-ball": ([(1, (F(2, 5),) * 3, (0, 0, 1), None)], [(None, 0, (0, 0, 0), (0, 0, 1), H)]),
+    # the lowest corner of the box (half extents 1, 1/2, 1/4) turned by R7: R7 (1, -1/2, -1/4) + (0, 0, 23/28)
+    "3d-box-on-a-corner": ([(1, BOX_I, (0, 0, F(23, 28)), R7)],
+                           [(None, 0, (F(5, 14), F(5, 7), 0), (0, 0, 1), F(1, 4))]),
+    # turned about y: the edge of the corners RY (-1, -+1/2, -1/4) + (0, 0, 4/5)
+    "3d-box-on-an-edge": ([(1, BOX_I, (0, 0, F(4, 5)), RY)],
+                          [(None, 0, (F(-13, 20), -H, 0), (0, 0, 1), 0), (None, 0, (F(-13, 20), H, 0), (0, 0, 1), 0)]),
+    "3d-ball-on-a-ball": ([(2, (F(4, 5),) * 3, (0, 0, 1), None), (1, (F(1, 10),) * 3, (1, 1, F(3, 2)), None)],
+                          [(None, 0, (0, 0, 0), (0, 0, 1), H), (0, 1, (F(2, 3), F(2, 3), F(4, 3)), (F(2, 3), F(2, 3), F(1, 3)), H)]),
+    "3d-ball-in-a-corner": ([(1, (F(2, 5),) * 3, (1, 0, 1), None)],
+                            [(None, 0, (1, 0, 0), (0, 0, 1), H), (None, 0, (0, 0, 1), (1, 0, 0), 0)]),
+}
+
+
+def hand_system3(bodies, contacts):
+    n = 6 * len(bodies)
+    M = [[F(0)] * n for _ in range(n)]
+    for b, (m, moments, _, R) in enumerate(bodies):
+        for k in range(3):
+            M[6 * b + k][6 * b + k] = F(m)
+        R = R or [[F(int(i == j)) for j in range(3)] for i in range(3)]
+        for i in range(3):
+            for j in range(3):
+                M[6 * b + 3 + i][6 * b + 3 + j] = sum(R[i][k] * moments[k] * R[j][k] for k in range(3))
+
+    def cross(a, b):
+        return (a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0])
+
+    def column(a, b, p, d):
+        col = [F(0)] * n
+        for body, s in ((a, -1), (b, 1)):
+            if body is None:
+                continue
+            arm = cross([F(p[k]) - F(bodies[body][2][k]) for k in range(3)], [F(x) for x in d])
+            for k in range(3):
+                col[6 * body + k] += s * F(d[k])
+                col[6 * body + 3 + k] += s * arm[k]
+        return col
+
+    def tangents(nrm):
+        v = [F(nrm[0]), F(nrm[1]), F(nrm[2]) - 1]
+        vv = sum(x * x for x in v)
+        if vv == 0:
+            return (1, 0, 0), (0, 1, 0)
+        out = []
+        for e in ((1, 0, 0), (0, 1, 0)):
+            c = 2 * sum(v[k] * e[k] for k in range(3)) / vv
+            out.append(tuple(e[k] - c * v[k] for k in range(3)))
+        return out
+
+    normals = [column(a, b, p, nrm) for (a, b, p, nrm, _) in contacts]
+    friction = [(k, F(mu), F(0), [column(a, b, p, t) for t in tangents(nrm)])
+                for k, (a, b, p, nrm, mu) in enumerate(contacts) if mu]
+    return M, normals, friction
+
+
 tmp = tempfile.mkdtemp(prefix="impactcert-shapes-")
 try:
     compared = 0
-    for name, (bodies, contacts) in HAND.items():
+    both = ("all", "approaching")
+    cases = [(name, hand_system(*spec), SAMPLES, both) for name, spec in HAND.items()]
+    # The ball on a ball with restitution on approaching contacts has 400 modes (24 s to derive): all only.
+    # Its oracle enumerates 100 modes per input (0.14 s): fewer inputs there.
+    cases += [(name, hand_system3(*spec), max(1, SAMPLES // 30) if name == "3d-ball-on-a-ball" else SAMPLES3,
+               ("all",) if name == "3d-ball-on-a-ball" else both) for name, spec in HAND3.items()]
+    for name, (M, normals, friction), samples, ons in cases:
         scene = os.path.join(SCENES, name + ".json")
-        M, normals, friction = hand_system(bodies, contacts)
         e = [F(1, 2)] * len(normals)
-        for on in ("all", "approaching"):
+        for on in ons:
             lawfile = os.path.join(tmp, f"{name}-{on}.json")
             if run(["derive", "newton", "--system", scene, "--restitution", "1/2", "--restitution-on", on,
                     "-o", lawfile]).returncode != 0:
                 continue
             law = json.load(open(lawfile))
-            cols, tangents = law_columns(law)
-            if cols != normals or tangents != [c for (_, _, _, (c,)) in friction]:
-                fail(f"{name}: the law's columns {cols} / {tangents} are not the hand-computed "
-                     f"{normals} / {[c for (_, _, _, (c,)) in friction]}")
+            cols, tangents, law_M = law_columns(law)
+            hand_tangents = [c for (_, _, _, cs) in friction for c in cs]
+            if cols != normals or tangents != hand_tangents or law_M != M:
+                fail(f"{name}: the law's M and columns {law_M} / {cols} / {tangents} are not the hand-computed "
+                     f"{M} / {normals} / {hand_tangents}")
                 break
             S = System(M, normals, friction)
             pieces = pieces_of(law)
-            for _ in range(SAMPLES):
+            for _ in range(samples):
                 u = [F(rng.randint(-60, 60), rng.randint(1, 12)) for _ in range(S.n)]
                 sols = S.solutions(u, e, approaching=(on == "approaching"))
                 if len(sols) != 1:
@@ -171,9 +250,9 @@ try:
         p = run(["verify", "--law", os.path.join(tmp, f"{name}-all.json")], None)
         if p.returncode not in (0, 1):
             fail(f"{name}: verify exit {p.returncode}: {p.stderr.strip()[:200]}")
-    if compared < 6 * SAMPLES:
+    if compared < sum(samples * len(ons) for (_, _, samples, ons) in cases):
         fail(f"only {compared} inputs compared")
-    print(f"compared {compared} random rational inputs over {len(HAND)} scenes with the oracle")
+    print(f"compared {compared} random rational inputs over {len(HAND) + len(HAND3)} scenes with the oracle")
 
     # A box drawn as four segments, landing on a corner: the corner is on two segments, one contact.
     outline = {"format": "impactcert-scene/1", "name": "outline",
@@ -218,6 +297,12 @@ try:
         # two squares touching corner to corner: both edge lines through the corner separate them
         ("corners", {"bodies": [box(["0", "0"], polygon=[["-1", "-1"], ["0", "-1"], ["0", "0"], ["-1", "0"]]),
                                 box(["0", "0"], polygon=[["0", "0"], ["1", "0"], ["1", "1"], ["0", "1"]], name="b")]},
+         "$.bodies[0].shapes[0] and $.bodies[1].shapes[0]", "normal is not defined"),
+        # two segments end to end in a line: no normal (a perpendicular one would be wrong)
+        ("end to end", {"bodies": [{"name": "a", "mass": "1", "inertia": "1", "position": ["1/2", "1"],
+                                    "shapes": [{"segment": [["-1/2", "-1"], ["1/2", "-1"]]}]},
+                                   {"name": "b", "mass": "1", "inertia": "1", "position": ["3/2", "-1"],
+                                    "shapes": [{"segment": [["-1/2", "1"], ["1/2", "1"]]}]}]},
          "$.bodies[0].shapes[0] and $.bodies[1].shapes[0]", "normal is not defined"),
         # a vertex on an edge of irrational length (from (0, -1) to (1, 1)): its unit normal is irrational
         ("irrational", {"bodies": [box(["0", "0"], polygon=[["-1", "-1"], ["0", "-1"], ["1", "1"], ["-1", "1"]]),

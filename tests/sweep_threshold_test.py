@@ -148,6 +148,30 @@ try:
             F(fn["in"][0]) <= GNN / GNT <= F(fn["in"][1])):
         fail(f"kane: the function's threshold G_NN/G_NT = {GNN / GNT} is not enclosed: {fn}")
 
+    # A grid that runs downwards gives the same enclosures, from the smaller end.
+    out_down = os.path.join(tmp, "kane-down")
+    run(["sweep", "--system", KANE, "--law", "newton", "--restitution", "1/2", "--vary", "mu=1/2..0:11",
+         "--thresholds", "-o", out_down], 0, "kane sweep downwards")
+    down = thresholds(out_down)
+    for column in ("energetic", "derive"):
+        if column in th and column in down and (down[column]["in"], down[column]["below"], down[column]["above"]) != (
+                th[column]["in"], th[column]["below"], th[column]["above"]):
+            fail(f"kane downwards: {column} {down[column]} differs from upwards {th[column]}")
+    if set(down) != set(th):
+        fail(f"kane downwards: columns {sorted(down)} against {sorted(th)}")
+
+    # Over e at mu = 1/4: a rational threshold, F_f's root in e, given exactly with its linear factor.
+    out = os.path.join(tmp, "kane-e")
+    run(["sweep", "--system", KANE, "--law", "newton", "--vary", "e=0..1:11", "--thresholds", "-o", out], 0, "kane e")
+    en = thresholds(out).get("energetic", {})
+    mu = F(1, 4)
+    e_star = (GNN - 2 * mu * GNT + mu * mu * GTT) / (GNN - mu * mu * GTT)  # F_f(1/4, e) = 0
+    b = en.get("boundary", {})
+    if b.get("root") != f"{e_star.numerator}/{e_star.denominator}" or \
+            b.get("polynomial") != f"{e_star.denominator} e - {e_star.numerator}" or \
+            not F(en["in"][0]) <= e_star <= F(en["in"][1]):
+        fail(f"kane over e: expected the exact root {e_star}, got {en}")
+
     # ---- Three equal balls, Newton with restitution on approaching contacts, over e.
     out = os.path.join(tmp, "chain")
     run(["sweep", "--masses", "1,1,1", "--restitution", "e", "--law", "newton", "--restitution-on", "approaching",

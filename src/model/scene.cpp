@@ -185,17 +185,6 @@ bool cores_overlap(const Shape& s, const Shape& t) {
     return true;
 }
 
-// The unit normal of edge [a, b] (rotated by -90 degrees: outward for a counter-clockwise
-// polygon); InputError naming the shape when its length is irrational.
-P2 edge_normal(const P2& a, const P2& b, const std::string& path) {
-    const P2 d = b - a;
-    const auto len = rational_sqrt(dot(d, d));
-    if (!len)
-        input_error(path, "the edge from " + text(a) + " to " + text(b) + " has length sqrt(" + to_string(dot(d, d)) +
-                              "), not rational: its unit normal is irrational");
-    return (Rational(1) / *len) * P2{d.y, -d.x};
-}
-
 // Reads a shape of a body centred at c: "disk" (radius, optional "center"), "segment" (two end
 // points) or "polygon" (three or more vertices, convex), each offset from the centre, with an
 // optional "radius" (a capsule, a polygon's skin).
@@ -287,30 +276,36 @@ std::vector<std::pair<P2, P2>> touch_boundary(const Shape& s, const Boundary& bd
     return out;
 }
 
-// The contact normal at x from core `from` (edge [a, b] through x) towards core `to`, when the
-// edge's line has `to` on one side (weakly); nothing when `to` lies on both sides or, for a
-// polygon, on its inner side. A segment, which has no inner side, is oriented by `to_centre`
-// when `to` lies on its line.
-std::optional<P2> normal_from_edge(const Shape& from, const P2& a, const P2& b, const Shape& to, const P2& to_centre) {
+// The contact normal from core `from` across its edge [a, b] towards core `to`: usable when `to`
+// lies on one side of the edge's line and off it somewhere (not when `to` lies on the line: two
+// segments end to end in a line have no normal), and, for a polygon, on its outer side. The
+// unit normal when the edge's length is rational, nothing when it is not (usable, irrational).
+struct EdgeNormal {
+    bool usable = false;
+    std::optional<P2> normal;
+};
+
+std::optional<Rational> rational_length(const P2& d) { return rational_sqrt(dot(d, d)); }
+
+EdgeNormal normal_from_edge(const Shape& from, const P2& a, const P2& b, const Shape& to) {
     bool left = false, right = false;
     for (const P2& o : to.core) {
         const Sign t = sign_of(cross(b - a, o - a));
         left = left || t == Sign::positive;
         right = right || t == Sign::negative;
     }
-    if (left && right)
-        return std::nullopt;
-    const P2 outward = edge_normal(a, b, from.path); // the right-hand side of a -> b
-    if (right)
-        return outward;
-    if (from.polygon())
-        return std::nullopt; // the inner side of a counter-clockwise polygon
-    if (left)
-        return Rational(-1) * outward;
-    const Sign side = sign_of(dot(to_centre - a, outward));
-    if (side == Sign::zero)
-        return std::nullopt;
-    return side == Sign::positive ? outward : Rational(-1) * outward;
+    if (left == right)
+        return {}; // on both sides, or on the line
+    if (left && from.polygon())
+        return {}; // the inner side of a counter-clockwise polygon
+    EdgeNormal out;
+    out.usable = true;
+    const P2 d = b - a;
+    if (const auto len = rational_length(d)) {
+        const P2 outward = (Rational(1) / *len) * P2{d.y, -d.x}; // the right-hand side of a -> b
+        out.normal = right ? outward : Rational(-1) * outward;
+    }
+    return out;
 }
 
 // Where two shapes of different bodies touch (centres cs, ct): each contact as (point, unit
@@ -319,7 +314,7 @@ std::optional<P2> normal_from_edge(const Shape& from, const P2& a, const P2& b, 
 // the radii. With a positive sum the normal is the closest pair's direction (rational: its length
 // is the sum); with none, the touching cores' common edge line gives it. InputError naming both
 // shapes for an overlap, an undefined normal or irrational geometry.
-std::vector<std::pair<P2, P2>> touch(const Shape& s, const Shape& t, const P2& cs, const P2& ct) {
+std::vector<std::pair<P2, P2>> touch(const Shape& s, const Shape& t) {
     const std::string where = s.path + " and " + t.path;
     if (cores_overlap(s, t))
         input_error(where, "the shapes overlap at the impact (their cores' interiors meet); a scene's shapes touch");
@@ -361,8 +356,10 @@ std::vector<std::pair<P2, P2>> touch(const Shape& s, const Shape& t, const P2& c
         return out;
     }
     // Touching cores: one normal for all the touching points, from an edge through one of them
-    // whose line has the other core on one side.
+    // whose line has the other core on one side (an edge of irrational length is named only when
+    // no other edge gives the normal).
     std::optional<P2> normal;
+    std::optional<std::pair<P2, P2>> irrational;
     for (const auto& [x, unused] : pairs) {
         (void)unused;
         for (int side = 0; side < 2; ++side) {
@@ -371,22 +368,31 @@ std::vector<std::pair<P2, P2>> touch(const Shape& s, const Shape& t, const P2& c
             for (const auto& [a, b] : edges(from)) {
                 if (!on_segment(a, b, x))
                     continue;
-                auto n = normal_from_edge(from, a, b, to, side == 0 ? ct : cs);
-                if (!n)
+                const EdgeNormal e = normal_from_edge(from, a, b, to);
+                if (!e.usable)
                     continue;
-                if (side == 1)
-                    n = Rational(-1) * *n; // from s to t
-                if (normal && !(*normal == *n))
+                if (!e.normal) {
+                    if (!irrational)
+                        irrational = {a, b};
+                    continue;
+                }
+                const P2 n = side == 0 ? *e.normal : Rational(-1) * *e.normal; // from s to t
+                if (normal && !(*normal == n))
                     input_error(where, "touch at " + text(x) + " with two possible normals, " + text(*normal) + " and " +
-                                           text(*n) + ": the normal is not defined (list this contact)");
+                                           text(n) + ": the normal is not defined (list this contact)");
                 normal = n;
             }
         }
     }
+    if (!normal && irrational) {
+        const P2 d = irrational->second - irrational->first;
+        input_error(where, "touch along the edge from " + text(irrational->first) + " to " + text(irrational->second) +
+                               " of length sqrt(" + to_string(dot(d, d)) + "), not rational: the unit normal is irrational");
+    }
     if (!normal)
         input_error(where, "touch at " + text(pairs.front().first) +
-                               " where no edge line separates them (corners, or a body's centre on the line): the "
-                               "normal is not defined (list this contact)");
+                               " where no edge line separates them (corners, or segments end to end): the normal is not "
+                               "defined (list this contact)");
     for (const auto& [x, unused] : pairs) {
         (void)unused;
         out.push_back({x, *normal});
@@ -397,7 +403,14 @@ std::vector<std::pair<P2, P2>> touch(const Shape& s, const Shape& t, const P2& c
 } // namespace
 
 System parse_scene(const ReadJson& doc) {
-    jr::expect_object(doc, "$", {"format", "name", "bodies", "boundaries", "contacts", "friction", "restitution", "pairs"},
+    if (doc.contains("dimension")) {
+        const ReadJson& d = doc["dimension"];
+        if (!d.is_number_integer() || (d.get<long long>() != 2 && d.get<long long>() != 3))
+            input_error("$.dimension", "expected 2 (the plane, the default) or 3 (space)");
+        if (d.get<long long>() == 3)
+            return parse_scene_3d(doc);
+    }
+    jr::expect_object(doc, "$", {"format", "name", "dimension", "bodies", "boundaries", "contacts", "friction", "restitution", "pairs"},
                   {"format", "name", "bodies"});
     System out;
     out.name = jr::get_string(doc["name"], "$.name");
@@ -471,7 +484,7 @@ System parse_scene(const ReadJson& doc) {
                         add(-static_cast<int>(k) - 2, static_cast<int>(i), p, n, sh.path);
                 for (std::size_t j = i + 1; j < bodies.size(); ++j)
                     for (const Shape& t : bodies[j].shapes)
-                        for (const auto& [p, n] : touch(sh, t, bodies[i].c, bodies[j].c))
+                        for (const auto& [p, n] : touch(sh, t))
                             add(static_cast<int>(i), static_cast<int>(j), p, n, sh.path + " and " + t.path);
             }
         if (contacts.empty())

@@ -36,4 +36,15 @@ inline constexpr const char* kSceneFormat = "impactcert-scene/1";
 // second one of a pair "box/ground #2") and velocities ("disk.vx", "disk.vy", "disk.omega").
 System parse_scene(const nlohmann::json& doc);
 
+// A scene in space ("dimension": 3; scene3d.cpp): bodies with a mass, an inertia about the centre
+// (three principal moments or a symmetric positive definite 3 x 3 matrix, in the body's axes), a
+// position and a rotation (a rational 3 x 3 matrix, R^T R = I, det 1, exactly), spheres and boxes
+// (half extents along the body's axes), planes (a point and a rational unit normal). Coordinates
+// (vx, vy, vz, wx, wy, wz) per body, in the world's axes; M = diag(m, m, m) and R I R^T per body.
+// Contacts found exactly (sphere and plane, sphere and sphere, box and plane: every corner on it,
+// sphere and box: the box's nearest point) or listed; two boxes must be listed. A rough contact has
+// two tangents, each bounded by mu Lambda_N (ODE's friction box): the images of e1 and e2 under
+// the reflection that exchanges e3 and the normal (rational and orthonormal).
+System parse_scene_3d(const nlohmann::json& doc);
+
 } // namespace impactcert

@@ -841,6 +841,14 @@ void merge_sweep_parts(const std::vector<std::string>& paths, const std::string&
         }
         spec.masses = run.at("masses").get<std::vector<std::string>>();
         spec.restitution = run.at("restitution").get<std::vector<std::string>>();
+        // The run's limits: the merged outputs' own derivations (continuity checks, thresholds)
+        // are decided under them, as the shards' were.
+        const Json& limits = run.at("limits");
+        spec.limits.max_faces = limits.at("max_faces").get<std::size_t>();
+        spec.limits.max_chambers = limits.at("max_chambers").get<std::size_t>();
+        spec.limits.max_subsets = limits.at("max_subsets").get<std::size_t>();
+        spec.limits.max_pieces = limits.at("max_pieces").get<std::size_t>();
+        spec.limits.max_memory_mb = limits.at("max_memory").get<std::size_t>();
         spec.rule = parse_rule(run.at("rule").get<std::string>());
         spec.max_impacts = run.at("max_impacts").get<std::size_t>();
         spec.max_words = run.at("max_words").get<std::size_t>();
@@ -1076,8 +1084,9 @@ void write_sweep_outputs(const SweepSpec& spec, const std::vector<Json>& results
     if (spec.thresholds) {
         html += "<h2>Thresholds along " + xml_escape(spec.parameters[0].name) +
                 "</h2>\n<p>Each change of a verdict between neighbouring grid points, enclosed by exact bisection "
-                "(the law derived and decided at both ends); for energetic, the polynomial whose only root in the "
-                "enclosure is the threshold (sweep.json has every number).</p>\n<ul>\n";
+                "(the law derived and decided at both ends: proved); for energetic, the boundary's polynomial found by "
+                "exact interpolation, with its only root in the enclosure (found, not proved: proofs/README.md, "
+                "\"Thresholds along a parameter\"; sweep.json has every number).</p>\n<ul>\n";
         for (const auto& t : thresholds) {
             std::string line = t["column"].get<std::string>() + ": " + t["below"].get<std::string>() + " at " +
                                t["in"][0].get<std::string>() + ", " + t["above"].get<std::string>() + " at " +

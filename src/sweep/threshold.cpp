@@ -216,11 +216,22 @@ Json energetic_polynomial(const SweepSpec& spec, const Rational& lo, const Ratio
                          std::to_string((kThresholdSamples - 1) / 2) + " in " + name;
         return out;
     }
-    const UPoly N = integer_primitive(fit->first), D = integer_primitive(fit->second);
+    if (fit->first.zero()) {
+        out["why_not"] = "the face's energy balance is 0 throughout the enclosure";
+        return out;
+    }
+    UPoly N = integer_primitive(fit->first);
+    const UPoly D = integer_primitive(fit->second);
     out["degrees"] = Json::array({N.degree(), D.degree()});
-    if (N.zero() || count_roots(N, lo, hi) != 1 || sign_of(evaluate(D, lo)) == Sign::zero) {
+    if (count_roots(N, lo, hi) != 1 || sign_of(evaluate(D, lo)) == Sign::zero) {
         out["why_not"] = "the energy balance's numerator has " + std::to_string(N.zero() ? 0 : count_roots(N, lo, hi)) +
                          " roots in the enclosure, not one";
+        return out;
+    }
+    // A rational root (a linear factor q x - p of N) is given exactly, with that factor.
+    if (const auto r = rational_root(N, RootInterval{lo, hi}, 256)) {
+        out["polynomial"] = poly_text(integer_primitive(make_poly({Rational(-1) * *r, Rational(1)})), name);
+        out["root"] = to_string(*r);
         return out;
     }
     out["polynomial"] = poly_text(N, name);
@@ -262,7 +273,13 @@ Json find_thresholds(const SweepSpec& spec, const std::vector<Json>& results,
             if (progress)
                 progress(column + " between " + param.name + " = " + to_string(param.values[i]) + " and " +
                          to_string(param.values[i + 1]));
+            // The interval from its smaller end (a grid may run downwards): a is the answer at lo.
             Rational lo = param.values[i], hi = param.values[i + 1];
+            std::string a_lo = a, b_hi = b;
+            if (hi < lo) {
+                std::swap(lo, hi);
+                std::swap(a_lo, b_hi);
+            }
             Json entry{{"column", column}, {"between", Json::array({to_string(lo), to_string(hi)})}};
             std::string stopped;
             std::size_t steps = 0;
@@ -270,9 +287,9 @@ Json find_thresholds(const SweepSpec& spec, const std::vector<Json>& results,
                 const Rational mid = nice_middle(lo, hi);
                 const std::string s = answer_at(spec, column, mid);
                 ++steps;
-                if (s == a) {
+                if (s == a_lo) {
                     lo = mid;
-                } else if (s == b) {
+                } else if (s == b_hi) {
                     hi = mid;
                 } else {
                     stopped = param.name + " = " + to_string(mid) + " gives " + s;
@@ -281,13 +298,13 @@ Json find_thresholds(const SweepSpec& spec, const std::vector<Json>& results,
             }
             entry["in"] = Json::array({to_string(lo), to_string(hi)});
             entry["approx"] = readable_text(lo, 12);
-            entry["below"] = a;
-            entry["above"] = b;
+            entry["below"] = a_lo;
+            entry["above"] = b_hi;
             entry["bisection_steps"] = steps;
             if (!stopped.empty()) {
                 entry["stopped"] = stopped;
             } else if (column == "energetic") {
-                entry["boundary"] = energetic_polynomial(spec, lo, hi, a == "refuted" ? lo : hi);
+                entry["boundary"] = energetic_polynomial(spec, lo, hi, a_lo == "refuted" ? lo : hi);
             }
             out.push_back(entry);
         }
