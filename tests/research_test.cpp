@@ -479,7 +479,13 @@ TEST_CASE("derive --rule any: the pair stage is bounded by --max-words too", "[r
 }
 
 TEST_CASE("exact conditions: a grid that runs downwards finds the same crossings", "[research][conditions]") {
-    ConditionFamily up = one_m_one(), down = up;
+    ConditionFamily up = one_m_one();
+#ifdef IMPACTCERT_SANITIZER_BUILD
+    // Under the sanitizers (8x slower in CGAL's polynomials) two of the four m intervals: the
+    // crossings of m = 1/2 are the same comparison.
+    up.parameters[0].values = {q("1/4"), q("1/2"), q("1")};
+#endif
+    ConditionFamily down = up;
     for (auto& p : down.parameters)
         std::reverse(p.values.begin(), p.values.end());
     auto half_line = [](const ConditionsResult& r) {
