@@ -158,6 +158,23 @@ HAND3 = {
                           [(None, 0, (0, 0, 0), (0, 0, 1), H), (0, 1, (F(2, 3), F(2, 3), F(4, 3)), (F(2, 3), F(2, 3), F(1, 3)), H)]),
     "3d-ball-in-a-corner": ([(1, (F(2, 5),) * 3, (1, 0, 1), None)],
                             [(None, 0, (1, 0, 0), (0, 0, 1), H), (None, 0, (0, 0, 1), (1, 0, 0), 0)]),
+    # inline (INLINE below): a box turned by RY with a full inertia matrix; a ball whose sphere is
+    # off its centre touches the box's face +x at RY (1, 0, 0), and a rough tilted plane behind it
+    "inline-ball-on-a-box-face": ([(2, [[H, F(1, 10), 0], [F(1, 10), F(1, 3), 0], [0, 0, F(1, 4)]], (0, 0, 0), RY),
+                                   (1, (F(1, 10),) * 3, (F(6, 5), 0, F(19, 10)), None)],
+                                  [(0, 1, (F(4, 5), 0, F(3, 5)), (F(4, 5), 0, F(3, 5)), 0),
+                                   (None, 1, (F(8, 5), 0, F(6, 5)), (F(-4, 5), 0, F(-3, 5)), H)]),
+}
+INLINE = {
+    "inline-ball-on-a-box-face": {
+        "format": "impactcert-scene/1", "name": "ball-on-a-box-face", "dimension": 3,
+        "bodies": [{"name": "box", "mass": "2", "inertia": [["1/2", "1/10", "0"], ["1/10", "1/3", "0"], ["0", "0", "1/4"]],
+                    "position": ["0", "0", "0"], "rotation": [["4/5", "0", "-3/5"], ["0", "1", "0"], ["3/5", "0", "4/5"]],
+                    "shapes": [{"box": ["1", "1/2", "1/4"]}]},
+                   {"name": "ball", "mass": "1", "inertia": ["1/10", "1/10", "1/10"], "position": ["6/5", "0", "19/10"],
+                    "shapes": [{"sphere": "1/2", "center": ["0", "0", "-1"]}]}],
+        "boundaries": [{"name": "backstop", "point": ["8/5", "0", "6/5"], "normal": ["-4/5", "0", "-3/5"]}],
+        "pairs": [{"bodies": ["ball", "backstop"], "mu": "1/2"}], "restitution": "1/2"},
 }
 
 
@@ -168,9 +185,11 @@ def hand_system3(bodies, contacts):
         for k in range(3):
             M[6 * b + k][6 * b + k] = F(m)
         R = R or [[F(int(i == j)) for j in range(3)] for i in range(3)]
+        Ib = moments if isinstance(moments[0], (list, tuple)) else [[moments[i] if i == j else 0 for j in range(3)]
+                                                                      for i in range(3)]
         for i in range(3):
             for j in range(3):
-                M[6 * b + 3 + i][6 * b + 3 + j] = sum(R[i][k] * moments[k] * R[j][k] for k in range(3))
+                M[6 * b + 3 + i][6 * b + 3 + j] = sum(R[i][k] * F(Ib[k][l]) * R[j][l] for k in range(3) for l in range(3))
 
     def cross(a, b):
         return (a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0])
@@ -215,6 +234,10 @@ try:
               if not (LIGHT and name == "3d-ball-on-a-ball")]
     for name, (M, normals, friction), samples, ons in cases:
         scene = os.path.join(SCENES, name + ".json")
+        if name in INLINE:
+            scene = os.path.join(tmp, name + ".scene.json")
+            with open(scene, "w") as f:
+                json.dump(INLINE[name], f)
         e = [F(1, 2)] * len(normals)
         for on in ons:
             lawfile = os.path.join(tmp, f"{name}-{on}.json")
@@ -312,6 +335,39 @@ try:
                                    box(["2", "0"], polygon=[["-3/2", "0"], ["1", "-2"], ["1", "0"]], name="b")]},
          "$.bodies[0].shapes[0]", "not rational"),
     ]
+    def body3(name, position, shapes, rotation=None, inertia=("1", "1", "1")):
+        b = {"name": name, "mass": "1", "inertia": list(inertia), "position": position, "shapes": shapes}
+        if rotation:
+            b["rotation"] = rotation
+        return b
+
+    plane3 = [{"name": "ground", "point": ["0", "0", "0"], "normal": ["0", "0", "1"]}]
+    ball = [{"sphere": "1"}]
+    BAD += [(tag, dict({"dimension": 3}, **doc), where, needle) for tag, doc, where, needle in [
+        ("3d not a rotation", {"bodies": [body3("b", ["0", "0", "1"], ball, [["1", "0", "0"], ["0", "1", "1"], ["0", "0", "1"]])],
+                               "boundaries": plane3}, "$.bodies[0].rotation", "orthonormal"),
+        ("3d reflection", {"bodies": [body3("b", ["0", "0", "1"], ball, [["1", "0", "0"], ["0", "1", "0"], ["0", "0", "-1"]])],
+                           "boundaries": plane3}, "$.bodies[0].rotation", "determinant"),
+        ("3d inertia", {"bodies": [body3("b", ["0", "0", "1"], ball, None, (["1", "2", "0"], ["2", "1", "0"], ["0", "0", "1"]))],
+                        "boundaries": plane3}, "$.bodies[0].inertia", "positive definite"),
+        ("3d flat point", {"bodies": [body3("b", ["0", "1"], ball)], "boundaries": plane3}, "$.bodies[0].position", "[x, y, z]"),
+        ("3d sphere in a box", {"bodies": [body3("a", ["0", "0", "2"], [{"box": ["1", "1", "1"]}]),
+                                           body3("b", ["0", "0", "2"], [{"sphere": "1/4"}])], "boundaries": plane3},
+         "$.bodies[0].shapes[0] and $.bodies[1].shapes[0]", "overlap"),
+        ("3d two boxes", {"bodies": [body3("a", ["0", "0", "1"], [{"box": ["1", "1", "1"]}]),
+                                     body3("b", ["0", "0", "3"], [{"box": ["1", "1", "1"]}])], "boundaries": plane3},
+         "$.bodies[0].shapes[0] and $.bodies[1].shapes[0]", "list them"),
+        # two spheres of one body touching a box's edge at one point, with two normals
+        ("3d two normals", {"bodies": [body3("a", ["0", "0", "1"], [{"box": ["1", "1", "1"]}]),
+                                       body3("b", ["0", "0", "0"], [{"sphere": "1", "center": ["2", "1", "1"]},
+                                                                    {"sphere": "1", "center": ["1", "2", "1"]}])]},
+         "$.bodies[0].shapes[0] and $.bodies[1].shapes[1]", "normal is not defined"),
+        ("3d listed off the ball", {"bodies": [body3("b", ["0", "0", "1"], ball)], "boundaries": plane3,
+                                    "contacts": [{"bodies": ["ground", "b"], "point": ["5", "0", "0"], "normal": ["0", "0", "1"]}]},
+         "$.contacts[0].point", "not on a shape"),
+        ("3d contacts word", {"bodies": [body3("b", ["0", "0", "1"], ball)], "boundaries": plane3, "contacts": "auto"},
+         "$.contacts", "\"find\""),
+    ]]
     for tag, doc, where, needle in BAD:
         doc = dict({"format": "impactcert-scene/1", "name": tag.replace(" ", "-")}, **doc)
         p = run(["derive", "newton", "--system", scene_file(doc, tag.replace(" ", "-"))], 2)

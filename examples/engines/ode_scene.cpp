@@ -68,7 +68,7 @@ struct Scene {
     struct Shape {
         bool sphere = true;
         double r = 0, hx = 0, hy = 0, hz = 0;
-        double cx = 0, cy = 0, cz = 0; // sphere's offset, in the body's axes
+        double cx = 0, cy = 0, cz = 0; // the shape's offset from the body's centre, in the body's axes
     };
     struct Body {
         std::string name;
@@ -85,7 +85,22 @@ struct Scene {
     std::map<std::pair<std::string, std::string>, std::pair<double, double>> pairs;
 };
 
+Scene read_scene_unchecked(const std::string& path);
+
+// The scene, or one line on stderr and exit 2 (a missing key, a wrong type, a non-positive mass).
 Scene read_scene(const std::string& path) {
+    try {
+        Scene s = read_scene_unchecked(path);
+        for (const auto& b : s.bodies)
+            if (!(b.m > 0) || !(b.I[0][0] > 0) || !(b.I[1][1] > 0) || !(b.I[2][2] > 0))
+                fail(path + ": body " + b.name + ": mass and principal moments must be positive");
+        return s;
+    } catch (const nlohmann::json::exception& e) {
+        fail(path + ": " + e.what());
+    }
+}
+
+Scene read_scene_unchecked(const std::string& path) {
     std::ifstream in(path);
     if (!in)
         fail("cannot read " + path);
@@ -128,14 +143,14 @@ Scene read_scene(const std::string& path) {
         if (b.contains("shapes"))
             for (const auto& js : b.at("shapes")) {
                 Scene::Shape sh;
+                if (js.contains("center")) {
+                    const auto c = vec(js.at("center"), 3, "center");
+                    sh.cx = c[0];
+                    sh.cy = c[1];
+                    sh.cz = c[2];
+                }
                 if (js.contains("sphere")) {
                     sh.r = value(js.at("sphere"), "sphere");
-                    if (js.contains("center")) {
-                        const auto c = vec(js.at("center"), 3, "center");
-                        sh.cx = c[0];
-                        sh.cy = c[1];
-                        sh.cz = c[2];
-                    }
                 } else {
                     const auto h = vec(js.at("box"), 3, "box");
                     sh.sphere = false;
@@ -272,7 +287,7 @@ std::vector<double> impact(const Scene& s, int iterations, double cfm, const std
         for (const auto& sh : b.shapes) {
             dGeomID g = sh.sphere ? dCreateSphere(space, sh.r) : dCreateBox(space, 2 * sh.hx, 2 * sh.hy, 2 * sh.hz);
             dGeomSetBody(g, body);
-            if (sh.sphere && (sh.cx != 0 || sh.cy != 0 || sh.cz != 0))
+            if (sh.cx != 0 || sh.cy != 0 || sh.cz != 0)
                 dGeomSetOffsetPosition(g, sh.cx, sh.cy, sh.cz);
             dGeomSetData(g, &owners.back());
         }

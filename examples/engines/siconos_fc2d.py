@@ -15,7 +15,9 @@ level:
 solves it with --solver nsgs (default), lemke or enum (--iterations K and --tolerance T for
 nsgs), and answers u+ = u- + M^-1 W r, printed with %.17g. Converged, that is the Newton law with
 friction (e_T = 0) that `impactcert derive newton --system ... --restitution E` derives.
-Every contact must have friction (one tangent each). Bad input: one line on stderr, exit 2.
+Every contact must have friction (one tangent each). A solver's failure (fc2d_driver's info != 0)
+is said on stderr and its answer printed as it is. --restitution defaults to 1 (a law's head
+carries none). Bad input: one line on stderr, exit 2.
 """
 import json
 import sys
@@ -102,7 +104,9 @@ def main(argv):
             options.iparam[sn.SICONOS_IPARAM_MAX_ITER] = int(opts["--iterations"])
             options.dparam[sn.SICONOS_DPARAM_TOL] = float(opts["--tolerance"])
         r, v = np.zeros(2 * c), np.zeros(2 * c)
-        sn.fc2d_driver(problem, r, v, options)
+        info = sn.fc2d_driver(problem, r, v, options)
+        if info != 0:  # the answer is printed as the solver left it, as an engine would use it
+            sys.stderr.write(f"siconos_fc2d: line {lineno}: the solver reports failure (info {info})\n")
         up = u + Minv_W @ r
         sys.stdout.write(" ".join("%.17g" % x for x in up) + "\n")
         sys.stdout.flush()

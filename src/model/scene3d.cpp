@@ -260,14 +260,20 @@ System parse(const ReadJson& doc) {
     auto name_of = [&](int i) { return i >= 0 ? bodies[static_cast<std::size_t>(i)].name : planes[static_cast<std::size_t>(-i - 2)].name; };
 
     std::vector<Contact> contacts;
-    const bool find = !doc.contains("contacts") || (doc["contacts"].is_string() && doc["contacts"].get<std::string>() == "find");
+    if (doc.contains("contacts") && doc["contacts"].is_string() && doc["contacts"].get<std::string>() != "find")
+        input_error("$.contacts", "expected \"find\" or a list of contacts");
+    const bool find = !doc.contains("contacts") || doc["contacts"].is_string();
     if (find) {
-        if (doc.contains("contacts") && !doc["contacts"].is_string())
-            input_error("$.contacts", "expected \"find\" or a list of contacts");
         auto add = [&](int i, int j, const P3& p, const P3& n, const std::string& where) {
+            // One contact per point of a pair of bodies (shapes of one body meeting there); two
+            // normals at one point leave the contact undefined.
             for (const Contact& other : contacts)
-                if (other.i == i && other.j == j && other.p == p)
-                    return; // a point found twice (shapes of one body)
+                if (other.i == i && other.j == j && other.p == p) {
+                    if (!(other.n == n))
+                        input_error(where, "touches at " + text(p) + " with the normal " + text(n) + ", and " + other.path +
+                                               " there with " + text(other.n) + ": the normal is not defined (list this contact)");
+                    return;
+                }
             contacts.push_back(Contact{i, j, p, n, name_of(i) + "/" + name_of(j), where, {}, {}});
         };
         for (std::size_t i = 0; i < bodies.size(); ++i)
@@ -299,9 +305,15 @@ System parse(const ReadJson& doc) {
                 for (std::size_t j = i + 1; j < bodies.size(); ++j)
                     for (const Shape& t : bodies[j].shapes) {
                         const std::string where = s.path + " and " + t.path;
-                        if (!s.sphere && !t.sphere)
+                        if (!s.sphere && !t.sphere) {
+                            // Surely apart when the centres are farther than the half diagonals'
+                            // sum: |c| > |h| + |k| follows from |c|^2 > 2 (|h|^2 + |k|^2).
+                            const P3 d = t.c - s.c;
+                            if (dot(d, d) > Rational(2) * (dot(s.h, s.h) + dot(t.h, t.h)))
+                                continue;
                             input_error(where, "contacts between two boxes are not found: list them (\"contacts\": point "
                                                "and normal)");
+                        }
                         if (s.sphere && t.sphere) {
                             const P3 d = t.c - s.c;
                             const Rational sum = s.r + t.r;
@@ -365,6 +377,29 @@ System parse(const ReadJson& doc) {
                     input_error(cp + ".point", text(c.p) + " is not on the plane " + in_quotes(pl.name));
                 if (!(c.n == pl.n))
                     input_error(cp + ".normal", "a contact with plane " + in_quotes(pl.name) + " has its normal");
+            }
+            // The point must lie on the surface of a shape of each body that has shapes.
+            for (const int e : {c.i, c.j}) {
+                if (e < 0 || bodies[static_cast<std::size_t>(e)].shapes.empty())
+                    continue;
+                bool on = false;
+                for (const Shape& sh : bodies[static_cast<std::size_t>(e)].shapes) {
+                    if (sh.sphere) {
+                        on = on || dot(c.p - sh.c, c.p - sh.c) == sh.r * sh.r;
+                        continue;
+                    }
+                    const P3 local = sh.R.inverse_apply(c.p - sh.c);
+                    bool inside = true, face = false;
+                    for (int axis = 0; axis < 3; ++axis) {
+                        const Rational x = coord(local, axis), h = coord(sh.h, axis);
+                        inside = inside && -h <= x && x <= h;
+                        face = face || x == h || x == -h;
+                    }
+                    on = on || (inside && face);
+                }
+                if (!on)
+                    input_error(cp + ".point", text(c.p) + " is not on a shape of " + in_quotes(bodies[static_cast<std::size_t>(e)].name) +
+                                                   " (a declared contact must be at distance exactly zero)");
             }
             if (jc.contains("mu"))
                 c.mu = jr::get_rational(jc["mu"], cp + ".mu");
