@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // Planar scenes (scene.hpp): exact contact detection and the columns of W from lever arms.
 #include "model/scene.hpp"
+#include "model/scene_common.hpp"
 
 #include "base/errors.hpp"
 #include "base/json_read.hpp"
@@ -402,6 +403,117 @@ std::vector<std::pair<P2, P2>> touch(const Shape& s, const Shape& t) {
 
 } // namespace
 
+namespace scene_common {
+
+ContactValues contact_values(const ReadJson& doc, const std::map<std::string, int>& index,
+                             const std::vector<ContactRef>& contacts) {
+    std::optional<Rational> mu0, e0;
+    if (doc.contains("friction"))
+        mu0 = jr::get_rational(doc["friction"], "$.friction");
+    if (doc.contains("restitution"))
+        e0 = jr::get_rational(doc["restitution"], "$.restitution");
+    std::map<std::pair<int, int>, std::pair<std::optional<Rational>, std::optional<Rational>>> pairs;
+    if (doc.contains("pairs")) {
+        jr::expect_array(doc["pairs"], "$.pairs");
+        for (std::size_t k = 0; k < doc["pairs"].size(); ++k) {
+            const std::string pp = idx("$.pairs", k);
+            const ReadJson& jp = doc["pairs"][k];
+            jr::expect_object(jp, pp, {"bodies", "mu", "restitution"}, {"bodies"});
+            jr::expect_array(jp["bodies"], pp + ".bodies");
+            if (jp["bodies"].size() != 2)
+                input_error(pp + ".bodies", "expected two names");
+            int ends[2];
+            for (int e = 0; e < 2; ++e) {
+                const std::string nm = jr::get_string(jp["bodies"][e], idx(pp + ".bodies", static_cast<std::size_t>(e)));
+                const auto it = index.find(nm);
+                if (it == index.end())
+                    input_error(idx(pp + ".bodies", static_cast<std::size_t>(e)), "no body or boundary " + in_quotes(nm));
+                ends[e] = it->second;
+            }
+            if (ends[0] == ends[1] || (ends[0] < 0 && ends[1] < 0))
+                input_error(pp + ".bodies", "a pair is two bodies, or a body and a boundary");
+            auto& entry = pairs[{std::min(ends[0], ends[1]), std::max(ends[0], ends[1])}];
+            if (jp.contains("mu"))
+                entry.first = jr::get_rational(jp["mu"], pp + ".mu");
+            if (jp.contains("restitution"))
+                entry.second = jr::get_rational(jp["restitution"], pp + ".restitution");
+        }
+    }
+    ContactValues out;
+    const std::size_t c = contacts.size();
+    out.mu.assign(c, Rational(0));
+    out.restitution.assign(c, Rational(0));
+    std::vector<bool> has_e(c, false);
+    for (std::size_t k = 0; k < c; ++k) {
+        const ContactRef& ct = contacts[k];
+        const auto pair = pairs.find({std::min(ct.i, ct.j), std::max(ct.i, ct.j)});
+        std::optional<Rational> mu = ct.mu, e = ct.e;
+        // where each value was given, for the message
+        std::string mu_at = ct.path + ".mu", e_at = ct.path + ".restitution";
+        if (!mu && pair != pairs.end() && pair->second.first) {
+            mu = pair->second.first;
+            mu_at = "$.pairs (" + ct.name + ")";
+        }
+        if (!e && pair != pairs.end() && pair->second.second) {
+            e = pair->second.second;
+            e_at = "$.pairs (" + ct.name + ")";
+        }
+        if (!mu && mu0) {
+            mu = mu0;
+            mu_at = "$.friction";
+        }
+        if (!e && e0) {
+            e = e0;
+            e_at = "$.restitution";
+        }
+        if (mu && sign_of(*mu) == Sign::negative)
+            input_error(mu_at, "friction coefficient must be >= 0, got " + to_string(*mu));
+        if (mu)
+            out.mu[k] = *mu;
+        if (e) {
+            if (sign_of(*e) == Sign::negative || *e > Rational(1))
+                input_error(e_at, "restitution must be in [0, 1], got " + to_string(*e));
+            out.any_restitution = true;
+            out.restitution[k] = *e;
+            has_e[k] = true;
+        }
+        // A second contact of the same pair is named with its index: "box/ground #2".
+        std::string name = ct.name;
+        for (int copy = 2; std::find(out.names.begin(), out.names.end(), name) != out.names.end(); ++copy)
+            name = ct.name + " #" + std::to_string(copy);
+        out.names.push_back(name);
+    }
+    if (out.any_restitution)
+        for (std::size_t k = 0; k < c; ++k)
+            if (!has_e[k])
+                input_error(contacts[k].path, "contact " + std::to_string(k + 1) + " (" + contacts[k].name +
+                                                  ") has no restitution, other contacts have one: give it for every contact "
+                                                  "(per contact, per pair, or \"restitution\" for the scene)");
+    return out;
+}
+
+void check_scene_mechanics(const ReadJson& doc, const System& out) {
+    try {
+        make_mechanics(out);
+    } catch (const InputError& err) {
+        // In the scene's own terms: its place ($.contacts where listed, else the scene), the
+        // contacts it has, and no path of a system file ($.contacts.friction) the scene lacks.
+        std::string why = err.what();
+        if (why.rfind("$.", 0) == 0)
+            if (const auto colon = why.find(": "); colon != std::string::npos)
+                why = why.substr(colon + 2);
+        const std::size_t c = out.contact_names.size();
+        std::string list;
+        for (std::size_t k = 0; k < c && k < 6; ++k)
+            list += (k ? "; " : "") + std::to_string(k + 1) + ": " + out.contact_names[k];
+        input_error(doc.contains("contacts") && !doc["contacts"].is_string() ? "$.contacts" : "$",
+                    "the scene's contacts (" + list + (c > 6 ? "; ..." : "") + "): " + why +
+                        "; a body with more contact columns than velocities (redundant contacts) is not supported yet");
+    }
+}
+
+} // namespace scene_common
+
 System parse_scene(const ReadJson& doc) {
     if (doc.contains("dimension")) {
         const ReadJson& d = doc["dimension"];
@@ -550,37 +662,6 @@ System parse_scene(const ReadJson& doc) {
         }
     }
 
-    // mu and restitution: the contact's, else its pair's, else the scene's.
-    std::optional<Rational> mu0, e0;
-    if (doc.contains("friction"))
-        mu0 = jr::get_rational(doc["friction"], "$.friction");
-    if (doc.contains("restitution"))
-        e0 = jr::get_rational(doc["restitution"], "$.restitution");
-    std::map<std::pair<int, int>, std::pair<std::optional<Rational>, std::optional<Rational>>> pairs;
-    if (doc.contains("pairs")) {
-        jr::expect_array(doc["pairs"], "$.pairs");
-        for (std::size_t k = 0; k < doc["pairs"].size(); ++k) {
-            const std::string pp = idx("$.pairs", k);
-            const ReadJson& jp = doc["pairs"][k];
-            jr::expect_object(jp, pp, {"bodies", "mu", "restitution"}, {"bodies"});
-            jr::expect_array(jp["bodies"], pp + ".bodies");
-            if (jp["bodies"].size() != 2)
-                input_error(pp + ".bodies", "expected two names");
-            int ends[2];
-            for (int e = 0; e < 2; ++e) {
-                const std::string nm = jr::get_string(jp["bodies"][e], idx(pp + ".bodies", static_cast<std::size_t>(e)));
-                const auto it = index.find(nm);
-                if (it == index.end())
-                    input_error(idx(pp + ".bodies", static_cast<std::size_t>(e)), "no body or boundary " + in_quotes(nm));
-                ends[e] = it->second;
-            }
-            auto& entry = pairs[{std::min(ends[0], ends[1]), std::max(ends[0], ends[1])}];
-            if (jp.contains("mu"))
-                entry.first = jr::get_rational(jp["mu"], pp + ".mu");
-            if (jp.contains("restitution"))
-                entry.second = jr::get_rational(jp["restitution"], pp + ".restitution");
-        }
-    }
     const std::size_t n = 3 * bodies.size(), c = contacts.size();
     out.masses.resize(n);
     for (std::size_t b = 0; b < bodies.size(); ++b) {
@@ -604,77 +685,23 @@ System parse_scene(const ReadJson& doc) {
         }
         return col;
     };
-    bool any_e = false;
-    std::vector<Rational> restitution(c);
+    std::vector<scene_common::ContactRef> refs;
+    for (const Contact& ct : contacts)
+        refs.push_back({ct.i, ct.j, ct.name, ct.path, ct.mu, ct.e});
+    const scene_common::ContactValues values = scene_common::contact_values(doc, index, refs);
     for (std::size_t k = 0; k < c; ++k) {
         const Contact& ct = contacts[k];
         const Vector col = column(ct, ct.n);
         for (std::size_t r = 0; r < n; ++r)
             W(r, k) = col[r];
-        const auto pair = pairs.find({std::min(ct.i, ct.j), std::max(ct.i, ct.j)});
-        std::optional<Rational> mu = ct.mu, e = ct.e;
-        // where each value was given, for the message
-        std::string mu_at = ct.path + ".mu", e_at = ct.path + ".restitution";
-        if (!mu && pair != pairs.end() && pair->second.first) {
-            mu = pair->second.first;
-            mu_at = "$.pairs (" + ct.name + ")";
-        }
-        if (!e && pair != pairs.end() && pair->second.second) {
-            e = pair->second.second;
-            e_at = "$.pairs (" + ct.name + ")";
-        }
-        if (!mu && mu0) {
-            mu = mu0;
-            mu_at = "$.friction";
-        }
-        if (!e && e0) {
-            e = e0;
-            e_at = "$.restitution";
-        }
-        if (mu && sign_of(*mu) == Sign::negative)
-            input_error(mu_at, "friction coefficient must be >= 0, got " + to_string(*mu));
-        if (e) {
-            if (sign_of(*e) == Sign::negative || *e > Rational(1))
-                input_error(e_at, "restitution must be in [0, 1], got " + to_string(*e));
-            any_e = true;
-            restitution[k] = *e;
-        }
-        if (mu && sign_of(*mu) == Sign::positive)
-            out.friction.push_back(FrictionDecl{k, *mu, {column(ct, P2{ct.n.y, -ct.n.x})}, Rational(0)});
-        // A second contact of the same pair is named with its index: "box/ground #2".
-        std::string name = ct.name;
-        for (int copy = 2; std::find(out.contact_names.begin(), out.contact_names.end(), name) != out.contact_names.end(); ++copy)
-            name = ct.name + " #" + std::to_string(copy);
-        out.contact_names.push_back(name);
+        if (sign_of(values.mu[k]) == Sign::positive) // its tangent (n_y, -n_x), Box2D's
+            out.friction.push_back(FrictionDecl{k, values.mu[k], {column(ct, P2{ct.n.y, -ct.n.x})}, Rational(0)});
     }
-    if (any_e) {
-        for (std::size_t k = 0; k < c; ++k) {
-            const Contact& ct = contacts[k];
-            const auto pair = pairs.find({std::min(ct.i, ct.j), std::max(ct.i, ct.j)});
-            if (!ct.e && !(pair != pairs.end() && pair->second.second) && !e0)
-                input_error(ct.path, "contact " + std::to_string(k + 1) + " (" + ct.name +
-                                         ") has no restitution, other contacts have one: give it for every contact "
-                                         "(per contact, per pair, or \"restitution\" for the scene)");
-        }
-        out.restitution = restitution;
-    }
+    out.contact_names = values.names;
+    if (values.any_restitution)
+        out.restitution = values.restitution;
     out.W = W;
-    try {
-        make_mechanics(out);
-    } catch (const InputError& err) {
-        // In the scene's own terms: its place ($.contacts where listed, else the scene), the
-        // contacts it has, and no path of a system file ($.contacts.friction) the scene lacks.
-        std::string why = err.what();
-        if (why.rfind("$.contacts", 0) == 0)
-            if (const auto colon = why.find(": "); colon != std::string::npos)
-                why = why.substr(colon + 2);
-        std::string list;
-        for (std::size_t k = 0; k < c && k < 6; ++k)
-            list += (k ? "; " : "") + std::to_string(k + 1) + ": " + out.contact_names[k];
-        input_error(doc.contains("contacts") ? "$.contacts" : "$",
-                    "the scene's contacts (" + list + (c > 6 ? "; ..." : "") + "): " + why +
-                        "; a body with more contact columns than velocities (redundant contacts) is not supported yet");
-    }
+    scene_common::check_scene_mechanics(doc, out);
     return out;
 }
 

@@ -207,7 +207,6 @@ Json energetic_polynomial(const SweepSpec& spec, const Rational& lo, const Ratio
             return Json{{"why_not", "piece " + piece + " changes its form in the enclosure"}};
         xs.push_back(x);
         ys.push_back(*y);
-
     }
     Json out{{"piece", piece}, {"face", top.face}, {"samples", kThresholdSamples}};
     const auto fit = interpolate(xs, ys);
@@ -223,9 +222,8 @@ Json energetic_polynomial(const SweepSpec& spec, const Rational& lo, const Ratio
     UPoly N = integer_primitive(fit->first);
     const UPoly D = integer_primitive(fit->second);
     out["degrees"] = Json::array({N.degree(), D.degree()});
-    if (count_roots(N, lo, hi) != 1 || sign_of(evaluate(D, lo)) == Sign::zero) {
-        out["why_not"] = "the energy balance's numerator has " + std::to_string(N.zero() ? 0 : count_roots(N, lo, hi)) +
-                         " roots in the enclosure, not one";
+    if (const std::size_t roots = count_roots(N, lo, hi); roots != 1) {
+        out["why_not"] = "the energy balance's numerator has " + std::to_string(roots) + " roots in the enclosure, not one";
         return out;
     }
     // A rational root (a linear factor q x - p of N) is given exactly, with that factor.
