@@ -23,7 +23,7 @@ BUILD, SRC, PYTHON = sys.argv[1], sys.argv[2], sys.argv[3]
 sys.path.insert(0, os.path.join(SRC, "tests"))
 sys.path.insert(0, os.path.join(SRC, "tests", "oracles"))
 import testkit  # noqa: E402
-from friction_lcp import System, solve  # noqa: E402
+from friction_lcp import System, breaks  # noqa: E402
 
 CLI = os.path.join(BUILD, "impactcert")
 DRIVER = os.path.join(SRC, "examples", "engines", "siconos_fc2d.py")
@@ -62,15 +62,7 @@ if status != 1 or not j["violations"]["coulomb"] or not j["violations"]["referen
     failures.append(f"lemke: exit {status}, {j['violations']}")
 else:
     w = j["worst"]["coulomb"]
-    u = [F(float.fromhex(t)) for t in w["input"]]
-    up = [F(float.fromhex(t)) for t in w["output"]]
-    gm, gp = S.velocities(u), S.velocities(up)
-    Minv_cols = [solve(S.M, c) for c in S.columns]
-    G = [[sum(a[i] * mc[i] for i in range(S.n)) for mc in Minv_cols] for a in S.columns]
-    lam = solve(G, [a - b for a, b in zip(gp, gm)])
-    N = len(S.normals)
-    real = any((gp[N + t] > 0 and lam[N + t] + mu * lam[k] > 0) or (gp[N + t] < 0 and mu * lam[k] - lam[N + t] > 0)
-               for t, (k, mu, _, _) in enumerate(S.tangents))
+    real = breaks(S, [F(float.fromhex(t)) for t in w["input"]], [F(float.fromhex(t)) for t in w["output"]], "coulomb")
     if not real:
         failures.append(f"lemke: the worst Coulomb case does not recompute as a violation: {w}")
     r = testkit.run_replay(w["replay"], CLI)

@@ -37,6 +37,8 @@
 #include <string>
 #include <vector>
 
+#include "driver_lines.hpp"
+
 namespace {
 
 using box2d_cradle::impact;
@@ -96,31 +98,6 @@ Options parse_options(int argc, char** argv) {
 int main(int argc, char** argv) {
     const Options o = parse_options(argc, argv);
     const std::size_t n = o.masses.size();
-    std::string line;
-    std::vector<double> u;
-    for (unsigned long lineno = 1; std::getline(std::cin, line); ++lineno) {
-        u.clear();
-        const char* p = line.c_str();
-        for (;;) {
-            while (*p == ' ' || *p == '\t' || *p == '\r') ++p;
-            if (*p == '\0') break;
-            char* end = nullptr;
-            const double x = std::strtod(p, &end);
-            if (end == p || (*end != '\0' && *end != ' ' && *end != '\t' && *end != '\r') ||
-                !std::isfinite(x))
-                fail("line " + std::to_string(lineno) + ": not a finite number: '" +
-                     std::string(p, std::strcspn(p, " \t\r")) + "'");
-            u.push_back(x);
-            p = end;
-        }
-        if (u.size() != n)
-            fail("line " + std::to_string(lineno) + ": expected " + std::to_string(n) +
-                 " numbers, got " + std::to_string(u.size()));
-        const std::vector<float> v = impact(o, u);
-        for (std::size_t i = 0; i < n; ++i)
-            std::printf(i ? " %.17g" : "%.17g", static_cast<double>(v[i]));
-        std::printf("\n");
-        std::fflush(stdout);
-    }
+    driver_lines::serve(n, [&](const std::vector<double>& u) { return impact(o, u); }, fail);
     return 0;
 }

@@ -50,6 +50,8 @@
 #include <utility>
 #include <vector>
 
+#include "driver_lines.hpp"
+
 namespace {
 
 [[noreturn]] void fail(const std::string& message) {
@@ -284,31 +286,6 @@ int main(int argc, char** argv) {
         fail("usage: box2d_friction --scene FILE [--iterations K] [--edge-radius R]");
     const Scene s = read_scene(scene_path);
     const std::size_t n = 3 * s.bodies.size();
-    std::string line;
-    std::vector<double> u;
-    for (unsigned long lineno = 1; std::getline(std::cin, line); ++lineno) {
-        u.clear();
-        const char* p = line.c_str();
-        for (;;) {
-            while (*p == ' ' || *p == '\t' || *p == '\r')
-                ++p;
-            if (*p == '\0')
-                break;
-            char* end = nullptr;
-            const double x = std::strtod(p, &end);
-            if (end == p || (*end != '\0' && *end != ' ' && *end != '\t' && *end != '\r') || !std::isfinite(x))
-                fail("line " + std::to_string(lineno) + ": not a finite number");
-            u.push_back(x);
-            p = end;
-        }
-        if (u.size() != n)
-            fail("line " + std::to_string(lineno) + ": expected " + std::to_string(n) + " numbers, got " +
-                 std::to_string(u.size()));
-        const std::vector<float> v = impact(s, iterations, edge_radius, u);
-        for (std::size_t i = 0; i < n; ++i)
-            std::printf(i ? " %.17g" : "%.17g", static_cast<double>(v[i]));
-        std::printf("\n");
-        std::fflush(stdout);
-    }
+    driver_lines::serve(n, [&](const std::vector<double>& u) { return impact(s, iterations, edge_radius, u); }, fail);
     return 0;
 }

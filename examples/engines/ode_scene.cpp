@@ -34,6 +34,8 @@
 #include <utility>
 #include <vector>
 
+#include "driver_lines.hpp"
+
 namespace {
 
 [[noreturn]] void fail(const std::string& message) {
@@ -346,32 +348,7 @@ int main(int argc, char** argv) {
     const Scene s = read_scene(scene_path);
     dInitODE2(0);
     const std::size_t n = 6 * s.bodies.size();
-    std::string line;
-    std::vector<double> u;
-    for (unsigned long lineno = 1; std::getline(std::cin, line); ++lineno) {
-        u.clear();
-        const char* p = line.c_str();
-        for (;;) {
-            while (*p == ' ' || *p == '\t' || *p == '\r')
-                ++p;
-            if (*p == '\0')
-                break;
-            char* end = nullptr;
-            const double x = std::strtod(p, &end);
-            if (end == p || (*end != '\0' && *end != ' ' && *end != '\t' && *end != '\r') || !std::isfinite(x))
-                fail("line " + std::to_string(lineno) + ": not a finite number");
-            u.push_back(x);
-            p = end;
-        }
-        if (u.size() != n)
-            fail("line " + std::to_string(lineno) + ": expected " + std::to_string(n) + " numbers, got " +
-                 std::to_string(u.size()));
-        const std::vector<double> v = impact(s, iterations, cfm, u);
-        for (std::size_t i = 0; i < n; ++i)
-            std::printf(i ? " %.17g" : "%.17g", v[i]);
-        std::printf("\n");
-        std::fflush(stdout);
-    }
+    driver_lines::serve(n, [&](const std::vector<double>& u) { return impact(s, iterations, cfm, u); }, fail);
     dCloseODE();
     return 0;
 }

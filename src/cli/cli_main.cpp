@@ -162,6 +162,10 @@ int run_sweep_command(const SweepArgs& a, const Limits& limits) {
         spec.parameters.push_back(parse_vary(v));
     const bool tty = isatty(2) != 0;
     const auto start = std::chrono::steady_clock::now();
+    if (tty)
+        spec.threshold_progress = [](const std::string& what) {
+            std::fprintf(stderr, "\r\033[Kimpactcert: sweep: narrowing the change of %s", what.c_str());
+        };
     run_sweep(spec, a.out, [&](std::size_t done, std::size_t total) {
         if (tty && std::chrono::steady_clock::now() - start > std::chrono::seconds(1))
             std::fprintf(stderr, "\r\033[Kimpactcert: sweep %zu/%zu points", done, total);

@@ -419,20 +419,8 @@ ContactValues contact_values(const ReadJson& doc, const std::map<std::string, in
             const std::string pp = idx("$.pairs", k);
             const ReadJson& jp = doc["pairs"][k];
             jr::expect_object(jp, pp, {"bodies", "mu", "restitution"}, {"bodies"});
-            jr::expect_array(jp["bodies"], pp + ".bodies");
-            if (jp["bodies"].size() != 2)
-                input_error(pp + ".bodies", "expected two names");
-            int ends[2];
-            for (int e = 0; e < 2; ++e) {
-                const std::string nm = jr::get_string(jp["bodies"][e], idx(pp + ".bodies", static_cast<std::size_t>(e)));
-                const auto it = index.find(nm);
-                if (it == index.end())
-                    input_error(idx(pp + ".bodies", static_cast<std::size_t>(e)), "no body or boundary " + in_quotes(nm));
-                ends[e] = it->second;
-            }
-            if (ends[0] == ends[1] || (ends[0] < 0 && ends[1] < 0))
-                input_error(pp + ".bodies", "a pair is two bodies, or a body and a boundary");
-            auto& entry = pairs[{std::min(ends[0], ends[1]), std::max(ends[0], ends[1])}];
+            const auto [a, b] = two_ends(jp["bodies"], pp + ".bodies", index, "a pair");
+            auto& entry = pairs[{std::min(a, b), std::max(a, b)}];
             if (jp.contains("mu"))
                 entry.first = jr::get_rational(jp["mu"], pp + ".mu");
             if (jp.contains("restitution"))
@@ -489,6 +477,40 @@ ContactValues contact_values(const ReadJson& doc, const std::map<std::string, in
                 input_error(contacts[k].path, "contact " + std::to_string(k + 1) + " (" + contacts[k].name +
                                                   ") has no restitution, other contacts have one: give it for every contact "
                                                   "(per contact, per pair, or \"restitution\" for the scene)");
+    return out;
+}
+
+std::pair<int, int> two_ends(const ReadJson& names, const std::string& path, const std::map<std::string, int>& index,
+                             const std::string& what) {
+    jr::expect_array(names, path);
+    if (names.size() != 2)
+        input_error(path, "expected two names" + std::string(what == "a contact" ? " (the normal points from the first to the second)" : ""));
+    int ends[2];
+    for (int e = 0; e < 2; ++e) {
+        const std::string place = idx(path, static_cast<std::size_t>(e));
+        const std::string nm = jr::get_string(names[e], place);
+        const auto it = index.find(nm);
+        if (it == index.end())
+            input_error(place, "no body or boundary " + in_quotes(nm));
+        ends[e] = it->second;
+    }
+    if (ends[0] == ends[1] || (ends[0] < 0 && ends[1] < 0))
+        input_error(path, what + (what == "a pair" ? " is two bodies" : " is between two bodies") + ", or a body and a boundary");
+    return {ends[0], ends[1]};
+}
+
+Listed read_listed(const ReadJson& jc, const std::string& path, const std::map<std::string, int>& index) {
+    jr::expect_object(jc, path, {"bodies", "point", "normal", "mu", "restitution"}, {"bodies", "point", "normal"});
+    Listed out;
+    std::tie(out.i, out.j) = two_ends(jc["bodies"], path + ".bodies", index, "a contact");
+    if (out.j < 0) { // a boundary second: swapped, so that a boundary is always i
+        std::swap(out.i, out.j);
+        out.flip = true;
+    }
+    if (jc.contains("mu"))
+        out.mu = jr::get_rational(jc["mu"], path + ".mu");
+    if (jc.contains("restitution"))
+        out.e = jr::get_rational(jc["restitution"], path + ".restitution");
     return out;
 }
 
@@ -608,30 +630,17 @@ System parse_scene(const ReadJson& doc) {
         for (std::size_t k = 0; k < doc["contacts"].size(); ++k) {
             const std::string cp = idx("$.contacts", k);
             const ReadJson& jc = doc["contacts"][k];
-            jr::expect_object(jc, cp, {"bodies", "point", "normal", "mu", "restitution"}, {"bodies", "point", "normal"});
-            jr::expect_array(jc["bodies"], cp + ".bodies");
-            if (jc["bodies"].size() != 2)
-                input_error(cp + ".bodies", "expected two names (the normal points from the first to the second)");
-            int ends[2];
-            for (int e = 0; e < 2; ++e) {
-                const std::string nm = jr::get_string(jc["bodies"][e], idx(cp + ".bodies", static_cast<std::size_t>(e)));
-                const auto it = index.find(nm);
-                if (it == index.end())
-                    input_error(idx(cp + ".bodies", static_cast<std::size_t>(e)), "no body or boundary " + in_quotes(nm));
-                ends[e] = it->second;
-            }
-            if (ends[0] == ends[1] || (ends[0] < 0 && ends[1] < 0))
-                input_error(cp + ".bodies", "a contact is between two bodies, or a body and a boundary");
+            const scene_common::Listed listed = scene_common::read_listed(jc, cp, index);
             Contact c;
             c.p = get_point(jc["point"], cp + ".point");
             c.n = get_unit(jc["normal"], cp + ".normal");
-            c.path = cp;
-            if (ends[1] < 0) { // a boundary second: flip, so that a boundary is always i
-                std::swap(ends[0], ends[1]);
+            if (listed.flip)
                 c.n = Rational(-1) * c.n;
-            }
-            c.i = ends[0];
-            c.j = ends[1];
+            c.path = cp;
+            c.i = listed.i;
+            c.j = listed.j;
+            c.mu = listed.mu;
+            c.e = listed.e;
             c.name = name_of(c.i) + "/" + name_of(c.j);
             // The point must be exactly on a shape of each end (where it has shapes) or on the boundary.
             for (const int e : {c.i, c.j}) {
@@ -654,10 +663,6 @@ System parse_scene(const ReadJson& doc) {
                     input_error(cp + ".point", text(c.p) + " is not on a shape of " + in_quotes(body.name) +
                                                    " (a declared contact must be at distance exactly zero)");
             }
-            if (jc.contains("mu"))
-                c.mu = jr::get_rational(jc["mu"], cp + ".mu");
-            if (jc.contains("restitution"))
-                c.e = jr::get_rational(jc["restitution"], cp + ".restitution");
             contacts.push_back(c);
         }
     }

@@ -347,30 +347,17 @@ System parse(const ReadJson& doc) {
         for (std::size_t k = 0; k < doc["contacts"].size(); ++k) {
             const std::string cp = idx("$.contacts", k);
             const ReadJson& jc = doc["contacts"][k];
-            jr::expect_object(jc, cp, {"bodies", "point", "normal", "mu", "restitution"}, {"bodies", "point", "normal"});
-            jr::expect_array(jc["bodies"], cp + ".bodies");
-            if (jc["bodies"].size() != 2)
-                input_error(cp + ".bodies", "expected two names (the normal points from the first to the second)");
-            int ends[2];
-            for (int e = 0; e < 2; ++e) {
-                const std::string nm = jr::get_string(jc["bodies"][e], idx(cp + ".bodies", static_cast<std::size_t>(e)));
-                const auto it = index.find(nm);
-                if (it == index.end())
-                    input_error(idx(cp + ".bodies", static_cast<std::size_t>(e)), "no body or boundary " + in_quotes(nm));
-                ends[e] = it->second;
-            }
-            if (ends[0] == ends[1] || (ends[0] < 0 && ends[1] < 0))
-                input_error(cp + ".bodies", "a contact is between two bodies, or a body and a boundary");
+            const scene_common::Listed listed = scene_common::read_listed(jc, cp, index);
             Contact c;
             c.p = get_point(jc["point"], cp + ".point");
             c.n = get_unit(jc["normal"], cp + ".normal");
-            c.path = cp;
-            if (ends[1] < 0) {
-                std::swap(ends[0], ends[1]);
+            if (listed.flip)
                 c.n = Rational(-1) * c.n;
-            }
-            c.i = ends[0];
-            c.j = ends[1];
+            c.path = cp;
+            c.i = listed.i;
+            c.j = listed.j;
+            c.mu = listed.mu;
+            c.e = listed.e;
             c.name = name_of(c.i) + "/" + name_of(c.j);
             if (c.i < 0) {
                 const Plane& pl = planes[static_cast<std::size_t>(-c.i - 2)];
@@ -402,10 +389,6 @@ System parse(const ReadJson& doc) {
                     input_error(cp + ".point", text(c.p) + " is not on a shape of " + in_quotes(bodies[static_cast<std::size_t>(e)].name) +
                                                    " (a declared contact must be at distance exactly zero)");
             }
-            if (jc.contains("mu"))
-                c.mu = jr::get_rational(jc["mu"], cp + ".mu");
-            if (jc.contains("restitution"))
-                c.e = jr::get_rational(jc["restitution"], cp + ".restitution");
             contacts.push_back(c);
         }
     }

@@ -10,6 +10,10 @@
 //     contacts' names: "a/b", a second one of a pair "a/b #2".
 //   - check_scene_mechanics: make_mechanics on the scene's system, its InputError said in the
 //     scene's terms (its place, the contacts it has; redundant contacts not supported yet).
+//   - two_ends: the indices of the two bodies or boundaries named at `names`; InputError naming
+//     the place unless there are two known names, of two bodies or of a body and a boundary.
+//   - read_listed: a listed contact's ends (a boundary always first: `flip` tells the caller to
+//     turn the given normal round), mu and restitution; its point and normal are the caller's.
 #pragma once
 
 #include "base/json_read.hpp"
@@ -18,6 +22,7 @@
 #include <map>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace impactcert::scene_common {
@@ -38,5 +43,15 @@ struct ContactValues {
 ContactValues contact_values(const json_read::ReadJson& doc, const std::map<std::string, int>& index,
                              const std::vector<ContactRef>& contacts);
 void check_scene_mechanics(const json_read::ReadJson& doc, const System& out);
+
+std::pair<int, int> two_ends(const json_read::ReadJson& names, const std::string& path,
+                             const std::map<std::string, int>& index, const std::string& what);
+
+struct Listed {
+    int i = -1, j = -1;
+    bool flip = false;
+    std::optional<Rational> mu, e;
+};
+Listed read_listed(const json_read::ReadJson& jc, const std::string& path, const std::map<std::string, int>& index);
 
 } // namespace impactcert::scene_common

@@ -1016,7 +1016,7 @@ void write_sweep_outputs(const SweepSpec& spec, const std::vector<Json>& results
     doc["exact_conditions"] = Json{{"P1", exact}, {"P2", energy_condition(spec)}};
     Json thresholds;
     if (spec.thresholds) {
-        thresholds = find_thresholds(spec, results);
+        thresholds = find_thresholds(spec, results, spec.threshold_progress);
         doc["thresholds"] = thresholds;
     }
     write(dir + "/sweep.json", doc.dump(1) + "\n");

@@ -66,6 +66,7 @@ struct SweepSpec {
     std::optional<Shard> shard;      // --shard K/N: only the points k with k mod N = K - 1 (shard.hpp)
     bool thresholds = false;         // --thresholds (one parameter): threshold.hpp
     std::size_t threshold_digits = 10; // --threshold-digits: enclosures at most 10^-D wide
+    std::function<void(const std::string&)> threshold_progress; // optional: each change as it is narrowed
 };
 // Whether the sweep's laws have friction (a system with friction declarations): their verdicts
 // then include `coulomb` (obligation_ids(true)).

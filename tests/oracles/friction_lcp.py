@@ -49,6 +49,14 @@ class System:
     def velocities(self, u):
         return [sum(c[i] * u[i] for i in range(self.n)) for c in self.columns]
 
+    def impulses(self, u, up):
+        """gamma-, gamma+ and the contact impulses Lambda = G^-1 (gamma+ - gamma-), G = W^T M^-1 W,
+        that a change of velocity u -> up would take, exactly (the columns independent)."""
+        gm, gp = self.velocities(u), self.velocities(up)
+        Minv_cols = [solve(self.M, c) for c in self.columns]
+        G = [[sum(a[i] * mc[i] for i in range(self.n)) for mc in Minv_cols] for a in self.columns]
+        return gm, gp, solve(G, [a - b for a, b in zip(gp, gm)])
+
     def energy2(self, u):
         return sum(u[i] * self.M[i][j] * u[j] for i in range(self.n) for j in range(self.n))
 
@@ -133,3 +141,27 @@ class System:
             if all(f(gp, lam) >= 0 for f in ineq) and up not in found:
                 found.append(up)
         return found
+
+
+def breaks(S, u, up, prop):
+    """Whether the answer up at u breaks `prop` (kinematic, friction_cone, coulomb, momentum), as the
+    fuzzer's worst case claims, recomputed in contact space from M and W alone: kinematic and the
+    friction cone by more than 1e-6 times the input's scale (far above a float engine's rounding
+    at --max-rel-error 1e-5 or finer), Coulomb's slip signs and momentum exactly."""
+    gm, gp, lam = S.impulses(u, up)
+    N = len(S.normals)
+    margin = F(1, 10**6) * (sum(abs(x) for x in gm) + 1)
+    if prop == "kinematic":
+        return any(gp[k] < -margin for k in range(N))
+    for j, (k, mu, _, _) in enumerate(S.tangents):
+        T = N + j
+        if prop == "friction_cone" and abs(lam[T]) - mu * lam[k] > margin:
+            return True
+        if prop == "coulomb" and ((gp[T] > 0 and lam[T] + mu * lam[k] > 0) or (gp[T] < 0 and mu * lam[k] - lam[T] > 0)):
+            return True
+    if prop == "momentum":  # du - M^-1 W Lambda != 0
+        Minv_cols = [solve(S.M, c) for c in S.columns]
+        du = [a - b for a, b in zip(up, u)]
+        return any(du[i] != sum(Minv_cols[c][i] * lam[c] for c in range(S.d)) for i in range(S.n))
+    return False
+
