@@ -188,7 +188,7 @@ int run_derive_classical(const DeriveArgs& a, bool poisson) {
         for (auto& f : o.friction)
             f.restitution_tangential = *e_t;
     }
-    const Mechanics mech = make_mechanics(o);
+    const Mechanics mech = make_mechanics(o, poisson ? Dependent::refuse : Dependent::allow);
     if (mech.has_friction() && poisson)
         throw InputError("derive poisson: the Poisson-type law with friction is not offered (proofs/README.md, "
                          "\"Friction\": Glocker's Part II law needs the tangential state at the end of compression)");
@@ -202,7 +202,7 @@ int run_derive_classical(const DeriveArgs& a, bool poisson) {
         throw InputError("--restitution-on: the Poisson-type law has no such choice (its expansion phase acts only "
                          "where compression did)");
     o.outcomes_override = outcomes_from(a.outcomes_from, mech.balls());
-    if (mech.has_friction()) {
+    if (mech.has_friction() || mech.redundant()) { // dependent columns: by contact modes too (Lemma V)
         FrictionOptions fo;
         static_cast<ClassicalOptions&>(fo) = o;
         fo.max_modes = a.max_modes;

@@ -192,6 +192,9 @@ struct NotAFunction {
     bool none = false;             // no solution at gamma_minus (else two)
     std::string mode_a, mode_b;
     Vector lambda_a, lambda_b, gamma_a, gamma_b;
+    // In body velocities: a u- with W^T u- = gamma_minus, and u+ = u- + M^-1 W Lambda for each
+    // impulse (the Newton law on dependent columns; empty otherwise).
+    Vector u_minus, u_a, u_b;
 };
 struct FrictionResult {
     std::optional<Law> law;

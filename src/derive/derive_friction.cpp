@@ -203,25 +203,44 @@ struct Friction {
     }
 };
 
-// (gamma, Lambda) in R^{2d} into the space (gamma, Lambda, Lambda') of the pair test: the
-// coordinates of slot 0 (Lambda) or slot 1 (Lambda').
-Vector lift(const Vector& v, std::size_t d, int slot) {
-    Vector out(3 * d);
-    for (std::size_t i = 0; i < d; ++i) {
-        out[i] = v[i];
-        out[d + slot * d + i] = v[d + i];
+// Dependent columns (proofs/README.md, "Redundant contacts"): gamma- = C^T y with y = gamma_B- in
+// R^r, so a row a . gamma + b . Lambda over (gamma-, Lambda) is (C a) . y + b . Lambda over
+// (y, Lambda). With full rank C = I and y = gamma-.
+struct Space {
+    const Matrix& C;
+    std::size_t r, d;
+    explicit Space(const Mechanics& m) : C(m.C), r(m.C.rows()), d(m.C.cols()) {}
+    // (gamma, Lambda) in R^{2d} into (y, Lambda, Lambda') in R^{r + 2d}: the impulse in slot 0
+    // (Lambda) or slot 1 (Lambda').
+    Vector lift(const Vector& v, int slot) const {
+        Vector out(r + 2 * d);
+        const Vector g(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(d));
+        const Vector y = C * g;
+        for (std::size_t i = 0; i < r; ++i)
+            out[i] = y[i];
+        for (std::size_t i = 0; i < d; ++i)
+            out[r + slot * d + i] = v[d + i];
+        return out;
     }
-    return out;
+    std::size_t dim() const { return r + 2 * d; }
+    Vector gamma(const Vector& y) const { return transpose(C) * y; }
+};
+
+void add_rows(PPL::C_Polyhedron& p, const ModeRows& r, const Matrix& G, const Space& sp, int slot) {
+    for (const Cond& c : r.eq)
+        if (const Vector v = sp.lift(r.row(c, G), slot); !is_zero(v))
+            p.add_constraint(form(v) == 0);
+    for (const Cond& c : r.ineq)
+        if (const Vector v = sp.lift(r.row(c, G), slot); !is_zero(v))
+            p.add_constraint(form(v) >= 0);
 }
 
-void add_rows(PPL::C_Polyhedron& p, const ModeRows& r, const Matrix& G, int slot) {
-    const std::size_t d = G.rows();
-    for (const Cond& c : r.eq)
-        if (const Vector v = r.row(c, G); !is_zero(v))
-            p.add_constraint(form(lift(v, d, slot)) == 0);
-    for (const Cond& c : r.ineq)
-        if (const Vector v = r.row(c, G); !is_zero(v))
-            p.add_constraint(form(lift(v, d, slot)) >= 0);
+// x_i = value (den x_i - num = 0).
+void fix(PPL::C_Polyhedron& p, std::size_t i, const Rational& value) {
+    const mpz_class num(mpq_numref(value.mpq())), den(mpq_denref(value.mpq()));
+    PPL::Linear_Expression e = PPL::Coefficient(den) * PPL::Variable(static_cast<PPL::dimension_type>(i));
+    e -= PPL::Coefficient(num);
+    p.add_constraint(e == 0);
 }
 
 // A Lambda = -B gamma- from the mode's equalities.
@@ -258,19 +277,96 @@ std::vector<Vector> generators(const PPL::C_Polyhedron& p, std::size_t dim) {
     return out;
 }
 
-// Whether mode `r` has a solution at gamma- (singular systems included): exact feasibility in PPL.
-bool feasible_at(const ModeRows& r, const Matrix& G, const Vector& gamma) {
-    const std::size_t d = G.rows();
-    PPL::C_Polyhedron p(static_cast<PPL::dimension_type>(3 * d), PPL::UNIVERSE);
-    add_rows(p, r, G, 0);
-    for (std::size_t i = 0; i < d; ++i) {
-        // den x_i - num = 0
-        const mpz_class num(mpq_numref(gamma[i].mpq())), den(mpq_denref(gamma[i].mpq()));
-        PPL::Linear_Expression e = PPL::Coefficient(den) * PPL::Variable(static_cast<PPL::dimension_type>(i));
-        e -= PPL::Coefficient(num);
-        p.add_constraint(e == 0);
-    }
+// Whether mode `r` has a solution at y (gamma- = C^T y; singular systems included): exact
+// feasibility in PPL.
+bool feasible_at(const ModeRows& r, const Matrix& G, const Space& sp, const Vector& y) {
+    PPL::C_Polyhedron p(static_cast<PPL::dimension_type>(sp.dim()), PPL::UNIVERSE);
+    add_rows(p, r, G, sp, 0);
+    for (std::size_t i = 0; i < sp.r; ++i)
+        fix(p, i, y[i]);
     return !p.is_empty();
+}
+
+// An impulse of mode `r` at y: a point of the mode's polyhedron with y fixed (none: infeasible).
+std::optional<Vector> impulse_at(const ModeRows& r, const Matrix& G, const Space& sp, const Vector& y) {
+    PPL::C_Polyhedron p(static_cast<PPL::dimension_type>(sp.dim()), PPL::UNIVERSE);
+    add_rows(p, r, G, sp, 0);
+    for (std::size_t i = 0; i < sp.r; ++i)
+        fix(p, i, y[i]);
+    for (std::size_t k = 0; k < sp.d; ++k) // the second impulse unused
+        p.add_constraint(PPL::Variable(static_cast<PPL::dimension_type>(sp.r + sp.d + k)) == 0);
+    if (p.is_empty())
+        return std::nullopt;
+    for (const auto& g : p.minimized_generators())
+        if (g.is_point()) {
+            Vector v = generator_vector(g, sp.dim());
+            const mpz_class z(g.divisor());
+            const Rational div(CGAL::Gmpz(z.get_mpz_t()));
+            const Vector lambda(v.begin() + static_cast<std::ptrdiff_t>(sp.r),
+                                v.begin() + static_cast<std::ptrdiff_t>(sp.r + sp.d));
+            return (Rational(1) / div) * lambda;
+        }
+    return std::nullopt;
+}
+
+// Dependent columns (proofs/README.md, "Redundant contacts", Lemma V): the region of a mode is
+// the projection onto y of its polyhedron in (y, Lambda), and y+ = y + G_B z with z = C Lambda, a
+// function of y there (the pair test passed), hence linear on the projection: its graph in
+// (y, z) is a convex cone. Returns nothing when the projection is not full-dimensional.
+std::optional<std::pair<PPL::C_Polyhedron, Matrix>> projected_region(const ModeRows& rows, const Mechanics& mech,
+                                                                     const Space& sp) {
+    const std::size_t r = sp.r, d = sp.d;
+    PPL::C_Polyhedron p(static_cast<PPL::dimension_type>(sp.dim()), PPL::UNIVERSE);
+    add_rows(p, rows, mech.G, sp, 0);
+    p.remove_higher_space_dimensions(static_cast<PPL::dimension_type>(r + d)); // Lambda' is unconstrained
+    p.add_space_dimensions_and_embed(static_cast<PPL::dimension_type>(r));     // z
+    for (std::size_t i = 0; i < r; ++i) {
+        Vector row(r + d + r);
+        row[r + d + i] = Rational(-1);
+        for (std::size_t k = 0; k < d; ++k)
+            row[r + k] = mech.C(i, k);
+        p.add_constraint(form(row) == 0);
+    }
+    PPL::Variables_Set lambda;
+    for (std::size_t k = 0; k < d; ++k)
+        lambda.insert(PPL::Variable(static_cast<PPL::dimension_type>(r + k)));
+    p.remove_space_dimensions(lambda); // the graph, in (y, z)
+    const std::vector<Vector> gens = generators(p, 2 * r);
+    std::vector<Vector> ys, zs;
+    for (const auto& g : gens) {
+        const Vector y(g.begin(), g.begin() + static_cast<std::ptrdiff_t>(r));
+        std::vector<Vector> trial = ys;
+        trial.push_back(y);
+        if (null_space(trial, r).size() + trial.size() == r) { // independent of those kept
+            ys.push_back(y);
+            zs.push_back(Vector(g.begin() + static_cast<std::ptrdiff_t>(r), g.end()));
+        }
+        if (ys.size() == r)
+            break;
+    }
+    if (ys.size() < r)
+        return std::nullopt;
+    const auto Y_inv = inverse(Matrix::from_columns(ys));
+    const Matrix Z = Matrix::from_columns(zs) * *Y_inv;
+    for (const auto& g : gens) {
+        const Vector y(g.begin(), g.begin() + static_cast<std::ptrdiff_t>(r));
+        if (Z * y != Vector(g.begin() + static_cast<std::ptrdiff_t>(r), g.end()))
+            throw std::logic_error("derive newton: a mode's velocities are not a function of gamma- after the pair test");
+    }
+    p.remove_higher_space_dimensions(static_cast<PPL::dimension_type>(r));
+    if (!full_dimensional(p, r))
+        return std::nullopt;
+    return std::make_pair(p, Matrix::identity(r) + mech.G_B * Z);
+}
+
+// A u with W_B^T u = y (then W^T u = C^T y): u = M^-1 W_B H_B y.
+Vector body_velocities(const Mechanics& mech, const Vector& y) {
+    const Vector lambda_B = mech.H_B * y;
+    Vector u(mech.balls());
+    for (std::size_t k = 0; k < mech.basis.size(); ++k)
+        for (std::size_t i = 0; i < u.size(); ++i)
+            u[i] += mech.W(i, mech.basis[k]) * lambda_B[k];
+    return mech.M_inv * u;
 }
 
 } // namespace friction_detail
@@ -310,9 +406,11 @@ std::vector<Vector> newton_friction_solutions(const Mechanics& m, const std::vec
 }
 
 FrictionResult derive_newton_friction(const FrictionOptions& o) {
-    const Mechanics mech = make_mechanics(o);
-    if (!mech.has_friction())
-        throw std::logic_error("derive_newton_friction: a frictionless system");
+    const Mechanics mech = make_mechanics(o, Dependent::allow);
+    if (!mech.has_friction() && !mech.redundant())
+        throw std::logic_error("derive_newton_friction: a frictionless system of independent contacts");
+    const Space sp(mech);
+    const std::size_t r_dim = sp.r;
     const std::size_t N = mech.normals, d = mech.contacts();
     if (o.restitution.size() != N)
         throw InputError("--restitution: expected one value or " + std::to_string(N) + " (one per contact), got " +
@@ -336,11 +434,11 @@ FrictionResult derive_newton_friction(const FrictionOptions& o) {
     std::vector<bool> feasible;
     for (const Mode& md : modes) {
         rows.push_back(f.rows(md));
-        PPL::C_Polyhedron p(static_cast<PPL::dimension_type>(3 * d), PPL::UNIVERSE);
-        add_rows(p, rows.back(), mech.G, 0);
+        PPL::C_Polyhedron p(static_cast<PPL::dimension_type>(sp.dim()), PPL::UNIVERSE);
+        add_rows(p, rows.back(), mech.G, sp, 0);
         for (std::size_t k = 0; k < d; ++k) // the second impulse unused: held at 0
-            p.add_constraint(PPL::Variable(static_cast<PPL::dimension_type>(2 * d + k)) == 0);
-        feasible.push_back(!generators(p, 3 * d).empty()); // empty exactly when the cone is {0}
+            p.add_constraint(PPL::Variable(static_cast<PPL::dimension_type>(r_dim + d + k)) == 0);
+        feasible.push_back(!generators(p, sp.dim()).empty()); // empty exactly when the cone is {0}
     }
     // Lemma U: every pair of modes, a mode with itself included.
     for (std::size_t a = 0; a < modes.size(); ++a) {
@@ -349,45 +447,47 @@ FrictionResult derive_newton_friction(const FrictionOptions& o) {
         for (std::size_t b = a; b < modes.size(); ++b) {
             if (!feasible[b])
                 continue;
-            PPL::C_Polyhedron p(static_cast<PPL::dimension_type>(3 * d), PPL::UNIVERSE);
-            add_rows(p, rows[a], mech.G, 0);
-            add_rows(p, rows[b], mech.G, 1);
+            PPL::C_Polyhedron p(static_cast<PPL::dimension_type>(sp.dim()), PPL::UNIVERSE);
+            add_rows(p, rows[a], mech.G, sp, 0);
+            add_rows(p, rows[b], mech.G, sp, 1);
             ++result.pairs;
             if (o.progress && result.pairs % 256 == 0)
                 o.progress("pairs", result.pairs, modes.size() * (modes.size() + 1) / 2);
-            const auto gens = generators(p, 3 * d);
+            const auto gens = generators(p, sp.dim());
+            // Two post-impact velocities: C Lambda != C Lambda' (gamma+ - gamma- = C^T G_B C Lambda,
+            // C^T injective and G_B invertible; C = I with independent columns).
             auto differs = [&](const Vector& v) {
-                for (std::size_t i = 0; i < d; ++i)
-                    if (v[d + i] != v[2 * d + i])
-                        return true;
-                return false;
+                const Vector l(v.begin() + static_cast<std::ptrdiff_t>(r_dim), v.begin() + static_cast<std::ptrdiff_t>(r_dim + d));
+                const Vector l2(v.begin() + static_cast<std::ptrdiff_t>(r_dim + d), v.end());
+                return mech.C * l != mech.C * l2;
             };
+            auto y_of = [&](const Vector& v) { return Vector(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(r_dim)); };
             std::optional<Vector> witness;
-            Vector sum(3 * d);
+            Vector sum(sp.dim());
             for (const auto& g : gens)
                 sum = sum + g;
-            if (differs(sum) && !is_zero(Vector(sum.begin(), sum.begin() + static_cast<std::ptrdiff_t>(d))))
+            if (differs(sum) && !is_zero(y_of(sum)))
                 witness = sum;
             for (const auto& g : gens)
-                if (!witness && differs(g) && !is_zero(Vector(g.begin(), g.begin() + static_cast<std::ptrdiff_t>(d))))
+                if (!witness && differs(g) && !is_zero(y_of(g)))
                     witness = g;
             for (const auto& g : gens)
                 if (!witness && differs(g))
                     witness = g;
             if (!witness)
                 continue;
-            // Scale to a primitive integer gamma- where it is not zero.
-            Vector gm(witness->begin(), witness->begin() + static_cast<std::ptrdiff_t>(d));
+            // Scale to a primitive integer y where it is not zero.
+            Vector gm = y_of(*witness);
             Rational scale(1);
             if (!is_zero(gm)) {
                 const Vector pr = primitive_ray(gm);
-                for (std::size_t i = 0; i < d; ++i)
+                for (std::size_t i = 0; i < r_dim; ++i)
                     if (sign_of(gm[i]) != Sign::zero) {
                         scale = pr[i] / gm[i];
                         break;
                     }
             } else {
-                const Vector l(witness->begin() + static_cast<std::ptrdiff_t>(d), witness->end());
+                const Vector l(witness->begin() + static_cast<std::ptrdiff_t>(r_dim), witness->end());
                 const Vector pr = primitive_ray(l);
                 for (std::size_t i = 0; i < 2 * d; ++i)
                     if (sign_of(l[i]) != Sign::zero) {
@@ -397,26 +497,40 @@ FrictionResult derive_newton_friction(const FrictionOptions& o) {
             }
             const Vector w = scale * *witness;
             NotAFunction nf;
-            nf.gamma_minus = Vector(w.begin(), w.begin() + static_cast<std::ptrdiff_t>(d));
-            nf.lambda_a = Vector(w.begin() + static_cast<std::ptrdiff_t>(d), w.begin() + static_cast<std::ptrdiff_t>(2 * d));
-            nf.lambda_b = Vector(w.begin() + static_cast<std::ptrdiff_t>(2 * d), w.end());
+            nf.gamma_minus = sp.gamma(y_of(w));
+            nf.lambda_a = Vector(w.begin() + static_cast<std::ptrdiff_t>(r_dim), w.begin() + static_cast<std::ptrdiff_t>(r_dim + d));
+            nf.lambda_b = Vector(w.begin() + static_cast<std::ptrdiff_t>(r_dim + d), w.end());
             nf.gamma_a = nf.gamma_minus + mech.G * nf.lambda_a;
             nf.gamma_b = nf.gamma_minus + mech.G * nf.lambda_b;
             nf.mode_a = f.name(modes[a]);
             nf.mode_b = f.name(modes[b]);
+            if (mech.redundant()) { // gamma+ alone would hide that the bodies differ
+                nf.u_minus = body_velocities(mech, y_of(w));
+                nf.u_a = nf.u_minus + mech.M_inv * (mech.W * nf.lambda_a);
+                nf.u_b = nf.u_minus + mech.M_inv * (mech.W * nf.lambda_b);
+            }
             if (nf.gamma_a == nf.gamma_b)
                 throw std::logic_error("derive newton: two impulses with one gamma+ (G singular?)");
             result.not_a_function = std::move(nf);
             return result;
         }
     }
-    // The regions of the modes with an invertible A.
+    // The regions of the modes with an invertible A; with dependent columns, of every mode.
     std::vector<Region> regions;
     const Matrix I = Matrix::identity(d);
     for (std::size_t a = 0; a < modes.size(); ++a) {
         if (!feasible[a])
             continue;
         const ModeRows& r = rows[a];
+        const std::string nm = f.name(modes[a]);
+        if (mech.redundant()) {
+            auto region = projected_region(r, mech, sp);
+            if (!region)
+                continue;
+            check_bits(region->second, o.max_bits, "the map of " + nm);
+            regions.push_back({std::move(region->first), std::move(region->second), {a}, nm});
+            continue;
+        }
         Matrix A, B;
         linear_system(r, mech.G, A, B);
         const auto A_inv = inverse(A);
@@ -435,14 +549,17 @@ FrictionResult derive_newton_friction(const FrictionOptions& o) {
         if (!full_dimensional(cell, d))
             continue;
         Matrix map = I + mech.G * L;
-        const std::string nm = f.name(modes[a]);
         check_bits(map, o.max_bits, "the map of " + nm);
         std::vector<std::size_t> key{a};
         regions.push_back({cell, std::move(map), key, nm});
     }
+    // Dependent columns: modes overlap on open sets (impulses split between dependent columns)
+    // with one map there (Lemma V); their regions are made disjoint, each part inside its mode.
+    if (mech.redundant())
+        remove_overlaps(regions, r_dim);
     result.regions = regions.size();
     Law law;
-    const std::string kind = approaching ? "newton-approaching-friction" : "newton-friction";
+    const std::string kind = std::string(approaching ? "newton-approaching" : "newton") + (mech.has_friction() ? "-friction" : "");
     law.name = kind + "-" + o.name;
     law.masses = o.masses;
     law.M = o.M;
@@ -457,7 +574,24 @@ FrictionResult derive_newton_friction(const FrictionOptions& o) {
                       "contact: o open, c closed (frictionless), and per tangent s stick, f slip forward "
                       "(xi_T > 0, Lambda_T = -mu Lambda_N), b slip backward; /e lists the closed contacts "
                       "where restitution applies when not all of them; parts of a triangulated region by .1, .2, ...";
-    add_region_pieces(regions, d, law, o.progress);
+    const auto written = add_region_pieces(regions, r_dim, law, o.progress, nullptr, !mech.redundant());
+    if (mech.redundant()) {
+        // Each piece lies in the region of one mode: an impulse of that mode at every ray, and
+        // Lambda = L y on the piece by linearity (the mode's polyhedron is a convex cone).
+        for (std::size_t i = 0; i < written.size(); ++i) {
+            PieceDecl& piece = law.pieces[law.pieces.size() - written.size() + i];
+            const std::size_t mode = regions[written[i].region].key.front();
+            std::vector<Vector> at_rays;
+            for (const auto& ray : *piece.rays) {
+                const auto lambda = impulse_at(rows[mode], mech.G, sp, ray);
+                if (!lambda)
+                    throw std::logic_error("derive newton: no impulse of mode " + f.name(modes[mode]) + " at a ray of its piece");
+                at_rays.push_back(*lambda);
+            }
+            const auto R_inv = inverse(Matrix::from_columns(*piece.rays));
+            piece.impulses = Matrix::from_columns(at_rays) * *R_inv;
+        }
+    }
     // Outcomes: the unit velocities +-e_i of the coordinates, each simulated in body velocities
     // (not through the law); `outcomes` then checks the law against them.
     law.outcomes = !o.outcomes_override.empty()
@@ -469,11 +603,13 @@ FrictionResult derive_newton_friction(const FrictionOptions& o) {
     if (const auto defect = tiling_defect(law)) {
         const Vector& g = defect->gamma;
         for (std::size_t a = 0; a < modes.size(); ++a)
-            if (feasible_at(rows[a], mech.G, g))
+            if (feasible_at(rows[a], mech.G, sp, g))
                 throw std::logic_error("derive newton: the fan of the derived law is refuted at a point where mode " +
                                        f.name(modes[a]) + " has a solution");
         NotAFunction nf;
-        nf.gamma_minus = g;
+        nf.gamma_minus = sp.gamma(g);
+        if (mech.redundant())
+            nf.u_minus = body_velocities(mech, g);
         nf.none = true;
         result.not_a_function = std::move(nf);
         return result;

@@ -468,7 +468,7 @@ std::string map_key(const Matrix& M) {
 }
 
 std::vector<WrittenPiece> add_region_pieces(std::vector<Region>& regions, std::size_t c, Law& law,
-                                           const DeriveProgress& progress, RegionBudget* budget) {
+                                           const DeriveProgress& progress, RegionBudget* budget, bool merge) {
     sort_by_key(regions);
     // Regions with the same matrix (the braid relation Q1 Q2 Q1 = Q2 Q1 Q2 makes "121" and "212"
     // one map) are merged where their union is convex (merge_group). The merged piece keeps the
@@ -488,12 +488,19 @@ std::vector<WrittenPiece> add_region_pieces(std::vector<Region>& regions, std::s
             progress("merge", group_index, order.size());
         ++group_index;
         auto& group = groups[key];
-        merge_group(group, c);
+        if (merge)
+            merge_group(group, c);
         for (auto& r : group)
             merged.push_back(std::move(r));
     }
     sort_by_key(merged);
     regions = std::move(merged);
+    if (!merge) { // regions of one name (modes told apart only by an orthant) kept apart: NAME#2, ...
+        std::map<std::string, std::size_t> seen;
+        for (auto& region : regions)
+            if (const std::size_t k = ++seen[region.name]; k > 1)
+                region.name += "#" + std::to_string(k);
+    }
 
     std::vector<WrittenPiece> written;
     for (std::size_t index = 0; index < regions.size(); ++index) {

@@ -100,8 +100,10 @@ std::string map_key(const Matrix& M);
 // Sorts by key, merges, triangulates; appends pieces to law.pieces. `regions` is replaced by
 // the merged list (indices of WrittenPiece::region refer to it).
 // `budget`, when given, holds the regions already; the pieces written are added to it.
+// `merge` false: no region is merged, so that every piece lies in the region of one key.
 std::vector<WrittenPiece> add_region_pieces(std::vector<Region>& regions, std::size_t c, Law& law,
-                                           const DeriveProgress& progress = {}, RegionBudget* budget = nullptr);
+                                           const DeriveProgress& progress = {}, RegionBudget* budget = nullptr,
+                                           bool merge = true);
 
 // The laws with friction (derive_friction.cpp, derive_sequential_friction.cpp): whether the
 // pieces written tile R^d, decided by the `fan` of the law; a point where they do not (the fan's

@@ -56,9 +56,13 @@ std::string not_a_function_text(const Vector& gamma_minus, const std::string& re
 }
 
 std::string not_a_function_text(const NotAFunction& w) {
-    const std::string head = "the Newton law with friction is not a function: gamma- = " + short_text(w.gamma_minus);
+    const std::string head = "the Newton law with friction is not a function: gamma- = " + short_text(w.gamma_minus) +
+                             (w.u_minus.empty() ? std::string() : " (u- = " + short_text(w.u_minus) + ")");
     if (w.none)
         return head + " has no solution";
+    if (!w.u_a.empty())
+        return head + " has two solutions, u+ = " + short_text(w.u_a) + " (mode " + w.mode_a + ") and " +
+               short_text(w.u_b) + " (mode " + w.mode_b + ")";
     return head + " has two solutions, gamma+ = " + short_text(w.gamma_a) + " (mode " + w.mode_a + ") and " +
            short_text(w.gamma_b) + " (mode " + w.mode_b + ")";
 }
@@ -68,10 +72,14 @@ Json not_a_function_json(const NotAFunction& w) {
     j["format"] = "impactcert-derive/1";
     j["verdict"] = w.none ? "no-solution" : "two-solutions";
     j["gamma_minus"] = to_json(w.gamma_minus);
+    if (!w.u_minus.empty())
+        j["u_minus"] = to_json(w.u_minus);
     if (!w.none) {
         j["modes"] = Json::array({w.mode_a, w.mode_b});
         j["impulses"] = Json::array({to_json(w.lambda_a), to_json(w.lambda_b)});
         j["gamma_plus"] = Json::array({to_json(w.gamma_a), to_json(w.gamma_b)});
+        if (!w.u_a.empty())
+            j["u_plus"] = Json::array({to_json(w.u_a), to_json(w.u_b)});
     }
     return j;
 }

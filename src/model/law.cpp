@@ -63,14 +63,33 @@ Model::Model(Law law, std::size_t max_pieces, std::size_t max_memory_mb) : law_(
 
     // Masses and contacts (system.hpp: the same rules as a system file).
     {
-        Mechanics mech = make_mechanics(law_.masses, law_.M, law_.W, law_.friction);
+        Mechanics mech = make_mechanics(law_.masses, law_.M, law_.W, law_.friction, Dependent::allow);
         normals_ = mech.normals;
         tangents_ = std::move(mech.tangents);
         M_ = std::move(mech.M);
         M_inv_ = std::move(mech.M_inv);
-        W_ = std::move(mech.W);
-        G_ = std::move(mech.G);
-        H_ = std::move(mech.H);
+        if (mech.redundant()) {
+            // The law lives on gamma_B = W_B^T u (proofs/README.md, "Redundant contacts").
+            basis_ = mech.basis;
+            C_ = mech.C;
+            full_W_ = mech.W;
+            W_ = Matrix(M_.rows(), basis_.size());
+            for (std::size_t i = 0; i < W_.rows(); ++i)
+                for (std::size_t k = 0; k < basis_.size(); ++k)
+                    W_(i, k) = mech.W(i, basis_[k]);
+            G_ = std::move(mech.G_B);
+            H_ = std::move(mech.H_B);
+        } else {
+            W_ = std::move(mech.W);
+            G_ = std::move(mech.G);
+            H_ = std::move(mech.H);
+        }
+    }
+    if (redundant()) {
+        if (!law_.symmetries.empty())
+            input_error("$.symmetries", "a law on dependent contact columns declares no symmetries (not supported)");
+        if (!law_.single_impacts.empty())
+            input_error("$.single_impacts", "a law on dependent contact columns declares no single impacts (not supported)");
     }
     const std::size_t n = M_.rows(), c = W_.cols();
 
@@ -118,6 +137,20 @@ Model::Model(Law law, std::size_t max_pieces, std::size_t max_memory_mb) : law_(
         for (const auto& r : rays)
             primitive.push_back(primitive_ray(r));
         add_piece(decl.name, decl.Q, primitive, path);
+        if (redundant()) {
+            const std::size_t d = C_.cols();
+            if (!decl.impulses)
+                input_error(path, "missing \"impulses\": W's " + std::to_string(d) + " columns have rank " +
+                                      std::to_string(c) + ", so each piece gives its impulses (" + std::to_string(d) +
+                                      " x " + std::to_string(c) + ")");
+            if (decl.impulses->rows() != d || decl.impulses->cols() != c)
+                input_error(path + ".impulses", "expected " + std::to_string(d) + " x " + std::to_string(c) + ", got " +
+                                                    std::to_string(decl.impulses->rows()) + " x " +
+                                                    std::to_string(decl.impulses->cols()));
+            pieces_.back().L = decl.impulses;
+        } else if (decl.impulses) {
+            input_error(path + ".impulses", "only a law on dependent contact columns gives impulses (W has full column rank)");
+        }
     }
 
     // Symmetries: invertible, named once; with representatives only, the closure.
@@ -452,9 +485,10 @@ void validate_claims(const Law& law) {
     }
 }
 
-bool Model::applies(const std::string& id) const { return law_applies(law_, id); }
+// P3 (onto the orthant) has no meaning on a basis of dependent columns.
+bool Model::applies(const std::string& id) const { return !(redundant() && id == "P3") && law_applies(law_, id); }
 
-bool Model::claimed(const std::string& id) const { return law_claims(law_, id); }
+bool Model::claimed(const std::string& id) const { return !(redundant() && id == "P3") && law_claims(law_, id); }
 
 Vector Model::post_impact_velocities(const Vector& u_minus, const Vector& gamma_minus,
                                      const Vector& gamma_plus) const {

@@ -33,6 +33,9 @@ struct PieceDecl {
     std::string name;
     Matrix Q;                       // c x c
     std::optional<std::vector<Vector>> rays; // c rays; absent: the columns of Q^-1
+    // Laws on dependent columns only (proofs/README.md, "Redundant contacts"): the impulse
+    // Lambda = impulses * gamma_B on the piece, d x c (d = all columns of W, c = its rank).
+    std::optional<Matrix> impulses = std::nullopt;
 };
 
 struct IdentityDecl {
@@ -134,6 +137,7 @@ struct Piece {
     Matrix R;                       // c x c, columns are the primitive rays
     Matrix R_inv;                   // R^-1: s = R_inv gamma are gamma's cone coordinates
     std::vector<std::size_t> ray_ids; // index into Model::rays() of each column of R
+    std::optional<Matrix> L;          // dependent columns: Lambda = L gamma_B on the cone (d x c)
 };
 
 // Two points of the interior of the piece's cone whose difference is a positive multiple of x:
@@ -172,6 +176,14 @@ class Model {
     bool has_friction() const { return !tangents_.empty(); }
     const Matrix& G() const { return G_; }
     const Matrix& H() const { return H_; }
+    // Dependent columns (proofs/README.md, "Redundant contacts"): W() is then W_B, the basis
+    // columns of [W_N W_T] (their indices basis()), contacts() its rank c, G() and H() those of
+    // W_B; the impulse has all d columns: Lambda in R^d with W_B C = [W_N W_T], gamma = C^T
+    // gamma_B, and normals() and tangents() count the columns of all of W.
+    bool redundant() const { return !basis_.empty(); }
+    const std::vector<std::size_t>& basis() const { return basis_; }
+    const Matrix& C() const { return C_; }
+    const Matrix& full_W() const { return redundant() ? full_W_ : W_; }
     const std::vector<Piece>& pieces() const { return pieces_; }
     // The declared symmetries with P^-1 (P is invertible: checked on construction).
     const std::vector<Matrix>& symmetry_P_inv() const { return P_inv_; }
@@ -204,6 +216,8 @@ class Model {
   private:
     Law law_;
     Matrix M_, M_inv_, W_, G_, H_;
+    std::vector<std::size_t> basis_; // empty: full column rank
+    Matrix C_, full_W_;
     std::size_t normals_ = 0;
     std::vector<Tangent> tangents_;
     std::vector<Piece> pieces_;

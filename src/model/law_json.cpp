@@ -319,10 +319,12 @@ Law parse_document(const ReadJson& doc) {
     read_coordinates(doc, law.M, law.masses, law.W, law.velocity_names, law.contact_names);
 
     for_each_element(doc["pieces"], "$.pieces", [&](const ReadJson& p, const std::string& path) {
-        expect_object(p, path, {"name", "Q", "rays"}, {"name", "Q"});
+        expect_object(p, path, {"name", "Q", "rays", "impulses"}, {"name", "Q"});
         PieceDecl decl;
         decl.name = get_string(p["name"], path + ".name");
         decl.Q = get_matrix(p["Q"], path + ".Q");
+        if (p.contains("impulses"))
+            decl.impulses = get_matrix(p["impulses"], path + ".impulses");
         if (p.contains("rays")) {
             std::vector<Vector> rays;
             for_each_element(p["rays"], path + ".rays", [&](const ReadJson& r, const std::string& rp) {
@@ -527,6 +529,12 @@ nlohmann::ordered_json piece_to_json(const PieceDecl& p) {
         for (const auto& r : *p.rays)
             rays.push_back(law_vector_json(r));
         piece["rays"] = rays;
+    }
+    if (p.impulses) {
+        nlohmann::ordered_json L = nlohmann::ordered_json::array();
+        for (std::size_t i = 0; i < p.impulses->rows(); ++i)
+            L.push_back(law_vector_json(p.impulses->row(i)));
+        piece["impulses"] = L;
     }
     return piece;
 }

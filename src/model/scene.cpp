@@ -516,7 +516,7 @@ Listed read_listed(const ReadJson& jc, const std::string& path, const std::map<s
 
 void check_scene_mechanics(const ReadJson& doc, const System& out) {
     try {
-        make_mechanics(out);
+        make_mechanics(out, Dependent::allow); // dependent columns: refused by the commands that need full rank
     } catch (const InputError& err) {
         // In the scene's own terms: its place ($.contacts where listed, else the scene), the
         // contacts it has, and no path of a system file ($.contacts.friction) the scene lacks.
@@ -529,8 +529,7 @@ void check_scene_mechanics(const ReadJson& doc, const System& out) {
         for (std::size_t k = 0; k < c && k < 6; ++k)
             list += (k ? "; " : "") + std::to_string(k + 1) + ": " + out.contact_names[k];
         input_error(doc.contains("contacts") && !doc["contacts"].is_string() ? "$.contacts" : "$",
-                    "the scene's contacts (" + list + (c > 6 ? "; ..." : "") + "): " + why +
-                        "; a body with more contact columns than velocities (redundant contacts) is not supported yet");
+                    "the scene's contacts (" + list + (c > 6 ? "; ..." : "") + "): " + why);
     }
 }
 

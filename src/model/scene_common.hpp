@@ -9,7 +9,7 @@
 //     [0, 1], and naming the contact when some contacts have a restitution and it has none. The
 //     contacts' names: "a/b", a second one of a pair "a/b #2".
 //   - check_scene_mechanics: make_mechanics on the scene's system, its InputError said in the
-//     scene's terms (its place, the contacts it has; redundant contacts not supported yet).
+//     scene's terms (its place, the contacts it has); dependent columns are allowed here.
 //   - two_ends: the indices of the two bodies or boundaries named at `names`; InputError naming
 //     the place unless there are two known names, of two bodies or of a body and a boundary.
 //   - read_listed: a listed contact's ends (a boundary always first: `flip` tells the caller to

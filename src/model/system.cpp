@@ -3,6 +3,9 @@
 
 #include "base/errors.hpp"
 
+#include <stdexcept>
+#include <utility>
+
 namespace impactcert {
 
 Matrix two_body_impact(const Matrix& G, std::size_t k, const Rational& e) {
@@ -13,8 +16,45 @@ Matrix two_body_impact(const Matrix& G, std::size_t k, const Rational& e) {
     return Q;
 }
 
+namespace {
+
+// The pivot columns of W's reduced row echelon form (each column kept when independent of those
+// kept before it) and C, its non-zero rows: W = W_B C exactly.
+void reduce_columns(Mechanics& m) {
+    Matrix a = m.W;
+    const std::size_t n = a.rows(), c = a.cols();
+    std::size_t row = 0;
+    for (std::size_t col = 0; col < c && row < n; ++col) {
+        std::size_t p = row;
+        while (p < n && sign_of(a(p, col)) == Sign::zero)
+            ++p;
+        if (p == n)
+            continue;
+        for (std::size_t j = 0; j < c; ++j)
+            std::swap(a(row, j), a(p, j));
+        const Rational pivot = a(row, col);
+        for (std::size_t j = 0; j < c; ++j)
+            a(row, j) /= pivot;
+        for (std::size_t i = 0; i < n; ++i)
+            if (i != row && sign_of(a(i, col)) != Sign::zero) {
+                const Rational f = a(i, col);
+                for (std::size_t j = 0; j < c; ++j)
+                    a(i, j) -= f * a(row, j);
+            }
+        m.basis.push_back(col);
+        ++row;
+    }
+    m.C = Matrix(m.basis.size(), c);
+    for (std::size_t i = 0; i < m.basis.size(); ++i)
+        for (std::size_t j = 0; j < c; ++j)
+            m.C(i, j) = a(i, j);
+}
+
+} // namespace
+
 Mechanics make_mechanics(const std::vector<Rational>& masses, const std::optional<Matrix>& M,
-                         const std::optional<Matrix>& W, const std::vector<FrictionDecl>& friction) {
+                         const std::optional<Matrix>& W, const std::vector<FrictionDecl>& friction,
+                         Dependent dependent, bool scene) {
     Mechanics m;
     if (M && !masses.empty())
         input_error("$", "give either \"masses\" or \"M\", not both");
@@ -116,20 +156,27 @@ Mechanics make_mechanics(const std::vector<Rational>& masses, const std::optiona
         m.W = std::move(full);
     }
     const std::size_t c = m.W.cols();
-    if (c > n)
-        input_error(friction.empty() ? "$.contacts.W" : "$.contacts.friction", std::to_string(c) + (friction.empty() ? " contacts" : " columns (normals and tangents)") +
-                                        " but only " + std::to_string(n) + " velocities: the columns of W are linearly dependent");
-    m.G = transpose(m.W) * m.M_inv * m.W;
-    auto H = inverse(m.G);
-    if (!H) {
-        std::vector<Vector> rows;
-        for (std::size_t i = 0; i < n; ++i)
-            rows.push_back(m.W.row(i));
-        const std::size_t rank = c - null_space(rows, c).size();
-        input_error(!friction.empty() ? "$.contacts.friction" : W ? "$.contacts.W" : "$.contacts", "W has rank " + std::to_string(rank) + " < " + std::to_string(c) +
-                                                         " contacts: its columns are linearly dependent (G = W^T M^-1 W is singular)");
+    reduce_columns(m);
+    const std::size_t r = m.basis.size();
+    if (r < c && dependent == Dependent::refuse) {
+        const std::string where = scene ? "$.contacts" : !friction.empty() ? "$.contacts.friction" : W ? "$.contacts.W" : "$.contacts";
+        const std::string what = friction.empty() ? " contacts" : " columns (normals and tangents)";
+        input_error(where, std::to_string(c) + what + " but rank " + std::to_string(r) +
+                               (c > n ? " (" + std::to_string(n) + " velocities)" : std::string()) +
+                               ": the columns are linearly dependent (only derive newton and verify read such systems)");
     }
-    m.H = *H;
+    m.G = transpose(m.W) * m.M_inv * m.W;
+    Matrix W_B(n, r);
+    for (std::size_t i = 0; i < n; ++i)
+        for (std::size_t k = 0; k < r; ++k)
+            W_B(i, k) = m.W(i, m.basis[k]);
+    m.G_B = transpose(W_B) * m.M_inv * W_B;
+    const auto H_B = inverse(m.G_B);
+    if (!H_B)
+        throw std::logic_error("make_mechanics: G_B singular on independent columns");
+    m.H_B = *H_B;
+    if (r == c)
+        m.H = m.H_B;
     return m;
 }
 
@@ -191,10 +238,12 @@ System chain_system(const std::vector<Rational>& masses, Walls walls) {
 }
 
 std::string describe_system(const System& s) {
-    const Mechanics m = make_mechanics(s);
+    const Mechanics m = make_mechanics(s, Dependent::allow);
     std::string what = s.W ? "explicit W" : "chain";
     if (m.has_friction())
         what += ", " + std::to_string(m.tangents.size()) + " friction tangent" + (m.tangents.size() == 1 ? "" : "s");
+    if (m.redundant())
+        what += ", " + std::to_string(m.contacts()) + " columns of rank " + std::to_string(m.basis.size());
     return std::to_string(m.balls()) + " velocities, " + std::to_string(m.normals) + (m.normals == 1 ? " contact (" : " contacts (") + what +
            (m.diagonal ? "" : ", full mass matrix") + ")";
 }

@@ -61,6 +61,15 @@ struct Mechanics {
     bool diagonal = true; // M is diagonal
     std::size_t normals = 0;
     std::vector<Tangent> tangents; // tangent j is column normals + j
+    // Dependent columns (proofs/README.md, "Redundant contacts"): `basis` lists the columns of W
+    // kept, in order, each one independent of those kept before it (the pivot columns of W's
+    // reduced row echelon form; r = rank W of them), and W = W_B C with C (r x d) the non-zero
+    // rows of that echelon form (C's basis columns are unit vectors). G_B = W_B^T M^-1 W_B is
+    // positive definite and H_B = G_B^-1. Full column rank: basis = all, C = I, G_B = G, H_B = H.
+    // With dependent columns G is singular and H is empty: a law lives on gamma_B = W_B^T u.
+    std::vector<std::size_t> basis;
+    Matrix C, G_B, H_B;
+    bool redundant() const { return basis.size() < W.cols(); }
     std::size_t balls() const { return M.rows(); }
     std::size_t contacts() const { return W.cols(); } // the dimension of gamma: normals + tangents
     bool has_friction() const { return !tangents.empty(); }
@@ -70,10 +79,16 @@ struct Mechanics {
 
 // Validates and derives; throws InputError naming $.masses, $.M or $.contacts.W.
 // Friction: every contact exists and appears once (ascending), mu >= 0, e_T in [0, 1], each
-// tangent has n entries; [W_N W_T] must have full column rank (InputError naming $.contacts.friction).
+// tangent has n entries. [W_N W_T] must have full column rank (InputError naming
+// $.contacts.friction, or the scene's contacts when `scene`) unless `dependent` allows
+// dependent columns (`derive newton` and `verify` read such systems; the others do not yet).
+enum class Dependent { refuse, allow };
 Mechanics make_mechanics(const std::vector<Rational>& masses, const std::optional<Matrix>& M,
-                         const std::optional<Matrix>& W, const std::vector<FrictionDecl>& friction = {});
-inline Mechanics make_mechanics(const System& s) { return make_mechanics(s.masses, s.M, s.W, s.friction); }
+                         const std::optional<Matrix>& W, const std::vector<FrictionDecl>& friction = {},
+                         Dependent dependent = Dependent::refuse, bool scene = false);
+inline Mechanics make_mechanics(const System& s, Dependent dependent = Dependent::refuse) {
+    return make_mechanics(s.masses, s.M, s.W, s.friction, dependent, !s.velocity_names.empty());
+}
 
 enum class Walls { none, left, right, both };
 Walls parse_walls(const std::string& text); // InputError naming --walls

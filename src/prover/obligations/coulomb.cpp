@@ -9,6 +9,9 @@
 // simplicial cone C_i exactly when f vanishes at every ray or xi_T <= 0 at every ray (the same
 // for g and xi_T >= 0). The witness of a failure is a ray r_a with f(r_a) > 0 plus t times a ray
 // r_b with xi_T(r_b) > 0, t large enough that xi_T > 0 there (a point of C_i where both hold).
+// On dependent columns (proofs/README.md, "Redundant contacts") Lambda = L_i gamma_B, the piece's
+// declared impulse (C L_i = H (Q_i - I), checked at the rays), and xi in all d coordinates:
+// C^T Q_i gamma_B + E_T C^T gamma_B.
 #include "prover/obligations/prover.hpp"
 
 namespace impactcert::detail {
@@ -39,13 +42,18 @@ Outcome Prover::coulomb() {
     const Matrix I = Matrix::identity(c_);
     for (std::size_t p = 0; p < pieces_.size(); ++p) {
         const Piece& piece = pieces_[p];
-        const Matrix K = m_.H() * (piece.Q - I);
-        std::vector<Vector> impulse(c_), after(c_);
+        const Matrix K = m_.redundant() ? *piece.L : m_.H() * (piece.Q - I);
+        const Matrix Ct = m_.redundant() ? transpose(m_.C()) : I; // into all d coordinates
+        std::vector<Vector> impulse(c_), after(c_), full(c_);
         for (std::size_t a = 0; a < c_; ++a) {
             const Vector r = piece.R.column(a);
             impulse[a] = K * r;
-            after[a] = piece.Q * r;
+            after[a] = Ct * (piece.Q * r);
+            full[a] = Ct * r;
             ++o.checks;
+            if (m_.redundant() && m_.C() * impulse[a] != m_.H() * (piece.Q * r - r))
+                return refute(o, Json{{"piece", name(p)}, {"gamma", to_json(r)}, {"impulse", to_json(impulse[a])},
+                                      {"reason", "the declared impulse does not give the law's velocities (C L r != H (Q - I) r)"}});
             if (!in_friction_cone(impulse[a]))
                 return refute(o, Json{{"piece", name(p)}, {"gamma", to_json(r)}, {"impulse", to_json(impulse[a])},
                                       {"reason", "impulse outside the friction cone"}});
@@ -53,12 +61,12 @@ Outcome Prover::coulomb() {
         for (std::size_t j = 0; j < m_.tangents().size(); ++j) {
             const Tangent& t = m_.tangents()[j];
             const std::size_t T = normals + j;
-            Vector f(c_), g(c_), xi(c_);
+            Vector f(c_), g(c_), xi(c_); // at the rays
             for (std::size_t a = 0; a < c_; ++a) {
                 const Rational bound = t.mu * impulse[a][t.contact];
                 f[a] = impulse[a][T] + bound;
                 g[a] = bound - impulse[a][T];
-                xi[a] = after[a][T] + t.e_T * piece.R(T, a);
+                xi[a] = after[a][T] + t.e_T * full[a][T];
             }
             // wrong = +1: f > 0 (Lambda_T above -mu Lambda_N) needs xi_T <= 0; wrong = -1: g > 0 needs xi_T >= 0.
             for (const int wrong : {1, -1}) {
@@ -76,8 +84,8 @@ Outcome Prover::coulomb() {
                     continue;
                 const Vector x = lemma_f_point(piece, *pos_h, *bad_xi, xi, wrong);
                 const Vector lambda = K * x;
-                const Vector plus = piece.Q * x;
-                const Rational xi_x = plus[T] + t.e_T * x[T];
+                const Vector plus = Ct * (piece.Q * x);
+                const Rational xi_x = plus[T] + t.e_T * (Ct * x)[T];
                 const Rational h_x = wrong > 0 ? lambda[T] + t.mu * lambda[t.contact] : t.mu * lambda[t.contact] - lambda[T];
                 ensure(sign_of(h_x) == Sign::positive && sign_of(xi_x) == (wrong > 0 ? Sign::positive : Sign::negative),
                        "coulomb witness");

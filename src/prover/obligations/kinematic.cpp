@@ -2,7 +2,8 @@
 // kinematic -- proofs/README.md, "kinematic", with Lemma R (rays suffice for linear
 // statements) and the fan.
 // Claim: gamma+ >= 0 for every gamma- in R^c; with friction (SPEC section 9) gamma_N+ >= 0 (the
-// normals: a tangential velocity has no sign).
+// normals: a tangential velocity has no sign). On dependent columns (proofs/README.md, "Redundant
+// contacts") every normal of all of W: (C^T gamma_B+)_k >= 0, the image in all d coordinates.
 // Check: Q_i r >= 0 for every ray r of every cone (Lemma R: then Q_i x >= 0 on C_i), together
 // with the fan: every gamma- lies in some cone. The witness is a ray with a negative image,
 // else the domain witness: a point where S is undefined or two-valued (proofs/README.md,
@@ -17,7 +18,7 @@ Outcome Prover::kinematic() {
     // With verified symmetries whose P' keep the orthant, one piece per orbit (proofs/README.md,
     // "Symmetries": Q_sigma(i) P r = P' Q_i r).
     // With friction, every piece (a symmetry's P' need not keep the normals apart from the tangents).
-    const bool friction = m_.has_friction();
+    const bool friction = m_.has_friction() || m_.redundant();
     std::vector<std::size_t> ps;
     if (friction) {
         o.method = "images of rays: normals >= 0, with fan";
@@ -32,7 +33,7 @@ Outcome Prover::kinematic() {
     for (const std::size_t p : ps)
         for (std::size_t a = 0; a < c_; ++a) {
             const Vector r = pieces_[p].R.column(a);
-            const Vector img = pieces_[p].Q * r;
+            const Vector img = m_.redundant() ? transpose(m_.C()) * (pieces_[p].Q * r) : pieces_[p].Q * r;
             ++o.checks;
             if (limits_.evidence)
                 o.data["images"].push_back(Json{{"piece", name(p)}, {"ray", to_json(r)}, {"image", to_json(img)}});

@@ -7,6 +7,10 @@
 // With friction (SPEC section 9): Lambda in the friction cone, Lambda_N >= 0 and
 // mu_k Lambda_Nk -+ Lambda_Tj >= 0 for every tangent j of contact k: linear inequalities in
 // Lambda, so again the rays suffice (Lemma R); the witness is a ray outside the cone.
+// On dependent columns (proofs/README.md, "Redundant contacts", Lemma V) the impulse is the
+// piece's declared Lambda = L gamma_B, which must move the velocities as the law does:
+// C L r = H (Q_i - I) r at every ray (then on R^c: the rays are a basis); a ray where it does
+// not is the witness.
 #include "exact/int_kernel.hpp"
 #include "prover/obligations/prover.hpp"
 
@@ -61,7 +65,9 @@ Outcome Prover::kinetic() {
     const bool friction = m_.has_friction();
     if (friction)
         o.method = "impulses at rays in the friction cone";
-    const auto H_int = limits_.evidence || !limits_.integer_kernels || friction ? std::nullopt : intk::to_int(m_.H());
+    const auto H_int = limits_.evidence || !limits_.integer_kernels || friction || m_.redundant()
+                           ? std::nullopt
+                           : intk::to_int(m_.H());
     std::vector<intk::i64> t(c_), impulse_int(c_);
     for (std::size_t p = 0; p < pieces_.size(); ++p) {
         if (H_int && impulses_nonnegative_int(*H_int, pieces_[p], t, impulse_int)) {
@@ -71,8 +77,11 @@ Outcome Prover::kinetic() {
         const Matrix K = m_.H() * (pieces_[p].Q - I);
         for (std::size_t a = 0; a < c_; ++a) {
             const Vector r = pieces_[p].R.column(a);
-            const Vector impulse = K * r;
+            const Vector impulse = m_.redundant() ? *pieces_[p].L * r : K * r;
             ++o.checks;
+            if (m_.redundant() && m_.C() * impulse != K * r)
+                return refute(o, Json{{"piece", name(p)}, {"ray", to_json(r)}, {"impulse", to_json(impulse)},
+                                      {"reason", "the declared impulse does not give the law's velocities (C L r != H (Q - I) r)"}});
             if (limits_.evidence)
                 o.data["impulses"].push_back(Json{{"piece", name(p)}, {"ray", to_json(r)}, {"impulse", to_json(impulse)}});
             if (friction ? !in_friction_cone(impulse) : !nonnegative(impulse))
