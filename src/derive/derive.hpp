@@ -195,6 +195,7 @@ struct NotAFunction {
     // In body velocities: a u- with W^T u- = gamma_minus, and u+ = u- + M^-1 W Lambda for each
     // impulse (the Newton law on dependent columns; empty otherwise).
     Vector u_minus, u_a, u_b;
+    bool frictionless = false; // the Newton law of frictionless dependent columns
 };
 struct FrictionResult {
     std::optional<Law> law;

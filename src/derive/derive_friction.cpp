@@ -509,6 +509,7 @@ FrictionResult derive_newton_friction(const FrictionOptions& o) {
                 nf.u_a = nf.u_minus + mech.M_inv * (mech.W * nf.lambda_a);
                 nf.u_b = nf.u_minus + mech.M_inv * (mech.W * nf.lambda_b);
             }
+            nf.frictionless = !mech.has_friction();
             if (nf.gamma_a == nf.gamma_b)
                 throw std::logic_error("derive newton: two impulses with one gamma+ (G singular?)");
             result.not_a_function = std::move(nf);
@@ -558,6 +559,31 @@ FrictionResult derive_newton_friction(const FrictionOptions& o) {
     if (mech.redundant())
         remove_overlaps(regions, r_dim);
     result.regions = regions.size();
+    if (regions.empty()) {
+        // No mode has a full-dimensional region: the modes' regions are finitely many cones of
+        // lower dimension, so a point outside all of them is found among a few; it has no solution.
+        for (std::size_t trial = 0; trial < 64; ++trial) {
+            Vector y(r_dim);
+            for (std::size_t i = 0; i < r_dim; ++i)
+                y[i] = trial < 2 * r_dim ? Rational(i == trial / 2 ? (trial % 2 ? -1 : 1) : 0)
+                                         : Rational(static_cast<long>((7 * trial + 3 * i * i + 1) % 11) - 5);
+            bool solvable = false;
+            for (std::size_t a = 0; a < modes.size() && !solvable; ++a)
+                solvable = feasible[a] && feasible_at(rows[a], mech.G, sp, y);
+            if (!solvable) {
+                NotAFunction nf;
+                nf.gamma_minus = sp.gamma(y);
+                if (mech.redundant())
+                    nf.u_minus = body_velocities(mech, y);
+                nf.none = true;
+                nf.frictionless = !mech.has_friction();
+                result.not_a_function = std::move(nf);
+                return result;
+            }
+        }
+        throw DeriveLimit("derive newton: no mode has a full-dimensional region, and no point without a solution "
+                          "was found among 64 tried");
+    }
     Law law;
     const std::string kind = std::string(approaching ? "newton-approaching" : "newton") + (mech.has_friction() ? "-friction" : "");
     law.name = kind + "-" + o.name;
@@ -611,6 +637,7 @@ FrictionResult derive_newton_friction(const FrictionOptions& o) {
         if (mech.redundant())
             nf.u_minus = body_velocities(mech, g);
         nf.none = true;
+        nf.frictionless = !mech.has_friction();
         result.not_a_function = std::move(nf);
         return result;
     }

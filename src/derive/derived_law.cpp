@@ -56,7 +56,8 @@ std::string not_a_function_text(const Vector& gamma_minus, const std::string& re
 }
 
 std::string not_a_function_text(const NotAFunction& w) {
-    const std::string head = "the Newton law with friction is not a function: gamma- = " + short_text(w.gamma_minus) +
+    const std::string head = std::string(w.frictionless ? "the Newton law" : "the Newton law with friction") +
+                             " is not a function: gamma- = " + short_text(w.gamma_minus) +
                              (w.u_minus.empty() ? std::string() : " (u- = " + short_text(w.u_minus) + ")");
     if (w.none)
         return head + " has no solution";

@@ -474,7 +474,7 @@ System parse_system_text(const std::string& text, const std::string& origin) {
         if (s.name.empty())
             input_error("$.name", "empty system name");
         read_head(doc, s.masses, s.M, s.W, s.friction);
-        make_mechanics(s); // validated
+        make_mechanics(s, Dependent::allow); // validated (dependent columns: refused by the commands that need full rank)
         read_coordinates(doc, s.M, s.masses, s.W, s.velocity_names, s.contact_names);
         return s;
     } catch (const InputError& e) {

@@ -7,6 +7,12 @@ slip either way per tangent) is a square linear system in (u+, Lambda),
     M (u+ - u-) = W Lambda,  and per contact the mode's equalities,
 solved by Gaussian elimination over the rationals, then the mode's inequalities are checked. The
 distinct u+ found are the solutions. G = W^T M^-1 W is never formed.
+
+With dependent columns (more columns of W than its rank: a box flat on rough ground) a mode's
+system can be singular; `solutions(..., dependent=True)` then takes its whole solution set, an
+affine set x0 + N t, and decides by Fourier-Motzkin elimination over t whether some point of it
+meets the mode's inequalities (and which u+ that point has; `spread` tells whether u+ varies over
+the mode's feasible set, decided by the same elimination).
 """
 from fractions import Fraction as F
 import itertools
@@ -30,6 +36,72 @@ def solve(A, b):
                 for k in range(col, n + 1):
                     row_r[k] -= f * row_c[k]
     return [m[i][n] / m[i][i] for i in range(n)]
+
+
+def affine_solve(A, b):
+    """Every solution of A x = b: (x0, N) with x = x0 + N t (N a list of null vectors), or None."""
+    rows, n = len(A), len(A[0])
+    m = [list(A[i]) + [b[i]] for i in range(rows)]
+    pivots, r = [], 0
+    for col in range(n):
+        piv = next((i for i in range(r, rows) if m[i][col] != 0), None)
+        if piv is None:
+            continue
+        m[r], m[piv] = m[piv], m[r]
+        p = m[r][col]
+        m[r] = [x / p for x in m[r]]
+        for i in range(rows):
+            if i != r and m[i][col] != 0:
+                f = m[i][col]
+                m[i] = [a - f * c for a, c in zip(m[i], m[r])]
+        pivots.append(col)
+        r += 1
+    if any(m[i][n] != 0 for i in range(r, rows)):
+        return None
+    x0 = [F(0)] * n
+    for i, col in enumerate(pivots):
+        x0[col] = m[i][n]
+    free = [c for c in range(n) if c not in pivots]
+    N = []
+    for fcol in free:
+        v = [F(0)] * n
+        v[fcol] = F(1)
+        for i, col in enumerate(pivots):
+            v[col] = -m[i][fcol]
+        N.append(v)
+    return x0, N
+
+
+def fm_point(ineqs, k):
+    """A point t in Q^k with a . t + c >= 0 for every (a, c) in ineqs (strict: (a, c, True) for
+    a . t + c > 0), by Fourier-Motzkin elimination; None when there is none."""
+    if k == 0:
+        return [] if all((c > 0) if strict else (c >= 0) for (_, c, strict) in ineqs) else None
+    pos = [q for q in ineqs if q[0][k - 1] > 0]
+    neg = [q for q in ineqs if q[0][k - 1] < 0]
+    rest = [(a[:k - 1], c, st) for (a, c, st) in ineqs if a[k - 1] == 0]
+    for (ap, cp, sp) in pos:
+        for (an, cn, sn) in neg:
+            fp, fn = 1 / ap[k - 1], -1 / an[k - 1]
+            rest.append(([fp * x + fn * y for x, y in zip(ap[:k - 1], an[:k - 1])], fp * cp + fn * cn, sp or sn))
+    t = fm_point(rest, k - 1)
+    if t is None:
+        return None
+    # x_k >= lo (from pos) and x_k <= hi (from neg); strict bounds get the midpoint or a step.
+    lo = [(-(sum(a * b for a, b in zip(ap[:k - 1], t)) + cp) / ap[k - 1], sp) for (ap, cp, sp) in pos]
+    hi = [((sum(a * b for a, b in zip(an[:k - 1], t)) + cn) / -an[k - 1], sn) for (an, cn, sn) in neg]
+    L = max(lo, key=lambda x: x[0]) if lo else None
+    U = min(hi, key=lambda x: x[0]) if hi else None
+    if L and U:
+        x = L[0] if not any(st for (v, st) in lo if v == L[0]) and not any(st for (v, st) in hi if v == L[0]) \
+            else (L[0] + U[0]) / 2
+    elif L:
+        x = L[0] + (1 if any(st for (v, st) in lo if v == L[0]) else 0)
+    elif U:
+        x = U[0] - (1 if any(st for (v, st) in hi if v == U[0]) else 0)
+    else:
+        x = F(0)
+    return t + [x]
 
 
 class System:
@@ -60,8 +132,11 @@ class System:
     def energy2(self, u):
         return sum(u[i] * self.M[i][j] * u[j] for i in range(self.n) for j in range(self.n))
 
-    def solutions(self, u_minus, e, approaching=False):
-        """Every distinct u+ of the Newton law with friction at u-; e: one value per normal."""
+    def solutions(self, u_minus, e, approaching=False, dependent=False):
+        """Every distinct u+ of the Newton law with friction at u-; e: one value per normal.
+        dependent: singular modes too (their whole solution sets); self.spread is then set when
+        some mode's feasible set holds two different u+."""
+        self.spread = False
         n, d, N = self.n, self.d, len(self.normals)
         u_minus = [F(x) for x in u_minus]
         gm = self.velocities(u_minus)
@@ -134,6 +209,8 @@ class System:
                         row_lam(c)
                         ineq.append(lambda gp, lam, T=T, j=j: -xi(T, gp, Dt[j]))
             x = solve(A, b)
+            if x is None and dependent:
+                x = self._singular_mode(A, b, ineq, n)
             if x is None:
                 continue
             up, lam = x[:n], x[n:]
@@ -141,6 +218,43 @@ class System:
             if all(f(gp, lam) >= 0 for f in ineq) and up not in found:
                 found.append(up)
         return found
+
+
+def _value(S, f, x, n):
+    return f(S.velocities(x[:n]), x[n:])
+
+
+def _singular_mode(self, A, b, ineq, n):
+    """A point of the mode (A x = b, every f in ineq >= 0) when there is one; sets self.spread
+    when u+ is not constant on the mode's feasible set."""
+    sol = affine_solve(A, b)
+    if sol is None:
+        return None
+    x0, N = sol
+    k = len(N)
+
+    def at(t):
+        return [x0[i] + sum(N[j][i] * t[j] for j in range(k)) for i in range(len(x0))]
+
+    forms = []
+    for f in ineq:
+        c = _value(self, f, x0, n)
+        forms.append(([_value(self, f, [a + v for a, v in zip(x0, N[j])], n) - c for j in range(k)], c, False))
+    t = fm_point(forms, k)
+    if t is None:
+        return None
+    x = at(t)
+    for i in range(n):  # u+_i(t') - u+_i(t) > 0 or < 0 somewhere on the feasible set?
+        a = [N[j][i] for j in range(k)]
+        if any(a):
+            ref = sum(a[j] * t[j] for j in range(k))
+            for sgn in (1, -1):
+                if fm_point(forms + [([sgn * v for v in a], -sgn * ref, True)], k) is not None:
+                    self.spread = True
+    return x
+
+
+System._singular_mode = _singular_mode
 
 
 def breaks(S, u, up, prop):
