@@ -78,7 +78,7 @@ int check(const Json& cert, const Limits& limits, const std::vector<ExtraBlock>&
         str(field(o, path, "statement"), at(path, "statement")); // informational, but text
         str(field(o, path, "method"), at(path, "method"));
         natural(field(o, path, "checks"), at(path, "checks"));
-        const bool applies = detail::applies(law_json, ids_of(law)[k]);
+        const bool applies = detail::applies(law_json, ids_of(law)[k], law.redundant);
         const bool claimed = law.claims_given ? law.claimed_ids.count(ids_of(law)[k]) > 0 : applies;
         const Json& claimed_json = field(o, path, "claimed");
         if (!claimed_json.is_boolean())

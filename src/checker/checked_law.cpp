@@ -48,11 +48,11 @@ bool has_friction(const Json& law) {
     return c.is_object() && c.contains("friction") && !c.at("friction").empty();
 }
 
-bool applies(const Json& law, const std::string& id) {
+bool applies(const Json& law, const std::string& id, bool redundant) {
     if (id == "coulomb")
         return has_friction(law);
-    if (id == "P3")
-        return !has_friction(law);
+    if (id == "P3") // no sign for a tangent, no orthant on a basis of dependent columns
+        return !has_friction(law) && !redundant;
     if (id == "identities")
         return declares(law, "identities");
     if (id == "single-impacts")
@@ -175,6 +175,42 @@ Law read_law(const Json& j, const std::string& path, std::size_t max_pieces, std
     if (law.normals == 0)
         law.normals = law.W[0].size();
     law.c = law.W[0].size();
+    // Dependent columns: each column kept when the Gram matrix of those kept with it stays
+    // non-singular; every other column w_j is W_B x_j with x_j from the normal equations
+    // (W_B^T W_B) x_j = W_B^T w_j, checked exactly.
+    {
+        std::vector<Vec> kept;
+        for (std::size_t k = 0; k < law.c; ++k) {
+            std::vector<Vec> trial = kept;
+            trial.push_back(col(law.W, k));
+            const Mat B = from_cols(trial);
+            if (sgn(det(mul(tr(B), B))) != 0) {
+                kept = std::move(trial);
+                law.basis.push_back(k);
+            }
+        }
+        if (law.basis.size() < law.c) {
+            law.redundant = true;
+            law.d = law.c;
+            law.all_W = law.W;
+            law.W = from_cols(kept);
+            const Mat gram = mul(tr(law.W), law.W);
+            law.C = zeros(kept.size(), law.d);
+            for (std::size_t k = 0; k < law.d; ++k) {
+                const Vec w = col(law.all_W, k);
+                Vec x;
+                require(solve(gram, mul(tr(law.W), w), x) && mul(law.W, x) == w, at(path, "contacts"),
+                        "a column outside the span of the columns kept");
+                for (std::size_t i = 0; i < kept.size(); ++i)
+                    law.C[i][k] = x[i];
+            }
+            law.Ct = tr(law.C);
+            law.c = kept.size();
+            require(!j.contains("symmetries"), at(path, "symmetries"), "a law on dependent contact columns declares no symmetries");
+            require(!j.contains("single_impacts"), at(path, "single_impacts"),
+                    "a law on dependent contact columns declares no single impacts");
+        }
+    }
     if (j.contains("coordinates")) {
         // Names only (informational), held to the prover's rules: one per velocity and per normal contact.
         const std::string cp = at(path, "coordinates");
@@ -198,7 +234,7 @@ Law read_law(const Json& j, const std::string& path, std::size_t max_pieces, std
     require(!pieces.empty(), at(path, "pieces"), "no pieces");
     for (std::size_t p = 0; p < pieces.size(); ++p) {
         const std::string pp = at(at(path, "pieces"), p);
-        expect_keys(pieces[p], pp, {"name", "Q"}, {"rays"});
+        expect_keys(pieces[p], pp, {"name", "Q"}, {"rays", "impulses"});
         Piece piece;
         piece.name = str(field(pieces[p], pp, "name"), at(pp, "name"));
         require(!piece.name.empty(), at(pp, "name"), "empty piece name");
@@ -226,6 +262,12 @@ Law read_law(const Json& j, const std::string& path, std::size_t max_pieces, std
         }
         piece.R = from_cols(piece.rays);
         require(invert(piece.R, piece.R_inv), at(pp, "rays"), "dependent rays");
+        require(pieces[p].contains("impulses") == law.redundant, law.redundant ? pp : at(pp, "impulses"),
+                law.redundant ? "needs \"impulses\" (dependent contact columns)" : "impulses on independent contact columns");
+        if (law.redundant) {
+            piece.L = mat(field(pieces[p], pp, "impulses"), at(pp, "impulses"));
+            require(piece.L.size() == law.d && piece.L[0].size() == law.c, at(pp, "impulses"), "not d x c");
+        }
         for (const auto& r : piece.rays)
             if (law.ray_index.emplace(r, law.distinct_rays.size()).second)
                 law.distinct_rays.push_back(r);
@@ -394,7 +436,7 @@ Law read_law(const Json& j, const std::string& path, std::size_t max_pieces, std
             const std::string id = str(claims[i], at(at(path, "claims"), i));
             require(std::find(kFrictionIds.begin(), kFrictionIds.end(), id) != kFrictionIds.end(), at(at(path, "claims"), i), "unknown obligation");
             require(law.claimed_ids.insert(id).second, at(at(path, "claims"), i), "claimed twice");
-            require(applies(j, id), at(at(path, "claims"), i), "claimed but the law declares nothing for it");
+            require(applies(j, id, law.redundant), at(at(path, "claims"), i), "claimed but the law declares nothing for it");
         }
     }
     return law;

@@ -263,7 +263,7 @@ bool Checker::evidence(const std::string& id, const Json& data, const std::strin
         // kinetic: every piece; P3 and kinematic: one per orbit when the symmetries allow it.
         std::vector<std::size_t> ps(P());
         std::iota(ps.begin(), ps.end(), std::size_t{0});
-        if (id != "kinetic" && law_.tangents.empty()) // with friction the prover reduces nothing
+        if (id != "kinetic" && law_.tangents.empty() && !law_.redundant) // with friction (or dependent columns) the prover reduces nothing
             ps = orthant_firsts();
         require(l.size() <= ps.size() * c, at(dp, key), "too many entries");
         bool ok = true;
@@ -277,25 +277,25 @@ bool Checker::evidence(const std::string& id, const Json& data, const std::strin
             const Vec img = mul(pc(p).Q_, r);
             bool this_ok = true;
             if (id == "kinetic") {
-                const Vec impulse = mul(law_.H, sub(img, r));
-                expect_vec(l[k], ep, "impulse", impulse, "H (Q - I) ray");
-                this_ok = law_.impulse_admissible(impulse);
-            } else {
+                const Vec impulse = law_.impulse_at(p, r);
+                expect_vec(l[k], ep, "impulse", impulse, law_.redundant ? "L ray" : "H (Q - I) ray");
+                this_ok = law_.impulse_admissible(impulse) && law_.impulse_consistent(p, r);
+            } else if (id == "kinematic") {
+                const Vec all = law_.all_coordinates(img);
+                expect_vec(l[k], ep, "image", all, law_.redundant ? "C^T Q ray" : "Q ray");
+                this_ok = law_.normals_nonneg(all);
+            } else { // P3
                 expect_vec(l[k], ep, "image", img, "Q ray");
-                if (id == "kinematic") {
-                    this_ok = law_.normals_nonneg(img);
-                } else {
-                    std::size_t nz = 0, axis = 0;
-                    for (std::size_t i = 0; i < c; ++i)
-                        if (sgn(img[i]) != 0) {
-                            ++nz;
-                            axis = i;
-                        }
-                    bool distinct = true;
-                    for (std::size_t other = k - k % c; other < k; ++other)
-                        distinct = distinct && primitive(mul(pc(p).Q_, pc(p).rays[other % c])) != primitive(img);
-                    this_ok = nz == 1 && sgn(img[axis]) > 0 && distinct;
-                }
+                std::size_t nz = 0, axis = 0;
+                for (std::size_t i = 0; i < c; ++i)
+                    if (sgn(img[i]) != 0) {
+                        ++nz;
+                        axis = i;
+                    }
+                bool distinct = true;
+                for (std::size_t other = k - k % c; other < k; ++other)
+                    distinct = distinct && primitive(mul(pc(p).Q_, pc(p).rays[other % c])) != primitive(img);
+                this_ok = nz == 1 && sgn(img[axis]) > 0 && distinct;
             }
             ends_at_first_failure(this_ok, k, l.size(), at(dp, key));
             ok = ok && this_ok;

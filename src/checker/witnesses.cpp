@@ -264,24 +264,26 @@ void Checker::check_witness(const std::string& id, const Json& w, const std::str
         require(r.size() == law_.c && law_.is_ray_of(p, r), at(wp, "ray"), "is not a ray of the piece");
         const Vec img = mul(pc(p).Q_, r);
         if (id == "kinetic") {
-            const Vec impulse = mul(law_.H, sub(img, r));
-            expect_vec(w, wp, "impulse", impulse, "H (Q - I) ray");
-            require(!law_.impulse_admissible(impulse), at(wp, "ray"),
+            const Vec impulse = law_.impulse_at(p, r);
+            expect_vec(w, wp, "impulse", impulse, law_.redundant ? "L ray" : "H (Q - I) ray");
+            require(!law_.impulse_admissible(impulse) || !law_.impulse_consistent(p, r), at(wp, "ray"),
                     law_.tangents.empty() ? "impulse is non-negative" : "impulse is in the friction cone");
             return;
         }
-        expect_vec(w, wp, "image", img, "Q ray");
         if (id == "kinematic") {
-            require(!law_.normals_nonneg(img), at(wp, "ray"), "image is non-negative");
-        } else {
-            std::size_t nz = 0;
-            for (const auto& x : img)
-                nz += sgn(x) != 0 ? 1 : 0;
-            bool clash = false;
-            for (const auto& other : pc(p).rays)
-                clash = clash || (other != primitive(r) && primitive(mul(pc(p).Q_, other)) == primitive(img));
-            require(nz != 1 || !nonneg(img) || clash, at(wp, "ray"), "maps onto a positive axis of its own");
+            const Vec all = law_.all_coordinates(img);
+            expect_vec(w, wp, "image", all, law_.redundant ? "C^T Q ray" : "Q ray");
+            require(!law_.normals_nonneg(all), at(wp, "ray"), "image is non-negative");
+            return;
         }
+        expect_vec(w, wp, "image", img, "Q ray"); // P3
+        std::size_t nz = 0;
+        for (const auto& x : img)
+            nz += sgn(x) != 0 ? 1 : 0;
+        bool clash = false;
+        for (const auto& other : pc(p).rays)
+            clash = clash || (other != primitive(r) && primitive(mul(pc(p).Q_, other)) == primitive(img));
+        require(nz != 1 || !nonneg(img) || clash, at(wp, "ray"), "maps onto a positive axis of its own");
         return;
     }
     if (id == "identities") {

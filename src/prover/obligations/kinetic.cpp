@@ -79,12 +79,10 @@ Outcome Prover::kinetic() {
             const Vector r = pieces_[p].R.column(a);
             const Vector impulse = m_.redundant() ? *pieces_[p].L * r : K * r;
             ++o.checks;
-            if (m_.redundant() && m_.C() * impulse != K * r)
-                return refute(o, Json{{"piece", name(p)}, {"ray", to_json(r)}, {"impulse", to_json(impulse)},
-                                      {"reason", "the declared impulse does not give the law's velocities (C L r != H (Q - I) r)"}});
             if (limits_.evidence)
                 o.data["impulses"].push_back(Json{{"piece", name(p)}, {"ray", to_json(r)}, {"impulse", to_json(impulse)}});
-            if (friction ? !in_friction_cone(impulse) : !nonnegative(impulse))
+            if ((friction ? !in_friction_cone(impulse) : !nonnegative(impulse)) ||
+                (m_.redundant() && m_.C() * impulse != K * r))
                 return refute(o, Json{{"piece", name(p)}, {"ray", to_json(r)},
                                       {"impulse", to_json(impulse)}});
         }
