@@ -30,7 +30,8 @@ LIGHT = "--light" in sys.argv[4:]
 SAMPLES3 = max(1, SAMPLES // 8)  # scenes in space: the oracle enumerates 10 modes per rough contact
 sys.path.insert(0, os.path.join(SRC, "tests"))
 sys.path.insert(0, os.path.join(SRC, "tests", "oracles"))
-from friction_lcp import System, solve  # noqa: E402
+from friction_lcp import System  # noqa: E402
+from scene_columns import hand_system, hand_system3, law_columns, locate, pieces_of  # noqa: E402
 from testkit import finish  # noqa: E402
 
 rng = random.Random(20261128)
@@ -81,65 +82,6 @@ HAND = {
 }
 
 
-def hand_system(bodies, contacts):
-    n = 3 * len(bodies)
-    M = [[F(0)] * n for _ in range(n)]
-    for b, (m, J, _) in enumerate(bodies):
-        M[3 * b][3 * b] = M[3 * b + 1][3 * b + 1] = F(m)
-        M[3 * b + 2][3 * b + 2] = F(J)
-
-    def column(a, b, p, d):
-        col = [F(0)] * n
-        for body, s in ((a, -1), (b, 1)):
-            if body is None:
-                continue
-            cx, cy = (F(x) for x in bodies[body][2])
-            rx, ry = F(p[0]) - cx, F(p[1]) - cy
-            col[3 * body] += s * F(d[0])
-            col[3 * body + 1] += s * F(d[1])
-            col[3 * body + 2] += s * (rx * F(d[1]) - ry * F(d[0]))
-        return col
-
-    normals = [column(a, b, p, nrm) for (a, b, p, nrm, _) in contacts]
-    friction = [(k, F(mu), F(0), [column(a, b, p, (nrm[1], -nrm[0]))])
-                for k, (a, b, p, nrm, mu) in enumerate(contacts) if mu]
-    return M, normals, friction
-
-
-def law_columns(law):
-    W = law["contacts"]["W"]
-    cols = [[F(W[i][k]) for i in range(len(W))] for k in range(len(W[0]))]
-    tangents = [[F(x) for x in t] for f in law["contacts"].get("friction", []) for t in f["tangents"]]
-    n = len(W)
-    if "M" in law:
-        M = [[F(x) for x in row] for row in law["M"]]
-    else:
-        M = [[F(law["masses"][i]) if i == j else F(0) for j in range(n)] for i in range(n)]
-    return cols, tangents, M
-
-
-def pieces_of(law):
-    out = []
-    for piece in law["pieces"]:
-        d = len(piece["rays"][0])
-        R = [[F(r[i]) for r in piece["rays"]] for i in range(d)]
-        cols = [solve(R, [F(int(i == j)) for i in range(d)]) for j in range(d)]
-        Rinv = [[cols[j][i] for j in range(d)] for i in range(d)]
-        out.append((Rinv, [[F(x) for x in row] for row in piece["Q"]]))
-    return out
-
-
-def locate(pieces, gamma):
-    values = []
-    for Rinv, Q in pieces:
-        if any(sum(row[j] * gamma[j] for j in range(len(gamma))) < 0 for row in Rinv):
-            continue
-        v = [sum(Q[i][j] * gamma[j] for j in range(len(gamma))) for i in range(len(gamma))]
-        if v not in values:
-            values.append(v)
-    return values
-
-
 # Scenes in space by hand: bodies (mass, principal moments, centre, rotation rows or None) and
 # contacts (body a or None, body b, point, unit normal from a to b, mu). A rough contact has the
 # tangents H e1, H e2 of the reflection H = I - 2 v v^T / v.v, v = n - e3 (docs/formats.md).
@@ -176,50 +118,6 @@ INLINE = {
         "boundaries": [{"name": "backstop", "point": ["8/5", "0", "6/5"], "normal": ["-4/5", "0", "-3/5"]}],
         "pairs": [{"bodies": ["ball", "backstop"], "mu": "1/2"}], "restitution": "1/2"},
 }
-
-
-def hand_system3(bodies, contacts):
-    n = 6 * len(bodies)
-    M = [[F(0)] * n for _ in range(n)]
-    for b, (m, moments, _, R) in enumerate(bodies):
-        for k in range(3):
-            M[6 * b + k][6 * b + k] = F(m)
-        R = R or [[F(int(i == j)) for j in range(3)] for i in range(3)]
-        Ib = moments if isinstance(moments[0], (list, tuple)) else [[moments[i] if i == j else 0 for j in range(3)]
-                                                                      for i in range(3)]
-        for i in range(3):
-            for j in range(3):
-                M[6 * b + 3 + i][6 * b + 3 + j] = sum(R[i][k] * F(Ib[k][l]) * R[j][l] for k in range(3) for l in range(3))
-
-    def cross(a, b):
-        return (a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0])
-
-    def column(a, b, p, d):
-        col = [F(0)] * n
-        for body, s in ((a, -1), (b, 1)):
-            if body is None:
-                continue
-            arm = cross([F(p[k]) - F(bodies[body][2][k]) for k in range(3)], [F(x) for x in d])
-            for k in range(3):
-                col[6 * body + k] += s * F(d[k])
-                col[6 * body + 3 + k] += s * arm[k]
-        return col
-
-    def tangents(nrm):
-        v = [F(nrm[0]), F(nrm[1]), F(nrm[2]) - 1]
-        vv = sum(x * x for x in v)
-        if vv == 0:
-            return (1, 0, 0), (0, 1, 0)
-        out = []
-        for e in ((1, 0, 0), (0, 1, 0)):
-            c = 2 * sum(v[k] * e[k] for k in range(3)) / vv
-            out.append(tuple(e[k] - c * v[k] for k in range(3)))
-        return out
-
-    normals = [column(a, b, p, nrm) for (a, b, p, nrm, _) in contacts]
-    friction = [(k, F(mu), F(0), [column(a, b, p, t) for t in tangents(nrm)])
-                for k, (a, b, p, nrm, mu) in enumerate(contacts) if mu]
-    return M, normals, friction
 
 
 tmp = tempfile.mkdtemp(prefix="impactcert-shapes-")
