@@ -268,6 +268,12 @@ try:
     run([CLI, "derive", "newton", "--masses", "1,1,1", "-o", full])
     law = json.load(open(full))
     bad_law(lambda d: d["pieces"][0].update(impulses=[["0", "0"], ["0", "0"]]), "$.pieces[0].impulses")
+    lawfile = os.path.join(tmp, "box-flat-on-rough-ground-all.json")
+    for args in ([CLI, "fuzz", "--law", lawfile, "--samples", "10"], [CLI, "verify", "--law", lawfile, "--shard", "1/2"],
+                 [CLI, "smt", "--law", lawfile, "-o", os.path.join(tmp, "smt")]):
+        p = run(args, 2)
+        if "dependent contact columns (rank 3 of 4)" not in p.stderr or len(p.stderr.strip().splitlines()) != 1:
+            fail(f"{' '.join(args[1:3])}: {p.stderr.strip()[:300]}")
     scene = os.path.join(SCENES, "box-flat-on-rough-ground.json")
     for args, where in (([CLI, "derive", "sequential", "--system", scene], "$.contacts"),
                         ([CLI, "derive", "poisson", "--system", scene], "$.contacts"),

@@ -102,14 +102,18 @@ std::string System::describe() const { return describe_system(impl_->system); }
 
 Law Law::read(const std::string& path, const LawLimits& limits) {
     return translated([&] {
-        return Law(std::make_shared<Impl>(Impl{load_model_file(path, limits.max_pieces, limits.max_memory_mb)}));
+        Model model = load_model_file(path, limits.max_pieces, limits.max_memory_mb);
+        model.require_independent_columns("the library");
+        return Law(std::make_shared<Impl>(Impl{std::move(model)}));
     });
 }
 
 Law Law::parse(const std::string& json_text, const std::string& origin, const LawLimits& limits) {
     return translated([&] {
         impactcert::Law law = parse_law_text(json_text, origin, limits.max_pieces, limits.max_memory_mb);
-        return Law(std::make_shared<Impl>(Impl{Model(std::move(law), limits.max_pieces, limits.max_memory_mb)}));
+        Model model(std::move(law), limits.max_pieces, limits.max_memory_mb);
+        model.require_independent_columns("the library");
+        return Law(std::make_shared<Impl>(Impl{std::move(model)}));
     });
 }
 

@@ -184,6 +184,7 @@ int run_sweep_command(const SweepArgs& a, const Limits& limits) {
 
 int run_smt(const std::string& law_path, const std::string& dir) {
     const Model model = load_model(law_path);
+    model.require_independent_columns("smt");
     if (model.has_friction())
         throw InputError("--law: smt does not take laws with friction yet (verify and impactcert-check decide them)");
     std::error_code ec;

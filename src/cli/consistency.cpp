@@ -71,6 +71,7 @@ Setup setup(const FuzzArgs& a) {
         if (a.velocities)
             throw InputError("--float-law: impactcert's float law takes contact velocities (drop --velocities)");
         s.law = std::make_unique<Model>(load_model(a.float_law));
+        s.law->require_independent_columns("fuzz --float-law");
         if (s.law->M() != s.plan.mech.M || s.law->W() != s.plan.mech.W)
             throw InputError("--float-law " + a.float_law + ": the law's system (M, W) is not the one given");
         s.impl = fuzz::builtin_float_law(*s.law);

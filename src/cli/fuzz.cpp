@@ -94,6 +94,7 @@ int run_eval_float(const FuzzArgs& a, const std::vector<std::vector<std::string>
     if (a.impl_given || a.impl_cmd_given || !a.mutant.empty()) {
         // An implementation against the exact law, point by point (the fuzzer's replays).
         const Model model = load_model(a.law_path);
+        model.require_independent_columns("fuzz --law");
         const fuzz::LawFacts facts = fuzz::law_facts(model, a.velocities);
         const fuzz::LawReference reference(model, a.velocities, facts.continuous_tiling);
         auto impl = make_impl(a, model, reference.in_dim());
@@ -135,6 +136,7 @@ int run_eval_float(const FuzzArgs& a, const std::vector<std::vector<std::string>
         if (a.velocities)
             throw InputError("--float --law --velocities: the built-in float law takes contact velocities");
         const Model model = load_model(a.law_path);
+        model.require_independent_columns("fuzz --law");
         const FloatLaw law(model);
         for (const auto& toks : points) {
             const auto x = parse_doubles(toks);
@@ -446,6 +448,7 @@ int run_fuzz(FuzzArgs a) {
     if (!a.junit.empty() && !std::ofstream(a.junit)) // before the run, not after it
         throw InputError("--junit " + a.junit + ": cannot write");
     const Model model = load_model(a.law_path);
+    model.require_independent_columns("fuzz --law");
     if (a.max_ulps && a.max_rel_error)
         throw InputError("--max-ulps and --max-rel-error: give one tolerance");
     if (a.max_rel_error && !(*a.max_rel_error >= 0 && std::isfinite(*a.max_rel_error)))
@@ -594,6 +597,7 @@ int run_eval(const std::string& law_path, bool velocities, const std::vector<std
             dim = velocities ? m.balls() : m.contacts();
         } else {
             const Model dims = load_model(law_path);
+            dims.require_independent_columns("fuzz --law");
             dim = velocities ? dims.balls() : dims.contacts();
         }
         std::vector<std::vector<std::string>> points;
@@ -625,6 +629,7 @@ int run_eval(const std::string& law_path, bool velocities, const std::vector<std
         return run_eval_float(float_args, points);
     }
     const Model model = load_model(law_path);
+    model.require_independent_columns("fuzz --law");
     const std::size_t dim = velocities ? model.balls() : model.contacts();
     auto read_point = [&](const std::vector<std::string>& toks, std::size_t first, const std::string& where) {
         Vector x;

@@ -50,6 +50,7 @@ VerifyReport slice_only(VerifyReport report, const Shard& shard) {
 
 int run_verify_shard(const std::string& law_path, const Shard& shard, bool json, Limits limits) {
     const Model model = load_model(law_path, limits);
+    model.require_independent_columns("--shard");
     if (model.has_friction())
         throw InputError("--shard: laws with friction are not sharded yet (verify and certify them whole)");
     limits.evidence = false;
@@ -67,6 +68,7 @@ int run_verify_shard(const std::string& law_path, const Shard& shard, bool json,
 
 int run_certify_shard(const std::string& law_path, const Shard& shard, const std::string& out_path, Limits limits) {
     const Model model = load_model(law_path, limits);
+    model.require_independent_columns("--shard");
     if (model.has_friction())
         throw InputError("--shard: laws with friction are not sharded yet (verify and certify them whole)");
     VerifyReport report = decide_slice(model, shard, limits);

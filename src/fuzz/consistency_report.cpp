@@ -113,6 +113,7 @@ ConsistencyPlan plan_consistency(const ConsistencyRequest& a, const std::functio
                                std::string(", e = ") + e;
         } else {
             s.reference = std::make_unique<Model>(load_model_file(r));
+            s.reference->require_independent_columns("fuzz --reference");
             if (s.reference->M() != s.mech.M || s.reference->W() != s.mech.W)
                 throw InputError("--reference " + r + ": the law's system (M, W) is not the one given");
             s.reference_name = r;

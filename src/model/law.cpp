@@ -485,6 +485,12 @@ void validate_claims(const Law& law) {
     }
 }
 
+void Model::require_independent_columns(const std::string& who) const {
+    if (redundant())
+        throw InputError(who + " does not read laws on dependent contact columns (rank " + std::to_string(basis_.size()) +
+                         " of " + std::to_string(C_.cols()) + ") yet; verify, certify, report and impactcert-check do");
+}
+
 // P3 (onto the orthant) has no meaning on a basis of dependent columns.
 bool Model::applies(const std::string& id) const { return !(redundant() && id == "P3") && law_applies(law_, id); }
 

@@ -184,6 +184,10 @@ class Model {
     const std::vector<std::size_t>& basis() const { return basis_; }
     const Matrix& C() const { return C_; }
     const Matrix& full_W() const { return redundant() ? full_W_ : W_; }
+    // InputError for the commands that do not read laws on dependent columns yet: "WHO does not
+    // read laws on dependent contact columns (rank r of d) yet; verify, certify, report and
+    // impactcert-check do".
+    void require_independent_columns(const std::string& who) const;
     const std::vector<Piece>& pieces() const { return pieces_; }
     // The declared symmetries with P^-1 (P is invertible: checked on construction).
     const std::vector<Matrix>& symmetry_P_inv() const { return P_inv_; }

@@ -135,6 +135,12 @@ std::string system_words(const Model& model) {
     s += std::to_string(c) + (c == 1 ? " contact" : " contacts") + listed(cnames);
     if (t)
         s += " with " + std::to_string(t) + (t == 1 ? " friction tangent" : " friction tangents");
+    if (model.redundant()) { // the law's coordinates: the columns kept, 1-based (normals, then tangents)
+        std::string kept;
+        for (const std::size_t k : model.basis())
+            kept += (kept.empty() ? "" : ", ") + (k < c ? "N" + std::to_string(k + 1) : "T" + std::to_string(k - c + 1));
+        s += ", on " + std::to_string(model.basis().size()) + " of " + std::to_string(c + t) + " columns (" + kept + ")";
+    }
     return s;
 }
 
