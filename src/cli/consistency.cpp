@@ -68,13 +68,14 @@ Setup setup(const FuzzArgs& a) {
     if (!a.float_law.empty()) {
         if (a.impl_given || a.impl_cmd_given)
             throw InputError("--float-law and --impl/--impl-cmd: give one implementation");
-        if (a.velocities)
-            throw InputError("--float-law: impactcert's float law takes contact velocities (drop --velocities)");
         s.law = std::make_unique<Model>(load_model(a.float_law));
-        s.law->require_independent_columns("fuzz --float-law");
-        if (s.law->M() != s.plan.mech.M || s.law->W() != s.plan.mech.W)
+        if (a.velocities && !s.law->redundant())
+            throw InputError("--float-law: impactcert's float law takes contact velocities (drop --velocities)");
+        if (s.law->M() != s.plan.mech.M || s.law->full_W() != s.plan.mech.W)
             throw InputError("--float-law " + a.float_law + ": the law's system (M, W) is not the one given");
-        s.impl = fuzz::builtin_float_law(*s.law);
+        // On dependent columns the system asks for --velocities (plan_consistency), and the float
+        // law is wrapped into ball velocities.
+        s.impl = s.law->redundant() ? fuzz::builtin_float_law_velocities(*s.law) : fuzz::builtin_float_law(*s.law);
     } else if (a.impl_given && !a.impl_spec.empty())
         s.impl = fuzz::load_symbol(a.impl_spec, dim, dim);
     else if (a.impl_cmd_given && !a.impl_cmd.empty())
@@ -334,8 +335,10 @@ int run_consistency_fuzz_at(const FuzzArgs& a, const FuzzArgs& given, const std:
             else if (prop == fuzz::Property::reference)
                 line(head + "not checked (give --reference)");
             else if (prop == fuzz::Property::restitution)
-                line(head + (s.plan.mech.has_friction() ? "not checked (give --restitution E: Newton's, with friction)"
-                                                    : "not checked (give --restitution E)"));
+                line(head + (s.plan.mech.redundant() && s.plan.mech.has_friction()
+                                 ? "not checked (dependent contact columns with friction: which contacts push is not decided)"
+                             : s.plan.mech.has_friction() ? "not checked (give --restitution E: Newton's, with friction)"
+                                                          : "not checked (give --restitution E)"));
             continue;
         }
         if (!slot.count) {

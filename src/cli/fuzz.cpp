@@ -593,7 +593,7 @@ int run_eval(const std::string& law_path, bool velocities, const std::vector<std
         if (float_args.system.given()) {
             if (!law_path.empty())
                 throw InputError("--law and --masses/--system: give one");
-            const Mechanics m = make_mechanics(system_from(float_args.system));
+            const Mechanics m = make_mechanics(system_from(float_args.system), Dependent::allow); // the replay plans as fuzz did
             dim = velocities ? m.balls() : m.contacts();
         } else {
             const Model dims = load_model(law_path);

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "fuzz/consistency.hpp"
+#include "fuzz/consistency_dependent.hpp"
 
 #include "base/errors.hpp"
 #include "exact/exact_double.hpp"
@@ -89,17 +90,6 @@ std::pair<double, double> parse_range(const std::string& text) {
     return {lo, hi};
 }
 
-namespace {
-
-
-double unit(std::uint64_t& st) { return static_cast<double>(splitmix(st) >> 11) * 0x1p-53; }
-
-// Log-uniform magnitude in [lo, hi].
-double magnitude(std::uint64_t& st, double lo, double hi) {
-    const double v = std::exp(std::log(lo) + unit(st) * (std::log(hi) - std::log(lo)));
-    return std::clamp(v, lo, hi);
-}
-
 // An upper bound u >= sqrt(x) (x >= 0), a rational within a relative 2^-60 of it.
 Rational sqrt_up(const Rational& x) {
     if (sign_of(x) == Sign::zero)
@@ -123,6 +113,18 @@ Rational sqrt_up(const Rational& x) {
     mpz_clear(t);
     return r;
 }
+
+namespace {
+
+
+double unit(std::uint64_t& st) { return static_cast<double>(splitmix(st) >> 11) * 0x1p-53; }
+
+// Log-uniform magnitude in [lo, hi].
+double magnitude(std::uint64_t& st, double lo, double hi) {
+    const double v = std::exp(std::log(lo) + unit(st) * (std::log(hi) - std::log(lo)));
+    return std::clamp(v, lo, hi);
+}
+
 
 double approx(const Rational& x) { return mpq_get_d(x.mpq()); }
 
@@ -242,7 +244,10 @@ std::vector<Finding> ConsistencyChecker::check_exact(const Vector& x, const Vect
     const Rational tol2 = R * R * s2 + allow * (Rational(2) * R * s_up + allow);
     const Vector gm = velocities_ ? transpose(m_.W) * x : x;
     const Vector gp = velocities_ ? transpose(m_.W) * y : y;
-    const Vector lambda = m_.H * (gp - gm);
+    // Dependent columns (proofs/README.md, "Consistency on dependent columns"): no unique impulse;
+    // kinetic, the friction cone and Coulomb by linear programs below, momentum by W_B.
+    const bool dependent = m_.redundant();
+    const Vector lambda = dependent ? Vector() : m_.H * (gp - gm);
     // kinematic: the worst contact
     {
         std::optional<std::size_t> worst;
@@ -266,7 +271,7 @@ std::vector<Finding> ConsistencyChecker::check_exact(const Vector& x, const Vect
     // approaching contact k that pushes, Lambda_N,k > (R s + A) sqrt(H_kk), pushes in every
     // consistent answer within R s + A, whose xi_N,k = gamma+_k + e_k gamma-_k is then 0; so
     // xi_N,k^2 > (R s + A)^2 G_kk is a violation. The worst contact is reported.
-    if (!e_.empty() && m_.has_friction()) {
+    if (!e_.empty() && m_.has_friction() && !dependent) {
         std::optional<std::size_t> worst;
         double worst_score = 0;
         for (std::size_t k = 0; k < c; ++k) {
@@ -319,7 +324,7 @@ std::vector<Finding> ConsistencyChecker::check_exact(const Vector& x, const Vect
         }
     }
     // kinetic
-    {
+    if (!dependent) {
         std::optional<std::size_t> worst;
         double worst_score = 0;
         for (std::size_t k = 0; k < c; ++k) {
@@ -337,9 +342,46 @@ std::vector<Finding> ConsistencyChecker::check_exact(const Vector& x, const Vect
                         " < 0: the contact pulls (Lambda = H (gamma+ - gamma-))",
                     {{"Lambda_" + std::to_string(*worst + 1), lambda[*worst]}});
     }
+    // Dependent columns: is there an impulse of each kind whose change of velocity comes within
+    // the tolerance of the answer's (projected onto the range of M^-1 W: momentum below)?
+    Vector r_dependent;
+    if (dependent) {
+        const std::size_t n = m_.balls(), rank = m_.basis.size();
+        Matrix W_B(n, rank);
+        for (std::size_t i = 0; i < n; ++i)
+            for (std::size_t k = 0; k < rank; ++k)
+                W_B(i, k) = m_.W(i, m_.basis[k]);
+        const Vector du = y - x;
+        const Vector du_p = m_.M_inv * (W_B * (m_.H_B * (transpose(W_B) * du)));
+        r_dependent = du - du_p;
+        const Rational tol = R * s_up + allow;
+        const DependentFit fit(m_);
+        const bool friction = m_.has_friction();
+        auto score_of = [&](const Rational& t) { return sign_of(s2) == Sign::positive ? std::sqrt(ratio(t * t, s2)) : 0; };
+        const Rational tk = fit.least(du_p, gm, DependentFit::Kind::kinetic);
+        const Rational t = tk > tol || !friction ? tk : fit.least(du_p, gm, DependentFit::Kind::cone);
+        if (tk > tol) {
+            finding(Property::kinetic, score_of(tk),
+                    "no impulse with Lambda_N >= 0 moves the velocities within " + exact_text(tk) +
+                        " of the answer (per velocity, scaled by sqrt((M^-1)_ii); the tolerance is " + exact_text(tol) + ")",
+                    {{"t", tk}, {"tolerance", tol}});
+        } else if (t > tol) {
+            finding(Property::friction_cone, score_of(t),
+                    "no impulse in the friction cone moves the velocities within " + exact_text(t) +
+                        " of the answer (per velocity, scaled by sqrt((M^-1)_ii); the tolerance is " + exact_text(tol) + ")",
+                    {{"t", t}, {"tolerance", tol}});
+        } else if (friction) {
+            const Rational tc = fit.least_coulomb(du_p, gm, tol);
+            if (tc > tol)
+                finding(Property::coulomb, score_of(tc),
+                        "no impulse that opposes the slip (in any mode of Coulomb's law) moves the velocities within " +
+                            exact_text(tc) + " of the answer (the tolerance is " + exact_text(tol) + ")",
+                        {{"t", tc}, {"tolerance", tol}});
+        }
+    }
     // Friction (SPEC section 9), per tangent j of contact k, with the tolerances of proofs/README.md
     // ("Consistency with friction"): the friction cone, then Coulomb's law.
-    if (m_.has_friction()) {
+    if (m_.has_friction() && !dependent) {
         const Rational tol = R * s_up + allow;
         std::optional<std::size_t> worst_cone, worst_slip;
         double cone_score = 0, slip_score = 0;
@@ -387,7 +429,7 @@ std::vector<Finding> ConsistencyChecker::check_exact(const Vector& x, const Vect
     }
     // momentum: the part of the velocity change outside the range of M^-1 W
     if (velocities_) {
-        const Vector r = (y - x) - m_.M_inv * (m_.W * lambda);
+        const Vector r = dependent ? r_dependent : (y - x) - m_.M_inv * (m_.W * lambda);
         const Rational r2 = bilinear(r, m_.M, r);
         if (r2 > tol2) {
             std::string detail = "|r|_M^2 = " + exact_text(r2) + " with |u-|_M^2 = " + exact_text(s2) +
@@ -461,7 +503,7 @@ std::vector<Finding> ConsistencyChecker::check_exact(const Vector& x, const Vect
 // Shared by the reference property and the law/solver classification.
 static std::optional<Vector> nearest_law_answer(const Model& law, const Mechanics& m, bool velocities, const Vector& x,
                                          const Vector& y, Rational& d2_out) {
-    const Vector gamma = velocities ? transpose(m.W) * x : x;
+    const Vector gamma = velocities ? law.contact_velocities(x) : x; // the law's coordinates (W_B^T u)
     const Matrix& X = velocities ? m.M : m.H;
     std::optional<Vector> best;
     for (const Vector& g : law.values_at(gamma)) {
@@ -917,6 +959,12 @@ ConsistencySummary run_consistency(const Mechanics& m, const ConsistencyOptions&
             top = std::max(top, std::fabs(x[i]));
         if (top > 0)
             part.decades.insert(static_cast<int>(std::floor(std::log10(top))));
+        if (o.reference && o.reference->redundant() && gamma.size() == o.reference->C().cols()) {
+            Vector basis; // the law's coordinates: gamma at the basis columns (C's are unit vectors there)
+            for (const std::size_t k : o.reference->basis())
+                basis.push_back(gamma[k]);
+            gamma = std::move(basis);
+        }
         if (o.reference && o.reference->pieces().size() <= kCoveragePieces && gamma.size() == o.reference->contacts()) {
             part.reference_hit.resize(o.reference->pieces().size(), 0);
             for (const auto p : o.reference->pieces_containing(gamma))
@@ -1123,9 +1171,11 @@ ConsistencySummary run_consistency(const Mechanics& m, const ConsistencyOptions&
     for (std::size_t p = 0; p < hit.size(); ++p) {
         const Piece& piece = o.reference->pieces()[p];
         bool approaches = false;
-        for (std::size_t r = 0; r < piece.R.cols() && !approaches; ++r)
+        for (std::size_t r = 0; r < piece.R.cols() && !approaches; ++r) {
+            const Vector ray = o.reference->redundant() ? transpose(o.reference->C()) * piece.R.column(r) : piece.R.column(r);
             for (std::size_t k = 0; k < m.normals && !approaches; ++k)
-                approaches = sign_of(piece.R(k, r)) == Sign::negative;
+                approaches = sign_of(ray[k]) == Sign::negative;
+        }
         if (approaches) {
             ++sum.reference_pieces;
             sum.reference_pieces_hit += hit[p] ? 1 : 0;

@@ -33,7 +33,11 @@ ConsistencyPlan plan_consistency(const ConsistencyRequest& a, const std::functio
     if (between)
         between(PlanStage::options);
     s.system = a.system_source ? a.system_source() : a.system;
-    s.mech = make_mechanics(s.system);
+    s.mech = make_mechanics(s.system, Dependent::allow);
+    if (s.mech.redundant() && !a.velocities)
+        throw InputError("--velocities: the system's contact columns are dependent (rank " +
+                         std::to_string(s.mech.basis.size()) + " of " + std::to_string(s.mech.contacts()) +
+                         "), so contact velocities are not free inputs; give the implementation ball velocities");
     // --restitution: the restitution property (frictionless: wherever every impact law agrees;
     // with friction: Newton's, at every approaching contact that pushes) and the restitution of a
     // reference law named (approaching, newton).
@@ -80,7 +84,7 @@ ConsistencyPlan plan_consistency(const ConsistencyRequest& a, const std::functio
         // sequential-impulse engines converge to), "newton" (on all), "poisson".
         const std::string& r = a.reference;
         if (r == "approaching" || r == "newton" || r == "poisson") {
-            if (s.mech.has_friction() && r == "poisson")
+            if ((s.mech.has_friction() || s.mech.redundant()) && r == "poisson")
                 throw InputError("--reference poisson: the Poisson-type law with friction is not offered; give "
                                  "approaching or newton, or a law file");
             ClassicalOptions co;
@@ -89,8 +93,8 @@ ConsistencyPlan plan_consistency(const ConsistencyRequest& a, const std::functio
             if (co.restitution.empty())
                 throw InputError("--reference " + r + ": needs the restitution (give --restitution E)");
             co.on = r == "approaching" ? RestitutionOn::approaching : RestitutionOn::all;
-            if (s.mech.has_friction()) {
-                // The Newton law with Coulomb friction, derived here as `derive newton --system`
+            if (s.mech.has_friction() || s.mech.redundant()) {
+                // The Newton law with Coulomb friction (or on dependent columns), derived here as `derive newton --system`
                 // does; a system where it is not a function has no reference by name.
                 FrictionOptions fo;
                 static_cast<ClassicalOptions&>(fo) = co;
@@ -113,8 +117,7 @@ ConsistencyPlan plan_consistency(const ConsistencyRequest& a, const std::functio
                                std::string(", e = ") + e;
         } else {
             s.reference = std::make_unique<Model>(load_model_file(r));
-            s.reference->require_independent_columns("fuzz --reference");
-            if (s.reference->M() != s.mech.M || s.reference->W() != s.mech.W)
+            if (s.reference->M() != s.mech.M || s.reference->full_W() != s.mech.W)
                 throw InputError("--reference " + r + ": the law's system (M, W) is not the one given");
             s.reference_name = r;
         }
@@ -139,7 +142,9 @@ std::array<bool, kProperties> checked_properties(const ConsistencyPlan& plan, bo
     checked[static_cast<std::size_t>(Property::friction_cone)] = plan.mech.has_friction();
     checked[static_cast<std::size_t>(Property::coulomb)] = plan.mech.has_friction();
     checked[static_cast<std::size_t>(Property::nonexpansive)] = plan.options.nonexpansive;
-    checked[static_cast<std::size_t>(Property::restitution)] = !plan.options.restitution.empty();
+    // Newton's restitution with friction asks which contacts push: not decided on dependent columns.
+    checked[static_cast<std::size_t>(Property::restitution)] =
+        !plan.options.restitution.empty() && !(plan.mech.redundant() && plan.mech.has_friction());
     checked[static_cast<std::size_t>(Property::nondeterministic)] = nondeterminism;
     checked[static_cast<std::size_t>(Property::continuity)] = plan.options.continuity;
     checked[static_cast<std::size_t>(Property::reference)] = plan.reference != nullptr;

@@ -152,6 +152,51 @@ class FloatLawImpl final : public Implementation {
     FloatLaw law_;
 };
 
+// A law on dependent contact columns in ball velocities (proofs/README.md, "Redundant contacts"):
+// y = W_B^T u-, the float law's y+, and u+ = u- + M^-1 W_B H_B (y+ - y), all in doubles.
+class VelocityFloatLawImpl final : public Implementation {
+  public:
+    explicit VelocityFloatLawImpl(const Model& model) : model_(model), law_(model) {
+        const Matrix lift = model.M_inv() * model.W() * model.H();
+        n_ = model.balls();
+        c_ = model.contacts();
+        for (std::size_t i = 0; i < n_; ++i)
+            for (std::size_t k = 0; k < c_; ++k) {
+                W_.push_back(mpq_get_d(model.W()(i, k).mpq()));
+                lift_.push_back(mpq_get_d(lift(i, k).mpq()));
+            }
+    }
+    void eval(const double* in, double* out, double*, std::size_t count, ImplStatus* status) override {
+        std::vector<double> y(c_);
+        for (std::size_t i = 0; i < count; ++i, in += n_, out += n_) {
+            for (std::size_t k = 0; k < c_; ++k) {
+                y[k] = 0;
+                for (std::size_t j = 0; j < n_; ++j)
+                    y[k] += W_[j * c_ + k] * in[j];
+            }
+            const auto r = law_.eval(y);
+            status[i] = r.ok ? ImplStatus::ok : ImplStatus::refused;
+            for (std::size_t j = 0; j < n_; ++j) {
+                double du = 0;
+                for (std::size_t k = 0; k < c_ && r.ok; ++k)
+                    du += lift_[j * c_ + k] * (r.value[k] - y[k]);
+                out[j] = r.ok ? in[j] + du : NAN;
+            }
+        }
+    }
+    std::unique_ptr<Implementation> clone() const override { return std::make_unique<VelocityFloatLawImpl>(model_); }
+    std::string describe() const override {
+        return "built-in float law in ball velocities (u+ = u- + M^-1 W_B H_B (S(W_B^T u-) - W_B^T u-))";
+    }
+    std::string replay_flags() const override { return ""; }
+
+  private:
+    const Model& model_;
+    FloatLaw law_;
+    std::size_t n_ = 0, c_ = 0;
+    std::vector<double> W_, lift_; // W_B (n x c) and M^-1 W_B H_B (n x c), row-major
+};
+
 using CFunction = void (*)(const double*, double*);
 
 class SymbolImpl final : public Implementation {
@@ -718,6 +763,10 @@ class CommandImpl final : public Implementation {
 std::unique_ptr<Implementation> builtin_paper(bool velocities) { return std::make_unique<PaperImpl>(velocities); }
 
 std::unique_ptr<Implementation> builtin_float_law(const Model& model) { return std::make_unique<FloatLawImpl>(model); }
+
+std::unique_ptr<Implementation> builtin_float_law_velocities(const Model& model) {
+    return std::make_unique<VelocityFloatLawImpl>(model);
+}
 
 std::unique_ptr<Implementation> load_symbol(const std::string& spec, std::size_t in_dim, std::size_t out_dim) {
     const auto colon = spec.rfind(':');

@@ -74,6 +74,9 @@ class Implementation {
 std::unique_ptr<Implementation> builtin_paper(bool velocities);
 // FloatLaw of any law (contact velocities), with its stated bound. Keeps a reference to model.
 std::unique_ptr<Implementation> builtin_float_law(const Model& model);
+// The same in ball velocities, for a law on dependent contact columns: u- -> W_B^T u- -> the
+// float law -> u+ = u- + M^-1 W_B H_B (y+ - y), in doubles. No stated bound.
+std::unique_ptr<Implementation> builtin_float_law_velocities(const Model& model);
 // LIB.so:SYMBOL. Throws InputError (missing library or symbol).
 std::unique_ptr<Implementation> load_symbol(const std::string& spec, std::size_t in_dim, std::size_t out_dim);
 // CMD through /bin/sh. Throws InputError when the command does not answer a first probe.
