@@ -11,6 +11,12 @@ the other) on the ground, a box landing flat and a box on a box (polygons, two c
   and Coulomb violations are reported (the box on a box: kinematic); with the default skin (the contact point 0.005 m off the
   scene's) momentum and Coulomb violations. Each worst case is replayed (`eval --float`: exit 1,
   the property named) and recomputed here in fractions from M and W (Lambda = H (gamma+ - gamma-)).
+- A box flat on rough ground (two rough contacts, dependent columns): converged and without the
+  skin, no violation, and the answers are the oracle's (singular modes included); with the skin,
+  kinetic findings (the contact points 0.005 m below the scene's: only a pulling normal impulse at
+  the scene's points gives Box2D's change of velocity), the worst one replayed and
+  recomputed exactly (tests/oracles/dependent_lp.py: infeasible at the tolerance, feasible just
+  above the fuzzer's least distance).
 Usage: box2d_friction_test.py BUILD_DIR SOURCE_DIR DRIVER
 """
 import json
@@ -27,6 +33,7 @@ from fractions import Fraction as F
 BUILD, SRC, DRIVER = sys.argv[1], sys.argv[2], sys.argv[3]
 sys.path.insert(0, os.path.join(SRC, "tests", "oracles"))
 from friction_lcp import System, breaks  # noqa: E402
+from dependent_lp import box_feasible, widths  # noqa: E402
 
 CLI = os.path.join(BUILD, "impactcert")
 SCENES = os.path.join(SRC, "examples", "scenes")
@@ -74,7 +81,7 @@ def recompute(S, w, prop):
 
 TITLES = {"kinematic": "(kinematic)", "friction_cone": "(friction cone)", "coulomb": "(coulomb)", "momentum": "(momentum)"}
 rng = random.Random(7)
-for scene in ("spinning-disk", "two-disks", "box-landing-flat", "box-on-a-box"):
+for scene in ("spinning-disk", "two-disks", "box-landing-flat", "box-on-a-box", "box-flat-on-rough-ground"):
     path = os.path.join(SCENES, scene + ".json")
     S, _ = mechanics(path)
     # Converged and without the skin: the engine's answers are the law's (the oracle's), to float accuracy.
@@ -83,7 +90,8 @@ for scene in ("spinning-disk", "two-disks", "box-landing-flat", "box-on-a-box"):
     outs = box2d(path, ["--iterations", "200", "--edge-radius", "0"], inputs)
     worst = 0.0
     for u, v in zip(inputs, outs):
-        sols = S.solutions([F(x) for x in u], [F(1, 2)] * len(S.normals), approaching=True)
+        sols = S.solutions([F(x) for x in u], [F(1, 2)] * len(S.normals), approaching=True,
+                           dependent=scene == "box-flat-on-rough-ground")
         if len(sols) != 1:
             fail(f"{scene}: the oracle finds {len(sols)} solutions at {u}")
             continue
@@ -118,6 +126,23 @@ for scene in ("spinning-disk", "two-disks", "box-landing-flat", "box-on-a-box"):
         if expected.get(scene):
             print(f"{scene} {' '.join(args)}: " + ", ".join(f"{k} {v[k]}" for k in expected[scene]) +
                   ": worst cases replayed and recomputed")
+    if scene == "box-flat-on-rough-ground":  # dependent columns: the friction cone by a linear program
+        status, j = fuzz(path, ["--iterations", "200"])
+        w = j["worst"].get("kinetic")
+        if status != 1 or not w:
+            fail(f"{scene} with the skin: no kinetic finding ({j['violations']})")
+        else:
+            u = [F(float.fromhex(t)) for t in w["input"]]
+            du = [F(float.fromhex(t)) - a for t, a in zip(w["output"], u)]
+            t, tol = F(w["exact"]["t"]), F(w["exact"]["tolerance"])
+            ws = widths(S)
+            if box_feasible(S, du, tol, ws, "kinetic") or not box_feasible(S, du, t * F(101, 100), ws, "kinetic"):
+                fail(f"{scene} with the skin: the worst kinetic case does not recompute (t = {float(t)})")
+            r = testkit.run_replay(w["replay"], CLI)
+            if r.returncode != 1 or "(kinetic)" not in r.stdout:
+                fail(f"{scene} with the skin: replay exit {r.returncode}")
+            print(f"{scene} with the skin: kinetic {j['violations']['kinetic']}, worst {float(t):.3g} "
+                  f"against a tolerance of {float(tol):.3g}: recomputed exactly, replayed")
 # Segments and capsules are refused by the driver (Box2D 2.4 collides no edge with an edge).
 p = subprocess.run([DRIVER, "--scene", os.path.join(SCENES, "ladder.json")], input="0 0 0\n", capture_output=True, text=True)
 if p.returncode != 2 or "not driven" not in p.stderr or p.stderr.count("\n") != 1:
