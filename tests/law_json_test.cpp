@@ -155,11 +155,22 @@ TEST_CASE("law file: a claim must have something declared to check", "[law_json]
           std::string::npos);
 }
 
-TEST_CASE("law file: explicit W with dependent columns is rejected", "[law_json]") {
-    const std::string text = R"({"format": "impactcert-law/1", "name": "x", "masses": ["1", "1"],
+TEST_CASE("law file: explicit W with dependent columns: a law on the basis, with impulses", "[law_json]") {
+    // W's two columns have rank 1: the law is 1 x 1 on the first column's velocity, and each
+    // piece declares its impulses (2 x 1); a 2 x 2 law, or one without impulses, is bad input.
+    const std::string two = R"({"format": "impactcert-law/1", "name": "x", "masses": ["1", "1"],
         "contacts": {"W": [["-1", "1"], ["1", "-1"]]},
         "pieces": [{"name": "a", "Q": [["1", "0"], ["0", "1"]]}]})";
-    CHECK(error_of(text).find("$.contacts.W: W has rank 1 < 2 contacts: its columns are linearly dependent") != std::string::npos);
+    CHECK(error_of(two).find("$.pieces[0].Q: expected a 1x1") != std::string::npos);
+    const std::string bare = R"({"format": "impactcert-law/1", "name": "x", "masses": ["1", "1"],
+        "contacts": {"W": [["-1", "1"], ["1", "-1"]]},
+        "pieces": [{"name": "a", "Q": [["1"]]}, {"name": "b", "Q": [["-1"]]}]})";
+    CHECK(error_of(bare).find("$.pieces[0]: missing \"impulses\"") != std::string::npos);
+    const std::string with = R"({"format": "impactcert-law/1", "name": "x", "masses": ["1", "1"],
+        "contacts": {"W": [["-1", "1"], ["1", "-1"]]},
+        "pieces": [{"name": "a", "Q": [["1"]], "impulses": [["0"], ["0"]]},
+                   {"name": "b", "Q": [["-1"]], "impulses": [["-1"], ["0"]]}]})";
+    CHECK(error_of(with).empty());
 }
 
 TEST_CASE("law file: rationals with hundreds of digits load and prove", "[law_json]") {

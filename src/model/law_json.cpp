@@ -482,7 +482,11 @@ System parse_system_text(const std::string& text, const std::string& origin) {
     }
 }
 
-System load_system_file(const std::string& path) { return parse_system_text(read_file_text(path), path); }
+System load_system_file(const std::string& path) {
+    System s = parse_system_text(read_file_text(path), path);
+    s.origin = path;
+    return s;
+}
 
 Law load_law_file(const std::string& path, std::size_t max_pieces, std::size_t max_memory_mb) {
     return parse_law_text(read_file_text(path), path, max_pieces, max_memory_mb);

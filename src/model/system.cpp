@@ -16,6 +16,16 @@ Matrix two_body_impact(const Matrix& G, std::size_t k, const Rational& e) {
     return Q;
 }
 
+Mechanics make_mechanics(const System& s, Dependent dependent) {
+    try {
+        return make_mechanics(s.masses, s.M, s.W, s.friction, dependent, !s.velocity_names.empty());
+    } catch (const InputError& e) {
+        if (s.origin.empty())
+            throw;
+        throw InputError(s.origin + ": " + e.what()); // read whole before: a later refusal (dependent columns)
+    }
+}
+
 namespace {
 
 // The pivot columns of W's reduced row echelon form (each column kept when independent of those

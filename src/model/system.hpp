@@ -46,6 +46,7 @@ struct System {
     std::vector<Rational> restitution;
     std::vector<std::string> contact_names;
     std::vector<std::string> velocity_names;
+    std::string origin = std::string(); // the file it was read from (load_system_file), named by later errors
 };
 
 // One tangent column of W: the contact (normal column) it belongs to, mu and e_T.
@@ -86,9 +87,7 @@ enum class Dependent { refuse, allow };
 Mechanics make_mechanics(const std::vector<Rational>& masses, const std::optional<Matrix>& M,
                          const std::optional<Matrix>& W, const std::vector<FrictionDecl>& friction = {},
                          Dependent dependent = Dependent::refuse, bool scene = false);
-inline Mechanics make_mechanics(const System& s, Dependent dependent = Dependent::refuse) {
-    return make_mechanics(s.masses, s.M, s.W, s.friction, dependent, !s.velocity_names.empty());
-}
+Mechanics make_mechanics(const System& s, Dependent dependent = Dependent::refuse);
 
 enum class Walls { none, left, right, both };
 Walls parse_walls(const std::string& text); // InputError naming --walls
