@@ -189,6 +189,7 @@ Law read_law(const Json& j, const std::string& path, std::size_t max_pieces, std
                 law.basis.push_back(k);
             }
         }
+        require(!law.basis.empty(), at(path, "contacts"), "every column is zero (rank 0)");
         if (law.basis.size() < law.c) {
             law.redundant = true;
             law.d = law.c;

@@ -143,7 +143,7 @@ void Checker::could_be_undecided(const std::string& id, const std::string& limit
     if (id == "kinematic")
         for (std::size_t p = 0; p < P(); ++p)
             for (const auto& r : pc(p).rays)
-                require(law_.normals_nonneg(mul(pc(p).Q_, r)), path,
+                require(law_.normals_nonneg(law_.all_coordinates(mul(pc(p).Q_, r))), path,
                         "a ray's image is negative: the prover refutes kinematic before it needs the fan");
     if (id == "P1") {
         require(!face_to_face(), path, "the cones meet face to face: P1 is decided on shared rays, without a limit");

@@ -424,7 +424,8 @@ FrictionResult derive_newton_friction(const FrictionOptions& o) {
     const Friction f(mech, o.restitution, approaching);
     const std::vector<Mode> modes = f.modes();
     if (modes.size() > o.max_modes)
-        throw DeriveLimit("the Newton law with friction of this system has " + std::to_string(modes.size()) +
+        throw DeriveLimit(std::string(mech.has_friction() ? "the Newton law with friction" : "the Newton law on dependent columns") +
+                          " of this system has " + std::to_string(modes.size()) +
                           " contact modes, more than " + std::to_string(o.max_modes) +
                           " (their pairs are compared, about modes^2 / 2 polyhedra; raise it with --max-modes)");
     const PplScope ppl;

@@ -86,6 +86,10 @@ Model::Model(Law law, std::size_t max_pieces, std::size_t max_memory_mb) : law_(
         }
     }
     if (redundant()) {
+        if (law_.claims)
+            for (std::size_t i = 0; i < law_.claims->size(); ++i)
+                if ((*law_.claims)[i] == "P3")
+                    input_error(idx("$.claims", i), "P3 does not apply on dependent contact columns (no orthant of a basis)");
         if (!law_.symmetries.empty())
             input_error("$.symmetries", "a law on dependent contact columns declares no symmetries (not supported)");
         if (!law_.single_impacts.empty())

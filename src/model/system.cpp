@@ -168,12 +168,14 @@ Mechanics make_mechanics(const std::vector<Rational>& masses, const std::optiona
     const std::size_t c = m.W.cols();
     reduce_columns(m);
     const std::size_t r = m.basis.size();
+    if (r == 0)
+        input_error(scene ? "$.contacts" : W ? "$.contacts.W" : "$.contacts", "every column is zero (rank 0): no contact moves anything");
     if (r < c && dependent == Dependent::refuse) {
         const std::string where = scene ? "$.contacts" : !friction.empty() ? "$.contacts.friction" : W ? "$.contacts.W" : "$.contacts";
         const std::string what = friction.empty() ? " contacts" : " columns (normals and tangents)";
         input_error(where, std::to_string(c) + what + " but rank " + std::to_string(r) +
                                (c > n ? " (" + std::to_string(n) + " velocities)" : std::string()) +
-                               ": the columns are linearly dependent (only derive newton and verify read such systems)");
+                               ": the columns are linearly dependent (derive newton reads such systems, and fuzz with --velocities)");
     }
     m.G = transpose(m.W) * m.M_inv * m.W;
     Matrix W_B(n, r);

@@ -145,6 +145,8 @@ std::string system_words(const Model& model) {
 }
 
 std::string coordinate_svg(const Model& model, std::size_t k) {
+    if (model.redundant()) // coordinate k is the velocity of basis column basis()[k]
+        k = model.basis()[k];
     if (!model.has_friction())
         return "&#947;<tspan baseline-shift=\"sub\" font-size=\"75%\">" + std::to_string(k + 1) + "</tspan>";
     const bool normal = k < model.normals();

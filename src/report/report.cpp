@@ -372,7 +372,8 @@ std::string report_markdown(const Model& model, const VerifyReport& report, cons
         else
             s += "\nNo picture in report.html: " + md_escape(why_not) + ".\n";
     }
-    s += "\nH = G^-1 = `" + matrix_text(model.H()) + "`. Every check is exact (GMP rationals); the reductions "
+    s += std::string(model.redundant() ? "\nH = G_B^-1 (G_B = W_B^T M^-1 W_B of the basis columns) = `" : "\nH = G^-1 = `") +
+         matrix_text(model.H()) + "`. Every check is exact (GMP rationals); the reductions "
          "are argued in proofs/README.md.\n";
     return s;
 }
@@ -450,7 +451,9 @@ std::string report_html(const Model& model, const VerifyReport& report, const Wo
     for (const auto& p : model.pieces())
         s += "<tr class=\"piece\"><td>" + xml_escape(p.name) + "</td><td>" + xml_escape(rays_text(p)) + "</td><td><code>" +
              xml_escape(matrix_text(p.Q)) + "</code></td></tr>\n";
-    s += "</table>\n<p>H = G<sup>-1</sup> = <code>" + xml_escape(matrix_text(model.H())) +
+    s += std::string(model.redundant() ? "</table>\n<p>H = G<sub>B</sub><sup>-1</sup> (the basis columns) = <code>"
+                                       : "</table>\n<p>H = G<sup>-1</sup> = <code>") +
+         xml_escape(matrix_text(model.H())) +
          "</code>. Every check is exact (GMP rationals); the reductions are argued in proofs/README.md.</p>\n";
     s += "</body>\n</html>\n";
     return s;

@@ -119,7 +119,8 @@ VerifyReport Prover::run() {
             r.method = "not requested";
         } else if (!m_.applies(id)) {
             r.verdict = Verdict::skipped;
-            r.method = r.id == "P3" ? "not applicable with friction" : "nothing declared";
+            r.method = r.id == "P3" ? (m_.redundant() ? "not applicable on dependent contact columns" : "not applicable with friction")
+                                    : "nothing declared";
         } else {
             try {
                 Outcome o = dispatch(r.id);
