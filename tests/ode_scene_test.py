@@ -133,7 +133,7 @@ else:
     print(f"3d-box-flat-on-a-plane: kinematic {j['violations']['kinematic']} (corners ODE does not find), recomputed")
 scene = os.path.join(SCENES, "3d-rough-box-on-an-edge.json")
 S = mechanics(scene)
-status, j = fuzz(scene, 200, reference=False)  # its law with restitution on approaching contacts: 24 s to derive
+status, j = fuzz(scene, 100, reference=False)  # its law with restitution on approaching contacts: 24 s to derive
 w = j["worst"].get("friction_cone")
 if status != 1 or not w:
     fail(f"rough box on an edge: no friction-cone finding ({j['violations']})")

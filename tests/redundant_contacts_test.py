@@ -82,6 +82,7 @@ CASES = {
                                 [(None, 0, (F(-13, 20), -H, 0), (0, 0, 1), F(1, 4)),
                                  (None, 0, (F(-13, 20), H, 0), (0, 0, 1), F(1, 4))]),
 }
+CORNER = CASES["ball-in-a-rough-corner"]  # the witnesses' scene
 if SANITIZER:
     CASES = {k: v for k, v in CASES.items() if k in ("box-flat-on-rough-ground", "3d-box-flat-on-a-plane")}
 # Restitution on approaching contacts: 1024 modes for the box on a box (beyond --max-modes 400).
@@ -235,7 +236,7 @@ try:
         if w["verdict"] != verdict:
             fail(f"corner mu = {mu}: {w['verdict']}, expected {verdict}")
             continue
-        _, bodies, contacts = CASES["ball-in-a-rough-corner"]
+        _, bodies, contacts = CORNER
         S = System(*hand_system(bodies, [(a, b, pt, nrm, F(mu)) for (a, b, pt, nrm, _) in contacts]))
         u = [F(x) for x in w["u_minus"]]
         if S.velocities(u) != [F(x) for x in w["gamma_minus"]]:
