@@ -124,7 +124,7 @@ if j["violations"]["kinematic"] < 250 or status != 1:
 # Dependent columns: a box flat on a plane (corners missed) and a rough box on an edge (friction).
 scene = os.path.join(SCENES, "3d-box-flat-on-a-plane.json")
 S = mechanics(scene)
-status, j = fuzz(scene, 500)
+status, j = fuzz(scene, 200)
 w = j["worst"].get("kinematic")
 if status != 1 or not w or not breaks(S, [F(float.fromhex(t)) for t in w["input"]],
                                       [F(float.fromhex(t)) for t in w["output"]], "kinematic"):

@@ -57,8 +57,8 @@ def run(args, expect=0):
 
 def fuzz(scene, law, extra):
     dependent = os.path.basename(scene)[:-5] in DEPENDENT
-    # Dependent columns: a linear program or more per sample; a quarter of the samples.
-    samples = str(max(1, int(SAMPLES) // 4)) if dependent else SAMPLES
+    # Dependent columns: a linear program or more per sample; an eighth of the samples.
+    samples = str(max(1, int(SAMPLES) // 8)) if dependent else SAMPLES
     p = run(["fuzz", "--system", scene, "--float-law", law, "--range", "0.01..10", "--max-rel-error", "1e-12",
              "--samples", samples, "--json"] + (["--velocities"] if dependent else []) + extra, None)
     return p.returncode, json.loads(p.stdout) if p.stdout else {}
