@@ -35,7 +35,7 @@ from fractions import Fraction as F
 BUILD, SRC, DRIVER = sys.argv[1], sys.argv[2], sys.argv[3]
 sys.path.insert(0, os.path.join(SRC, "tests", "oracles"))
 from friction_lcp import System, breaks  # noqa: E402
-from dependent_lp import box_feasible, widths  # noqa: E402
+from dependent_lp import box_feasible, finding, widths  # noqa: E402
 
 CLI = os.path.join(BUILD, "impactcert")
 SCENES = os.path.join(SRC, "examples", "scenes")
@@ -136,9 +136,7 @@ for scene in ("spinning-disk", "two-disks", "box-landing-flat", "box-on-a-box") 
         if status != 1 or not w:
             fail(f"{scene} with the skin: no kinetic finding ({j['violations']})")
         else:
-            u = [F(float.fromhex(t)) for t in w["input"]]
-            du = [F(float.fromhex(t)) - a for t, a in zip(w["output"], u)]
-            t, tol = F(w["exact"]["t"]), F(w["exact"]["tolerance"])
+            du, t, tol = finding(w)
             ws = widths(S)
             if box_feasible(S, du, tol, ws, "kinetic") or not box_feasible(S, du, t * F(101, 100), ws, "kinetic"):
                 fail(f"{scene} with the skin: the worst kinetic case does not recompute (t = {float(t)})")

@@ -33,7 +33,7 @@ sys.path.insert(0, os.path.join(SRC, "tests"))
 sys.path.insert(0, os.path.join(SRC, "tests", "oracles"))
 import testkit  # noqa: E402
 from friction_lcp import System, breaks  # noqa: E402
-from dependent_lp import least_t_float, widths  # noqa: E402
+from dependent_lp import finding, least_t_float, widths  # noqa: E402
 
 CLI = os.path.join(BUILD, "impactcert")
 SCENES = os.path.join(SRC, "examples", "scenes")
@@ -138,9 +138,8 @@ w = j["worst"].get("friction_cone")
 if status != 1 or not w:
     fail(f"rough box on an edge: no friction-cone finding ({j['violations']})")
 else:
-    u = [F(float.fromhex(t)) for t in w["input"]]
-    du = [F(float.fromhex(t)) - a for t, a in zip(w["output"], u)]
-    t, tol = float(F(w["exact"]["t"])), float(F(w["exact"]["tolerance"]))
+    du, t, tol = finding(w)
+    t, tol = float(t), float(tol)
     second = least_t_float(S, du, widths(S))
     if second is None or abs(second - t) > 1e-6 * t or not t > 100 * tol:
         fail(f"rough box on an edge: least distance {t}, by scipy {second}, tolerance {tol}")

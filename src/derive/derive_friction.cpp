@@ -560,6 +560,16 @@ FrictionResult derive_newton_friction(const FrictionOptions& o) {
     if (mech.redundant())
         remove_overlaps(regions, r_dim);
     result.regions = regions.size();
+    // The witness of an input y (law coordinates) where no mode has a solution.
+    auto no_solution = [&](const Vector& y) {
+        NotAFunction nf;
+        nf.gamma_minus = sp.gamma(y);
+        if (mech.redundant())
+            nf.u_minus = body_velocities(mech, y);
+        nf.none = true;
+        nf.frictionless = !mech.has_friction();
+        return nf;
+    };
     if (regions.empty()) {
         // No mode has a full-dimensional region: the modes' regions are finitely many cones of
         // lower dimension, so a point outside all of them is found among a few; it has no solution.
@@ -572,13 +582,7 @@ FrictionResult derive_newton_friction(const FrictionOptions& o) {
             for (std::size_t a = 0; a < modes.size() && !solvable; ++a)
                 solvable = feasible[a] && feasible_at(rows[a], mech.G, sp, y);
             if (!solvable) {
-                NotAFunction nf;
-                nf.gamma_minus = sp.gamma(y);
-                if (mech.redundant())
-                    nf.u_minus = body_velocities(mech, y);
-                nf.none = true;
-                nf.frictionless = !mech.has_friction();
-                result.not_a_function = std::move(nf);
+                result.not_a_function = no_solution(y);
                 return result;
             }
         }
@@ -633,13 +637,7 @@ FrictionResult derive_newton_friction(const FrictionOptions& o) {
             if (feasible_at(rows[a], mech.G, sp, g))
                 throw std::logic_error("derive newton: the fan of the derived law is refuted at a point where mode " +
                                        f.name(modes[a]) + " has a solution");
-        NotAFunction nf;
-        nf.gamma_minus = sp.gamma(g);
-        if (mech.redundant())
-            nf.u_minus = body_velocities(mech, g);
-        nf.none = true;
-        nf.frictionless = !mech.has_friction();
-        result.not_a_function = std::move(nf);
+        result.not_a_function = no_solution(g);
         return result;
     }
     result.law = std::move(law);

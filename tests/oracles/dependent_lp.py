@@ -24,6 +24,13 @@ def _minv(S):
     return [[cols[j][i] for j in range(n)] for i in range(n)]
 
 
+def finding(w):
+    """A finding's change of velocity du = y - x (exact, from its hex doubles), t* and tolerance."""
+    u = [F(float.fromhex(t)) for t in w["input"]]
+    du = [F(float.fromhex(t)) - a for t, a in zip(w["output"], u)]
+    return du, F(w["exact"]["t"]), F(w["exact"]["tolerance"])
+
+
 def box_feasible(S, du, t, w, kind="friction_cone"):
     """Whether some Lambda of the kind gives |(M^-1 W Lambda - du)_i| <= t w_i for every i."""
     n, d, N = S.n, S.d, len(S.normals)
