@@ -121,10 +121,14 @@ TEST_CASE("derive: four and five equal balls, e = 1, give the sort law", "[deriv
     }
 }
 
+#ifndef IMPACTCERT_SANITIZER_BUILD
+// The Release build only: under the sanitizers the same verification runs on the 4-ball law above
+// and on the 5-ball sorting law of report_test.cpp; this one took 28 s there.
 TEST_CASE("derive: five equal balls, e = 1: every obligation proved", "[derive][slow]") {
     const Model d = derived(options({"1", "1", "1", "1", "1"}, {"1"}));
     CHECK(all_proved(verify(d)));
 }
+#endif
 
 // One rule per test case (three ctest cases, run in parallel; each the same checks).
 static void require_rule_agrees_with_simulation(ImpactRule rule) {
@@ -132,7 +136,12 @@ static void require_rule_agrees_with_simulation(ImpactRule rule) {
         {{"1", "2", "1"}, {"1"}},           {{"3", "1", "2"}, {"1/2"}},      {{"1", "5"}, {"3/4"}},
         {{"2", "1", "1"}, {"1", "1/3"}},    {{"1", "2", "3", "4"}, {"1/2"}}, {{"1", "1", "2", "1"}, {"1", "9/10", "4/5"}},
     };
-    for (const auto& [masses, e] : cases) {
+    for (std::size_t index = 0; index < cases.size(); ++index) {
+        const auto& [masses, e] = cases[index];
+        // Under the sanitizers each rule takes two of the six systems (the three rules together take
+        // all six): the same code, a third of the time.
+        if (test::kSanitizerDivisor != 1 && index % 3 != static_cast<std::size_t>(rule) % 3)
+            continue;
         {
             const DeriveOptions o = options(masses, e, rule);
             INFO("masses " << masses.size() << " " << masses[1] << ", rule " << to_string(rule));

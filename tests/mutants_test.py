@@ -118,10 +118,12 @@ if j is not None:
             check_witness(surv[mid], "--range 1e-3..1e3")
     if j["kill_rate"] >= 1 or j["counts"]["killed"] < 30:
         fail(f"--range 1e-3..1e3: kill rate {j['kill_rate']}, counts {j['counts']}")
-    t = run(["fuzz", "--law", LAW, "--mutants", "80" if LIGHT else "400", "--max-rel-error", "1e-12", "--allow", "extreme",
-             "--range", "1e-3..1e3", "--samples", "3000"])
-    if t.returncode != 0 or "  survivor       dead-zone:1e-06: contact velocities of magnitude below 1e-06" not in t.stdout \
-            or "kill rate      " not in t.stdout:
+    # The text report of the same run (the Release build's only: under the sanitizers the run above
+    # covers the same code but the report, and the run is the longest of this script).
+    t = None if LIGHT else run(["fuzz", "--law", LAW, "--mutants", "400", "--max-rel-error", "1e-12", "--allow",
+                                "extreme", "--range", "1e-3..1e3", "--samples", "3000"])
+    if t is not None and (t.returncode != 0 or "kill rate      " not in t.stdout or
+                          "  survivor       dead-zone:1e-06: contact velocities of magnitude below 1e-06" not in t.stdout):
         fail(f"text report: exit {t.returncode}\n{t.stdout[-3000:]}")
 
 # A replay judges the run's tolerance (issue 40, item 8: law-mode replays dropped --max-rel-error

@@ -13,7 +13,8 @@ marked `<!-- heavy: REASON -->` are left out of the sanitizer build's run (--lig
 a `<!-- not-run: REASON -->` line right before it, and the reason is printed.
 With --update (for a developer, never in CI), the shown output of every command that differs
 and has no `...` line is replaced in the file by the output of the run (unmasked).
-Usage: readme_examples_test.py BUILD_DIR SOURCE_DIR [--light] [--update]"""
+With --times, the ten slowest commands are listed at the end (to keep the CI's budget).
+Usage: readme_examples_test.py BUILD_DIR SOURCE_DIR [--light] [--update] [--times]"""
 import glob
 import os
 import re
@@ -21,10 +22,13 @@ import shutil
 import subprocess
 import sys
 import tempfile
+import time
 
 BUILD, SRC = os.path.abspath(sys.argv[1]), os.path.abspath(sys.argv[2])
 LIGHT = "--light" in sys.argv[3:]
 UPDATE = "--update" in sys.argv[3:]
+TIMES = "--times" in sys.argv[3:]
+times = []  # (seconds, place, command)
 updates = {}  # path -> [(first line index, end index, new lines)]
 MASKS = [(re.compile(r" +[0-9]+\.[0-9]+ ms\b"), " T ms"),
          (re.compile(r"in [0-9]+\.[0-9]+ s, [0-9]+ samples/s"), "in T s, R samples/s"),
@@ -117,8 +121,10 @@ try:
                 continued = bool(commands) and commands[-1].endswith("\\") and not expected[-1]
             for cmd, want, start in zip(commands, expected, starts):
                 real = cmd.replace("/tmp/", scratch + "/")
+                began = time.monotonic()
                 p = subprocess.run(["bash", "-c", "{ " + real + "\n} 2>&1"], capture_output=True, text=True, cwd=work,
                                    timeout=900)
+                times.append((time.monotonic() - began, f"{rel}:{start}", cmd))
                 raw = [x.replace(scratch + "/", "/tmp/").replace("cd " + work + " && ", "cd ~/impactcert && ").rstrip()
                        for x in p.stdout.splitlines()]
                 got = [mask(x) for x in raw]
@@ -141,5 +147,8 @@ for path, edits in updates.items():
         lines[first:end] = new_lines
     open(path, "w").write("\n".join(lines) + "\n")
     print(f"updated: {os.path.relpath(path, SRC)} ({len(edits)} outputs)")
+if TIMES:
+    for seconds, place, cmd in sorted(times, reverse=True)[:10]:
+        print(f"{seconds:7.2f} s  {place}: {cmd[:90]}")
 print(f"{commands_run} commands of README.md and docs/ run, {failures} differ")
 sys.exit(1 if failures or commands_run < 30 else 0)

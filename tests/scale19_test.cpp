@@ -240,8 +240,11 @@ TEST_CASE("Lemma D: the eps found from the quadratic is the first of 1/2, 1/4, .
     // Second route: the loop the quadratic replaced, with the energies of the two points.
     std::vector<Model> laws;
     laws.push_back(derived({Rational(1), Rational(2), Rational(3), Rational(4)}, {Rational(1, 2), Rational(1, 2), Rational(1, 2)}));
+#ifndef IMPACTCERT_SANITIZER_BUILD
+    // (the five-ball law only in the Release build: its pair forms are most of the sanitizer run's time)
     laws.push_back(derived({Rational(2), Rational(1), Rational(3), Rational(1), Rational(2)},
                            {Rational(9, 10), Rational(9, 10), Rational(9, 10), Rational(9, 10)}));
+#endif
     laws.push_back(derived({Rational(1), Rational(2), Rational(1)}, {Rational(1), Rational(1)}));
     for (const char* c : {"discontinuous-isometric", "newton-simultaneous", "perturbed-entry", "swapped-pieces"})
         laws.emplace_back(load_law_file(source_path(std::string("proofs/controls/") + c + ".json")));
@@ -266,5 +269,5 @@ TEST_CASE("Lemma D: the eps found from the quadratic is the first of 1/2, 1/4, .
         CHECK(test::vec_of(w["gamma_a"]) == v + eps * da);
         CHECK(test::vec_of(w["gamma_b"]) == v + eps * db);
     }
-    CHECK(seen >= 5);
+    CHECK(seen >= (test::kSanitizerDivisor == 1 ? 5u : 4u));
 }

@@ -302,7 +302,13 @@ TEST_CASE("integer kernels: a law whose entries do not fit int64 falls back to G
 
 TEST_CASE("symmetries: the cradle's relabelings and reversal are proved and reduce every pairwise check",
           "[scale][symmetries]") {
+#ifdef IMPACTCERT_SANITIZER_BUILD
+    // Under the sanitizers n = 3, 4: the checks of n = 5 (14,400 pair forms of the plain law) are
+    // the same code on a larger law, and took 30 s there.
+    for (std::size_t n : {3, 4}) {
+#else
     for (std::size_t n : {3, 4, 5}) {
+#endif
         INFO("n = " << n);
         const Model compact(cradle_law(n, CradleListing::representatives, true));
         const Model listed(cradle_law(n, CradleListing::all, true));
