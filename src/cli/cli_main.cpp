@@ -261,6 +261,7 @@ int main(int argc, char** argv) {
     eval_cmd->add_option("--system", eval_float_args.system.system_path, "with --float and --impl/--impl-cmd: check consistency with this system");
     eval_cmd->add_option("--max-rel-error", eval_float_args.max_rel_error, "the relative tolerance the answers are judged by (as fuzz; law mode and consistency)");
     eval_cmd->add_option("--restitution", eval_float_args.restitution, "consistency: the restitution the implementation is meant to apply (as fuzz)");
+    eval_cmd->add_option("--cone", eval_float_args.cone, "consistency: the friction cone the answer is judged by (as fuzz: box or circular)");
     eval_cmd->add_option("--reference", eval_float_args.reference, "consistency: the exact law the implementation means to compute (as fuzz): the answer is checked against it");
     eval_cmd->add_option_function<std::string>("--max-ulps", [&](const std::string& text) {
         std::string why;
@@ -365,6 +366,7 @@ int main(int argc, char** argv) {
     fuzz_cmd->add_option("--system", fuzz_args.system.system_path, "without --law: check consistency with this system (impactcert-system/1 or a law file)");
     fuzz_cmd->add_option("--float-law", fuzz_args.float_law, "consistency: test impactcert's own float implementation of this law file (contact velocities)");
     fuzz_cmd->add_option("--require", fuzz_args.require, "consistency: also check nonexpansive and/or continuity on close pairs (comma-separated)");
+    fuzz_cmd->add_option("--cone", fuzz_args.cone, "consistency, systems with friction: box (default: each tangent bounded by mu Lambda_N on its own, as impactcert's laws and ODE's dContactApprox1) or circular (|Lambda_T| <= mu Lambda_N over a contact's tangents and the friction opposite the slip, as Jolt, MuJoCo's elliptic cone and Siconos's fc3d; no --reference)");
     fuzz_cmd->add_option("--reference", fuzz_args.reference, "consistency: the exact law the implementation means to compute, a law file of the system or by name (approaching: the Newton law with restitution on approaching contacts, what sequential-impulse engines converge to; newton; poisson; with --restitution): each finding is then law-level or solver-level");
     fuzz_cmd->add_option("--restitution", fuzz_args.restitution, "consistency: the restitution the implementation is meant to apply (E, or one per contact); checks the restitution property (frictionless: where one contact alone approaches; with friction: Newton's, at every approaching contact that pushes) and gives the restitution of --reference approaching/newton");
     fuzz_cmd->add_option("--range", fuzz_args.range, "input components 0 or of magnitude in LO..HI (consistency: default 1e-3..1e3; law mode: default the whole double range, each sample scaled by a power of two drawn uniformly among those that put its largest component in the range)");

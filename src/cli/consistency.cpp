@@ -43,6 +43,7 @@ Setup setup(const FuzzArgs& a) {
         q.restitution_text = a.restitution;
     q.reference = a.reference;
     q.reference_given = a.reference_given;
+    q.cone = a.cone;
     q.require = tokens_of(a.require);
     q.range = a.range;
     q.seed = a.options.seed;
@@ -226,6 +227,7 @@ int run_consistency_fuzz_at(const FuzzArgs& a, const FuzzArgs& given, const std:
                       (s.law ? "--float-law " + fuzz::shell_quote(a.float_law) : s.impl->replay_flags()) +
                       " --max-rel-error " + rbuf +
                       (a.restitution.empty() ? "" : " --restitution " + fuzz::shell_quote(a.restitution)) +
+                      (o.cone == fuzz::Cone::circular ? " --cone circular" : "") +
                       (a.reference.empty() ? "" : " --reference " + fuzz::shell_quote(a.reference)) + " --";
     const bool tty = !a.json && isatty(STDERR_FILENO);
     const auto start = std::chrono::steady_clock::now();
@@ -401,7 +403,8 @@ int run_consistency_fuzz_at(const FuzzArgs& a, const FuzzArgs& given, const std:
 
 int run_consistency_eval(const FuzzArgs& a, const std::vector<std::vector<std::string>>& points) {
     Setup s = setup(a);
-    const fuzz::ConsistencyChecker checker(s.plan.mech, a.velocities, s.plan.R, s.plan.options.restitution);
+    const fuzz::ConsistencyChecker checker(s.plan.mech, a.velocities, s.plan.R, s.plan.options.restitution,
+                                           s.plan.options.cone);
     const std::size_t d = checker.dim();
     std::vector<std::vector<double>> xs;
     for (const auto& toks : points) {

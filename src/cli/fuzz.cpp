@@ -442,8 +442,10 @@ int run_fuzz(FuzzArgs a) {
         if (!a.junit.empty())
             throw InputError("--mutants and --junit: the JUnit report is of one run (use --json)");
     }
-    if (!a.require.empty() || a.restitution_given || a.reference_given)
-        throw InputError(std::string(!a.require.empty() ? "--require" : a.restitution_given ? "--restitution" : "--reference") +
+    if (!a.require.empty() || a.restitution_given || a.reference_given || !a.cone.empty())
+        throw InputError(std::string(!a.require.empty() ? "--require" : a.restitution_given ? "--restitution"
+                                     : a.reference_given                                 ? "--reference"
+                                                                                         : "--cone") +
                          ": consistency fuzzing only (give --masses or --system, no --law)");
     if (!a.junit.empty() && !std::ofstream(a.junit)) // before the run, not after it
         throw InputError("--junit " + a.junit + ": cannot write");
@@ -584,6 +586,8 @@ int run_eval(const std::string& law_path, bool velocities, const std::vector<std
         throw InputError("--mutant: a mutant of a law's plain evaluation; give --law, not --masses/--system");
     if (float_args.pieces && as_float)
         throw InputError("--pieces: exact evaluation only (--float already names the piece with --law)");
+    if (!float_args.cone.empty() && !float_args.system.given())
+        throw InputError("--cone: consistency replays only (give --masses or --system)");
     if ((float_args.system.given() || float_args.pair || !float_args.float_law.empty()) && !as_float)
         throw InputError("--masses, --system, --pair and --float-law: consistency replays need --float");
     if (as_float) {

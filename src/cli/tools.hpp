@@ -63,6 +63,7 @@ struct FuzzArgs {
     std::string require;
     std::string restitution; // consistency: the restitution the implementation is meant to apply
     std::string reference;   // consistency: the exact law it is meant to compute (a file, or a name)
+    std::string cone;        // consistency: --cone box|circular, the friction of a contact with two tangents
     std::string allow;       // law mode: classes of violations that do not fail the run ("extreme")
     std::string mutant;      // law mode: --mutant ID, a mutant of the law's plain double evaluation
     std::string efforts;     // consistency: --efforts E1,E2,...: the values of {iterations} in --impl-cmd

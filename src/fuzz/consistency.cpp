@@ -139,6 +139,12 @@ double ratio(const Rational& a, const Rational& b) {
 // rationals are in --json).
 std::string exact_text(const Rational& x) { return readable_text(x); }
 
+std::string decimal_text(double x) {
+    char buf[40];
+    std::snprintf(buf, sizeof buf, "%.17g", x);
+    return buf;
+}
+
 std::string percent(double f) {
     char buf[48];
     std::snprintf(buf, sizeof buf, "%+.3g%%", 100 * f);
@@ -148,8 +154,8 @@ std::string percent(double f) {
 } // namespace
 
 ConsistencyChecker::ConsistencyChecker(const Mechanics& m, bool velocities, double max_rel_error,
-                                       std::vector<Rational> restitution)
-    : m_(m), velocities_(velocities), R_(max_rel_error), e_(std::move(restitution)) {
+                                       std::vector<Rational> restitution, Cone cone)
+    : m_(m), velocities_(velocities), R_(max_rel_error), e_(std::move(restitution)), cone_(cone) {
     if (!e_.empty() && e_.size() != m.normals)
         throw std::logic_error("ConsistencyChecker: one restitution per normal contact");
     // The allowance for underflow (proofs/README.md, "Consistency ... near underflow"): an output
@@ -381,7 +387,9 @@ std::vector<Finding> ConsistencyChecker::check_exact(const Vector& x, const Vect
     }
     // Friction (SPEC section 9), per tangent j of contact k, with the tolerances of proofs/README.md
     // ("Consistency with friction"): the friction cone, then Coulomb's law.
-    if (m_.has_friction() && !dependent) {
+    if (m_.has_friction() && !dependent && cone_ == Cone::circular)
+        circular_friction(lambda, gm, gp, R * s_up + allow, s2, out);
+    if (m_.has_friction() && !dependent && cone_ == Cone::box) {
         const Rational tol = R * s_up + allow;
         std::optional<std::size_t> worst_cone, worst_slip;
         double cone_score = 0, slip_score = 0;
@@ -604,6 +612,123 @@ std::optional<Finding> ConsistencyChecker::at_rest(const double* yd) const {
                " = " + exact_text(Rational(1, 2) * e2) + " from T- = 0 (energy from nothing)";
     f.exact.emplace_back(velocities_ ? "T+" : "T+ (contact part)", to_string(Rational(1, 2) * e2));
     return f;
+}
+
+namespace {
+
+// The sign of P + Q sqrt(S), S >= 0, exactly.
+Sign sign_with_root(const Rational& P, const Rational& Q, const Rational& S) {
+    const Sign p = sign_of(P), q = sign_of(S) == Sign::zero ? Sign::zero : sign_of(Q);
+    if (q == Sign::zero || p == q)
+        return p == Sign::zero ? q : p;
+    if (p == Sign::zero)
+        return q;
+    // Opposite signs: the larger magnitude wins (P^2 against Q^2 S).
+    const Rational a = P * P, b = Q * Q * S;
+    return a == b ? Sign::zero : a > b ? p : q;
+}
+
+} // namespace
+
+// The circular cone (proofs/README.md, "Consistency with a circular friction cone"), per rough
+// contact N with tangents T (one mu, one e_T): with t = R s + A and an answer within t of one of
+// Coulomb's law (Lambda*, xi*), |Delta Lambda_T| <= t sqrt(lambda_max H_TT) <= t sqrt(tr H_TT),
+// |Delta Lambda_N| <= t sqrt(H_NN) and |Delta xi_T| <= t sqrt(tr G_TT) (Cauchy-Schwarz in the
+// metric), so the bounds below are never passed by such an answer.
+void ConsistencyChecker::circular_friction(const Vector& lambda, const Vector& gm, const Vector& gp, const Rational& tol,
+                                           const Rational& s2, std::vector<Finding>& out) const {
+    std::optional<Finding> cone, slip;
+    double cone_score = 0, slip_score = 0;
+    std::vector<bool> done(m_.tangents.size(), false);
+    auto vector_text = [](const std::vector<Rational>& v) {
+        std::string t = "(";
+        for (std::size_t i = 0; i < v.size(); ++i)
+            t += (i ? ", " : "") + exact_text(v[i]);
+        return t + ")";
+    };
+    for (std::size_t j0 = 0; j0 < m_.tangents.size(); ++j0) {
+        if (done[j0])
+            continue;
+        const std::size_t N = m_.tangents[j0].contact;
+        const Rational& mu = m_.tangents[j0].mu;
+        const Rational& e_T = m_.tangents[j0].e_T;
+        Rational lt2, trH, trG, xi2, dot;
+        std::vector<Rational> lt, xi;
+        for (std::size_t j = j0; j < m_.tangents.size(); ++j) {
+            if (m_.tangents[j].contact != N)
+                continue;
+            done[j] = true;
+            const std::size_t T = m_.normals + j;
+            lt.push_back(lambda[T]);
+            xi.push_back(gp[T] + e_T * gm[T]);
+            lt2 += lt.back() * lt.back();
+            xi2 += xi.back() * xi.back();
+            dot += lt.back() * xi.back();
+            trH += m_.H(T, T);
+            trG += m_.G(T, T);
+        }
+        const Rational ln = lambda[N];
+        const Rational hn = sqrt_up(m_.H(N, N));
+        const Rational tau_h = tol * (sqrt_up(trH) + mu * hn);
+        const std::string where = " (contact " + std::to_string(N + 1) + ", mu = " + to_string(mu) + ")";
+        // friction_cone: |Lambda_T| > mu Lambda_N + tau_h.
+        const Rational bound = mu * ln + tau_h;
+        if (sign_of(bound) == Sign::negative || lt2 > bound * bound) {
+            const double over = std::sqrt(approx(lt2)) - approx(mu * ln);
+            const double score = s2 > Rational(0) ? over / std::sqrt(approx(trH * s2)) : INFINITY;
+            if (!cone || score > cone_score) {
+                cone_score = score;
+                Finding f;
+                f.property = Property::friction_cone;
+                f.score = score;
+                f.detail = "|Lambda_T| = |" + vector_text(lt) + "| > mu Lambda_N" + std::to_string(N + 1) + " = " +
+                           exact_text(mu * ln) + where;
+                f.exact = {{"|Lambda_T|^2", to_string(lt2)}, {"mu Lambda_N", to_string(mu * ln)}};
+                cone = std::move(f);
+            }
+        }
+        // coulomb, two conditions that every answer of Coulomb's law meets (sliding: Lambda_T =
+        // -mu Lambda_N xi_T / |xi_T|; sticking: xi_T = 0), each with its bound:
+        //  - rho = Lambda_T . xi_T + mu Lambda_N |xi_T| = 0 (too little friction, or along the slip):
+        //    (dot - C) + (mu Lambda_N - tau_h) |xi_T| > 0, C = 2 mu Lambda_N^up t sqrt tr G_TT;
+        //  - |Lambda_T ^ xi_T| = 0 (friction not along the slip; Lagrange: |a ^ b|^2 = |a|^2 |b|^2 -
+        //    (a . b)^2): |Lambda_T ^ xi_T| > a |xi_T| + b, a = t sqrt tr H_TT, b = mu Lambda_N^up t sqrt tr G_TT,
+        //    squared: (wedge2 - a^2 |xi|^2 - b^2) - 2 a b |xi_T| > 0.
+        // (First order in an error of size and of direction; Lambda_N^up = max(Lambda_N + t sqrt H_NN, 0).)
+        Rational ln_up = ln + tol * hn;
+        if (sign_of(ln_up) == Sign::negative)
+            ln_up = Rational(0);
+        const Rational gt = sqrt_up(trG), ht = sqrt_up(trH);
+        const Rational C = Rational(2) * mu * ln_up * tol * gt;
+        const bool too_little = sign_with_root(dot - C, mu * ln - tau_h, xi2) == Sign::positive;
+        const Rational wedge2 = lt2 * xi2 - dot * dot;
+        const Rational a = tol * ht, b = mu * ln_up * tol * gt;
+        const bool aside = !too_little && sign_with_root(wedge2 - a * a * xi2 - b * b, Rational(-2) * a * b, xi2) == Sign::positive;
+        if (too_little || aside) {
+            const double xi_norm = std::sqrt(approx(xi2));
+            const double rho = approx(dot) + approx(mu * ln) * xi_norm;
+            const double off = too_little ? rho / xi_norm : std::sqrt(std::max(0.0, approx(wedge2))) / xi_norm;
+            const double score = s2 > Rational(0) ? off / std::sqrt(approx(trH * s2)) : INFINITY;
+            if (!slip || score > slip_score) {
+                slip_score = score;
+                Finding f;
+                f.property = Property::coulomb;
+                f.score = score;
+                f.detail = "xi_T = " + vector_text(xi) + " but Lambda_T = " + vector_text(lt) +
+                           " is not -mu Lambda_N xi_T / |xi_T| (mu Lambda_N = " + exact_text(mu * ln) + "): " +
+                           (too_little ? "Lambda_T . xi_T + mu Lambda_N |xi_T| = ~" + decimal_text(rho) + " > 0"
+                                       : "|Lambda_T ^ xi_T| / |xi_T| = ~" + decimal_text(off) + " (not along the slip)") +
+                           where;
+                f.exact = {{"Lambda_T . xi_T", to_string(dot)}, {"mu Lambda_N", to_string(mu * ln)},
+                           {"|xi_T|^2", to_string(xi2)}, {"|Lambda_T|^2", to_string(lt2)}};
+                slip = std::move(f);
+            }
+        }
+    }
+    if (cone)
+        out.push_back(std::move(*cone));
+    if (slip)
+        out.push_back(std::move(*slip));
 }
 
 std::vector<Finding> ConsistencyChecker::check_pair(const double* ad, const double* yad, const double* bd,
@@ -894,7 +1019,7 @@ ConsistencySummary run_consistency(const Mechanics& m, const ConsistencyOptions&
     if (d > kMaxDim)
         throw InputError("fuzz: at most " + std::to_string(kMaxDim) + " input components, the system has " +
                          std::to_string(d));
-    const ConsistencyChecker checker(m, o.velocities, o.max_rel_error, o.restitution);
+    const ConsistencyChecker checker(m, o.velocities, o.max_rel_error, o.restitution, o.cone);
     // Every finding is classified (law-level or solver-level) when a reference law is given.
     auto note = [&](Partial& part, Finding f) {
         classify(f, o.reference, checker, m, o.velocities);

@@ -16,6 +16,14 @@
 //       friction_cone  |Lambda_T| - mu Lambda_N > R s (sqrt H_TT + mu sqrt H_NN)
 //       coulomb     xi_T = gamma_T+ + e_T gamma_T- beyond R s sqrt G_TT on one side, and the friction
 //                   beyond R s (sqrt H_TT + mu sqrt H_NN) from the bound that opposes that slip
+//     With the circular cone (--cone circular: |Lambda_T| <= mu Lambda_N over the tangents of one
+//     contact, Lambda_T = -mu Lambda_N xi_T / |xi_T| where it slips; proofs/README.md, "Consistency
+//     with a circular friction cone"), per rough contact, with t = R s + A:
+//       friction_cone  |Lambda_T| - mu Lambda_N > t (sqrt tr H_TT + mu sqrt H_NN)
+//       coulomb     rho = Lambda_T . xi_T + mu Lambda_N |xi_T| > t |xi_T| (sqrt tr H_TT + mu sqrt H_NN)
+//                   + 2 mu L t sqrt tr G_TT, or |Lambda_T ^ xi_T| > t |xi_T| sqrt tr H_TT + mu L t sqrt tr G_TT
+//                   (L = max(Lambda_N + t sqrt H_NN, 0); both are 0 at every answer of Coulomb's law,
+//                   sliding or sticking), decided exactly (P + Q sqrt(S) > 0)
 //       momentum    (velocities) r = du - M^-1 W Lambda, |r|_M^2 > R^2 s^2: a velocity change
 //                   outside the range of M^-1 W (lost or created momentum of a free chain)
 //       energy      |x+|^2 > (1 + R)^2 s^2
@@ -65,6 +73,11 @@ inline constexpr std::size_t kProperties = static_cast<std::size_t>(Property::co
 const char* property_id(Property p);    // "kinematic", "kinetic", "momentum", "energy", ...
 const char* property_title(Property p); // "negative contact velocity", "energy gain", ...
 
+// The friction of a contact with several tangents: each tangent bounded by mu Lambda_N on its own
+// (the box, ODE's dContactApprox1: the laws impactcert derives), or the circular cone (Jolt,
+// MuJoCo's elliptic cone, Siconos's fc3d), checked by consistency fuzzing only.
+enum class Cone { box, circular };
+
 struct ConsistencyOptions {
     std::uint64_t seed = 1;
     std::uint64_t samples = 100000;
@@ -75,6 +88,7 @@ struct ConsistencyOptions {
     bool velocities = true;
     bool nonexpansive = false, continuity = false; // --require
     std::vector<Rational> restitution; // --restitution: one per normal contact; empty: not checked
+    Cone cone = Cone::box;             // --cone
     const Model* reference = nullptr;  // --reference: the exact law the implementation means to compute
     std::size_t keep = 10;
     std::string replay_prefix; // "impactcert eval --float --masses ... --impl-cmd ..."
@@ -129,7 +143,7 @@ struct ConsistencySummary {
 class ConsistencyChecker {
   public:
     ConsistencyChecker(const Mechanics& m, bool velocities, double max_rel_error,
-                       std::vector<Rational> restitution = {});
+                       std::vector<Rational> restitution = {}, Cone cone = Cone::box);
     std::size_t dim() const;
     // Findings for one input/output (each property at most once).
     std::vector<Finding> check(const double* x, const double* y) const;
@@ -160,6 +174,10 @@ class ConsistencyChecker {
     double R_;
     Rational A_; // the underflow allowance, sqrt(d trace X) 2^-1074
     std::vector<Rational> e_; // the restitution per normal contact (empty: not checked)
+    Cone cone_;
+    // The circular cone's friction_cone and coulomb findings (check_exact).
+    void circular_friction(const Vector& lambda, const Vector& gm, const Vector& gp, const Rational& tol, const Rational& s2,
+                           std::vector<Finding>& out) const;
 };
 
 ConsistencySummary run_consistency(const Mechanics& m, const ConsistencyOptions& options, const Implementation& impl,

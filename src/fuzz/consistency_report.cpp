@@ -61,6 +61,23 @@ ConsistencyPlan plan_consistency(const ConsistencyRequest& a, const std::functio
                 throw InputError("--restitution: contact " + std::to_string(k + 1) + " must be in [0, 1], got " +
                                  to_string(restitution[k]));
     }
+    // --cone circular (proofs/README.md, "Consistency with a circular friction cone"): the
+    // tangents of a rough contact (one friction declaration: one mu, one e_T) share one disk
+    // |Lambda_T| <= mu Lambda_N.
+    if (!a.cone.empty() && a.cone != "box" && a.cone != "circular")
+        throw InputError("--cone: expected box or circular, got \"" + a.cone + "\"");
+    if (a.cone == "circular") {
+        if (!s.mech.has_friction())
+            throw InputError("--cone circular: the system has no friction");
+        if (s.mech.redundant())
+            throw InputError("--cone circular: the system's contact columns are dependent (rank " +
+                             std::to_string(s.mech.basis.size()) + " of " + std::to_string(s.mech.contacts()) +
+                             "); the circular cone is checked on independent columns only");
+        if (!a.reference.empty())
+            throw InputError("--reference: impactcert's laws bound each tangent on its own (the friction box); with "
+                             "--cone circular there is no reference law (the circular law is not cone-wise linear)");
+        o.cone = Cone::circular;
+    }
     if (a.max_ulps_given)
         throw InputError("--max-ulps: consistency fuzzing has no exact law to count ulps against; give --max-rel-error");
     if (a.max_rel_error) {
@@ -232,6 +249,8 @@ Json consistency_report_json(const ConsistencySummary& sum, const ConsistencyPla
     j["space"] = o.velocities ? "ball velocities" : "contact velocities";
     j["implementation"] = implementation;
     j["tolerance"] = "--max-rel-error " + plan.R_text;
+    if (plan.mech.has_friction())
+        j["cone"] = o.cone == Cone::circular ? "circular" : "box";
     j["range"] = range;
     j["seed"] = o.seed;
     j["jobs"] = o.jobs;

@@ -42,6 +42,7 @@ struct ConsistencyRequest {
     std::optional<double> max_rel_error;              // else 1e-9
     std::optional<std::vector<Rational>> restitution; // --restitution: one value, or one per contact
     std::optional<std::string> restitution_text;      // or as the option's text (parsed here, in order)
+    std::string cone;                                 // --cone: "" or box (each tangent bounded), circular
     std::string reference;                            // "": none; approaching, newton, poisson, or a law file
     bool reference_given = false;                     // given, even as an empty text
     std::vector<std::string> require;                 // --require's items
