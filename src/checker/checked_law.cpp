@@ -86,6 +86,44 @@ std::size_t bytes_of(const Mat& m) {
     return b;
 }
 
+// A friction polygon: at least three facets, none zero, each turn from a_j to a_{j+1} strictly
+// counterclockwise and less than a half turn, once around the origin (the turns' angles sum to
+// one full turn: the facets pass the direction of the positive x axis once), and each vertex
+// strictly inside the other facets.
+Polygon read_polygon(const Json& facets, const std::string& path) {
+    if (!facets.is_array())
+        malformed(path, "expected an array");
+    const std::size_t k = facets.size();
+    require(k >= 3, path, "a friction polygon needs at least three facets");
+    Polygon poly;
+    for (std::size_t j = 0; j < k; ++j) {
+        Vec a = vec(facets[j], at(path, j));
+        require(a.size() == 2, at(path, j), "needs two entries");
+        require(sgn(a[0]) != 0 || sgn(a[1]) != 0, at(path, j), "is zero");
+        poly.a.push_back(std::move(a));
+    }
+    std::size_t passes = 0;
+    for (std::size_t j = 0; j < k; ++j) {
+        const Vec& a = poly.a[j];
+        const Vec& b = poly.a[(j + 1) % k];
+        const Q det = a[0] * b[1] - a[1] * b[0];
+        require(sgn(det) > 0, at(path, (j + 1) % k), "does not turn counterclockwise by less than a half turn");
+        // The direction (1, 0) lies strictly inside the turn from a to b, or is b itself.
+        const bool b_on_axis = sgn(b[1]) == 0 && sgn(b[0]) > 0;
+        const bool inside = sgn(a[1]) < 0 && sgn(b[1]) > 0; // cross(a, e) > 0 and cross(e, b) > 0
+        if (b_on_axis || inside)
+            ++passes;
+        Vec v{(b[1] - a[1]) / det, (a[0] - b[0]) / det};
+        poly.v.push_back(std::move(v));
+    }
+    require(passes == 1, path, "does not go once around the origin");
+    for (std::size_t j = 0; j < k; ++j)
+        for (std::size_t i = 0; i < k; ++i)
+            if (i != j && i != (j + 1) % k)
+                require(poly.a[i][0] * poly.v[j][0] + poly.a[i][1] * poly.v[j][1] < 1, at(path, i), "is not an edge of the polygon");
+    return poly;
+}
+
 } // namespace
 
 Law read_law(const Json& j, const std::string& path, std::size_t max_pieces, std::size_t max_memory) {
@@ -146,7 +184,7 @@ Law read_law(const Json& j, const std::string& path, std::size_t max_pieces, std
                 malformed(fp, "expected an array");
             for (std::size_t i = 0; i < fr.size(); ++i) {
                 const std::string ep = at(fp, i);
-                expect_keys(fr[i], ep, {"contact", "mu", "tangents"}, {"restitution_tangential"});
+                expect_keys(fr[i], ep, {"contact", "mu", "tangents"}, {"restitution_tangential", "facets"});
                 const std::size_t k = natural(field(fr[i], ep, "contact"), at(ep, "contact"));
                 require(k >= 1 && k <= law.normals, at(ep, "contact"), "no such contact");
                 require(law.tangents.empty() || law.tangents.back().contact < k - 1, at(ep, "contact"),
@@ -169,11 +207,17 @@ Law read_law(const Json& j, const std::string& path, std::size_t max_pieces, std
                         law.W[r].push_back(column[r]);
                     law.tangents.push_back(Tangent{k - 1, mu, e_T});
                 }
+                law.polygons.resize(law.normals);
+                if (fr[i].contains("facets")) {
+                    require(ts.size() == 2, at(ep, "facets"), "a friction polygon needs two tangents");
+                    law.polygons[k - 1] = read_polygon(field(fr[i], ep, "facets"), at(ep, "facets"));
+                }
             }
         }
     }
     if (law.normals == 0)
         law.normals = law.W[0].size();
+    law.polygons.resize(law.normals);
     law.c = law.W[0].size();
     // Dependent columns: each column kept when the Gram matrix of those kept with it stays
     // non-singular; every other column w_j is W_B x_j with x_j from the normal equations

@@ -54,6 +54,12 @@ struct Tangent {
     Q mu, e_T;
 };
 
+// A friction polygon (proofs/README.md, "Polygonal friction cones"): facets a_j and the vertices
+// v_j (a_j . v_j = a_{j+1} . v_j = 1), read by the checker's own route.
+struct Polygon {
+    std::vector<Vec> a, v;
+};
+
 struct Law {
     Json json;
     Vec masses;
@@ -61,6 +67,13 @@ struct Law {
     std::size_t n = 0, c = 0; // c: the dimension of gamma (normals + tangents)
     std::size_t normals = 0;
     std::vector<Tangent> tangents; // tangent j is coordinate normals + j
+    std::vector<Polygon> polygons; // per normal contact (no facets: the box)
+    bool has_polygons() const {
+        for (const auto& p : polygons)
+            if (!p.a.empty())
+                return true;
+        return false;
+    }
     std::vector<Piece> pieces;
     std::map<std::string, std::size_t> piece_index;
     std::vector<Vec> distinct_rays;     // in order of first appearance
@@ -129,6 +142,14 @@ struct Law {
             return false;
         for (std::size_t j = 0; j < tangents.size(); ++j) {
             const Q bound = tangents[j].mu * l[tangents[j].contact];
+            const Polygon& poly = polygons[tangents[j].contact];
+            if (!poly.a.empty()) { // a . Lambda_T <= mu Lambda_N for every facet (the contact's first tangent)
+                if (j == 0 || tangents[j - 1].contact != tangents[j].contact)
+                    for (const Vec& a : poly.a)
+                        if (sgn(bound - a[0] * l[normals + j] - a[1] * l[normals + j + 1]) < 0)
+                            return false;
+                continue;
+            }
             if (sgn(bound - l[normals + j]) < 0 || sgn(bound + l[normals + j]) < 0)
                 return false;
         }

@@ -224,6 +224,15 @@ class Checker {
     };
     std::optional<CoulombFailure> first_coulomb_failure() const;
     void check_coulomb_witness(const Json& w, const std::string& wp);
+    // Friction polygons (proofs/README.md, "Polygonal friction cones", Lemma P): the forms, one
+    // per (piece, contact with a polygon, vertex) in that order, and A of one of them,
+    // -(B + B^T) / 2 with B(a, b) = (Lambda_T(r_a) - mu Lambda_N(r_a) v) . xi_T(r_b) (their evidence
+    // is checked with the obligations, as energetic's).
+    struct PolygonForm {
+        std::size_t piece = 0, contact = 0, vertex = 0;
+    };
+    std::vector<PolygonForm> polygon_forms() const;
+    Mat polygon_form(const PolygonForm& f) const;
 };
 
 // The whole document (check.cpp): 0, or throws Malformed, Rejected, Undecided or a JSON error.

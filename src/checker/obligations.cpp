@@ -120,7 +120,7 @@ void Checker::could_be_undecided(const std::string& id, const std::string& limit
         options = {"--max-chambers"};
     else if (id == "P1")
         options = {"--max-subsets"};
-    else if (id == "energetic")
+    else if (id == "energetic" || (id == "coulomb" && law_.has_polygons()))
         options = {"--max-faces"};
     else if (id == "nonexpansive")
         options = {"--max-faces", "--max-chambers"};
@@ -304,8 +304,35 @@ bool Checker::evidence(const std::string& id, const Json& data, const std::strin
         return ok;
     }
     if (id == "coulomb") {
-        require(data.empty(), dp, "coulomb is decided by the checker itself: no evidence is listed");
-        return !first_coulomb_failure();
+        // Per tangent (Lemma F) by the checker itself; friction polygons by their forms' evidence.
+        if (!law_.has_polygons() || first_coulomb_failure()) {
+            require(data.empty(), dp, law_.has_polygons() ? "the linear part of coulomb fails: no polygon form is listed"
+                                                           : "coulomb is decided by the checker itself: no evidence is listed");
+            return !first_coulomb_failure();
+        }
+        expect_keys(data, dp, {"polygon_forms"});
+        const Json& l = list(data, dp, "polygon_forms");
+        const auto forms = polygon_forms();
+        require(l.size() <= forms.size(), at(dp, "polygon_forms"), "too many entries");
+        bool ok = true;
+        for (std::size_t k = 0; k < l.size(); ++k) {
+            const PolygonForm& f = forms[k];
+            const std::string ep = at(at(dp, "polygon_forms"), k);
+            expect_keys(l[k], ep, {"piece", "contact", "vertex", "A", "certificate"});
+            expect_piece(l[k], ep, "piece", f.piece);
+            require(natural(field(l[k], ep, "contact"), at(ep, "contact")) == f.contact + 1, at(ep, "contact"),
+                    "is not the next contact with a friction polygon");
+            require(natural(field(l[k], ep, "vertex"), at(ep, "vertex")) == f.vertex + 1, at(ep, "vertex"),
+                    "is not the next vertex");
+            const Mat A = polygon_form(f);
+            expect_mat(l[k], ep, "A", A, "-(B + B^T) / 2, B(a, b) = (Lambda_T(r_a) - mu Lambda_N(r_a) v) . xi_T(r_b)");
+            const bool this_ok =
+                check_copositive_evidence(A, field(l[k], ep, "certificate"), at(ep, "certificate"), limits_.max_faces);
+            ends_at_first_failure(this_ok, k, l.size(), at(dp, "polygon_forms"));
+            ok = ok && this_ok;
+        }
+        complete_unless_failed(!ok, l.size(), forms.size(), at(dp, "polygon_forms"));
+        return ok;
     }
     if (id == "energetic") {
         expect_keys(data, dp, {"pieces"});

@@ -502,6 +502,8 @@ Explored explore_words(const DeriveOptions& options, const std::vector<Matrix>& 
 DeriveResult derive_sequential(const DeriveOptions& options) {
     const Mechanics mech = make_mechanics(options);
     if (mech.has_friction()) {
+        if (mech.has_polygons())
+            throw InputError("derive sequential: friction polygons are not offered here (derive newton derives them)");
         validate(options, mech.normals);
         return derive_sequential_friction(options, mech);
     }

@@ -45,10 +45,10 @@ struct Mode {
 // A condition of a mode: s xi_q (xi_q = D_q gamma-_q + (G Lambda)_q), l . Lambda, or s gamma-_q;
 // a mode is d of them equal to zero and the others >= 0.
 struct Cond {
-    enum Kind { xi, lambda, gamma } kind = xi;
+    enum Kind { xi, lambda, gamma, xi_combination } kind = xi;
     std::size_t q = 0;
     Rational s{1};
-    Vector l;
+    Vector l; // lambda: l . Lambda; xi_combination: sum_q l_q xi_q
 };
 
 struct ModeRows {
@@ -61,6 +61,14 @@ struct ModeRows {
         if (c.kind == Cond::lambda) {
             for (std::size_t k = 0; k < d; ++k)
                 v[d + k] = c.l[k];
+        } else if (c.kind == Cond::xi_combination) {
+            for (std::size_t q = 0; q < d; ++q) {
+                if (sign_of(c.l[q]) == Sign::zero)
+                    continue;
+                v[q] += c.l[q] * D[q];
+                for (std::size_t k = 0; k < d; ++k)
+                    v[d + k] += c.l[q] * G(q, k);
+            }
         } else if (c.kind == Cond::gamma) {
             v[c.q] = c.s;
         } else {
@@ -74,6 +82,12 @@ struct ModeRows {
     Rational value(const Cond& c, const Vector& gm, const Vector& gp, const Vector& lambda) const {
         if (c.kind == Cond::lambda)
             return dot(c.l, lambda);
+        if (c.kind == Cond::xi_combination) {
+            Rational sum;
+            for (std::size_t q = 0; q < D.size(); ++q)
+                sum += c.l[q] * (D[q] * gm[q] + gp[q] - gm[q]);
+            return sum;
+        }
         if (c.kind == Cond::gamma)
             return c.s * gm[c.q];
         return c.s * (D[c.q] * gm[c.q] + gp[c.q] - gm[c.q]);
@@ -100,6 +114,16 @@ struct Friction {
             states[k].push_back("o");
             if (tangents_of[k].empty()) {
                 states[k].push_back("c");
+                continue;
+            }
+            if (k < m.polygons.size() && !m.polygons[k].empty()) {
+                // A friction polygon (proofs/README.md, "Polygonal friction cones"): stick, the
+                // friction at vertex j, or on edge j (between vertices j - 1 and j).
+                states[k].push_back("s");
+                for (std::size_t j = 0; j < m.polygons[k].a.size(); ++j)
+                    states[k].push_back("v" + std::to_string(j + 1));
+                for (std::size_t j = 0; j < m.polygons[k].a.size(); ++j)
+                    states[k].push_back("e" + std::to_string(j + 1));
                 continue;
             }
             std::vector<std::string> words{""};
@@ -160,6 +184,10 @@ struct Friction {
             }
             r.eq.push_back(xi(k, 1));
             r.ineq.push_back(lam(unit(k)));
+            if (k < m.polygons.size() && !m.polygons[k].empty()) {
+                polygon_rows(k, s, r);
+                continue;
+            }
             for (std::size_t t = 0; t < tangents_of[k].size(); ++t) {
                 const std::size_t j = tangents_of[k][t], T = N + j;
                 const Vector mu_n = m.tangents[j].mu * unit(k);
@@ -177,6 +205,68 @@ struct Friction {
             }
         }
         return r;
+    }
+
+    // A closed contact k with a friction polygon (facets a_j, vertices v_j in units of mu
+    // Lambda_N; tangents T1, T2). The friction Lambda_T minimises Lambda_T . xi_T over the polygon
+    // mu Lambda_N P (maximal dissipation; for the box it is the rule per tangent):
+    //   s   stick: xi_T = 0, a_j . Lambda_T <= mu Lambda_N for every j;
+    //   vj  at vertex j: Lambda_T = mu Lambda_N v_j, -xi_T in the cone of a_j and a_{j+1} (the
+    //       normal cone of P at v_j): b . (-xi_T) >= 0 for the two dual vectors b;
+    //   ej  on edge j: a_j . Lambda_T = mu Lambda_N, xi_T along -a_j (a_j^perp . xi_T = 0,
+    //       a_j . xi_T <= 0), Lambda_T between the edge's vertices v_{j-1} and v_j.
+    void polygon_rows(std::size_t k, const std::string& state, ModeRows& r) const {
+        const FrictionPolygon& P = m.polygons[k];
+        const std::size_t K = P.a.size(), T1 = N + tangents_of[k][0], T2 = N + tangents_of[k][1];
+        const Rational& mu = m.tangents[tangents_of[k][0]].mu;
+        // Rows over Lambda and over xi from 2-vectors in the tangent plane (and a multiple of Lambda_N).
+        auto lam_row = [&](const Vector& w, const Rational& n_coef) {
+            Vector l(d);
+            l[T1] = w[0];
+            l[T2] = w[1];
+            l[k] = n_coef;
+            return Cond{Cond::lambda, 0, Rational(1), std::move(l)};
+        };
+        auto xi_row = [&](const Vector& w) {
+            Vector l(d);
+            l[T1] = w[0];
+            l[T2] = w[1];
+            return Cond{Cond::xi_combination, 0, Rational(1), std::move(l)};
+        };
+        auto perp = [](const Vector& a) { return Vector{-a[1], a[0]}; }; // a turned a quarter counterclockwise
+        const Rational minus(-1);
+        if (state == "s") {
+            r.eq.push_back(xi_row(Vector{Rational(1), Rational(0)}));
+            r.eq.push_back(xi_row(Vector{Rational(0), Rational(1)}));
+            for (const Vector& a : P.a) // mu Lambda_N - a . Lambda_T >= 0
+                r.ineq.push_back(lam_row(minus * a, mu));
+            return;
+        }
+        const std::size_t j = std::stoul(state.substr(1)) - 1;
+        if (state[0] == 'v') {
+            const Vector& v = P.v[j];
+            // Lambda_T - mu Lambda_N v = 0, per tangent
+            r.eq.push_back(lam_row(Vector{Rational(1), Rational(0)}, minus * mu * v[0]));
+            r.eq.push_back(lam_row(Vector{Rational(0), Rational(1)}, minus * mu * v[1]));
+            // -xi_T = alpha a_j + beta a_{j+1}, alpha, beta >= 0: alpha = -xi_T . perp(a_{j+1}) /
+            // (a_j . perp(a_{j+1})), beta = -xi_T . perp(a_j) / (a_{j+1} . perp(a_j)).
+            const Vector& a = P.a[j];
+            const Vector& b = P.a[(j + 1) % K];
+            const Vector pb = perp(b), pa = perp(a);
+            const Rational da = dot(a, pb), db = dot(b, pa); // da < 0 < db (b turns counterclockwise from a)
+            r.ineq.push_back(xi_row((minus / da) * pb));
+            r.ineq.push_back(xi_row((minus / db) * pa));
+            return;
+        }
+        const Vector& a = P.a[j];
+        const Vector& lo = P.v[(j + K - 1) % K]; // the edge runs from v_{j-1} to v_j counterclockwise
+        const Vector& hi = P.v[j];
+        const Vector along = perp(a); // along the edge, from lo to hi: along . lo < along . hi
+        r.eq.push_back(lam_row(a, minus * mu));   // a . Lambda_T - mu Lambda_N = 0
+        r.eq.push_back(xi_row(along));            // xi_T along a
+        r.ineq.push_back(xi_row(minus * a));      // a . xi_T <= 0
+        r.ineq.push_back(lam_row(along, minus * mu * dot(along, lo))); // along . Lambda_T >= mu Lambda_N along . v_{j-1}
+        r.ineq.push_back(lam_row(minus * along, mu * dot(along, hi))); // along . Lambda_T <= mu Lambda_N along . v_j
     }
 
     std::string name(const Mode& md) const {
@@ -603,7 +693,11 @@ FrictionResult derive_newton_friction(const FrictionOptions& o) {
                       ", normal restitution " + list_text(o.restitution) +
                       "; derived by impactcert derive newton. Pieces are named by contact modes, one token per "
                       "contact: o open, c closed (frictionless), and per tangent s stick, f slip forward "
-                      "(xi_T > 0, Lambda_T = -mu Lambda_N), b slip backward; /e lists the closed contacts "
+                      "(xi_T > 0, Lambda_T = -mu Lambda_N), b slip backward" +
+                      std::string(mech.has_polygons() ? "; at a contact with a friction polygon s stick, vj the friction at "
+                                                        "vertex j, ej on edge j (facet j)"
+                                                      : "") +
+                      "; /e lists the closed contacts "
                       "where restitution applies when not all of them; parts of a triangulated region by .1, .2, ...";
     const auto written = add_region_pieces(regions, r_dim, law, o.progress, nullptr, !mech.redundant());
     if (mech.redundant()) {

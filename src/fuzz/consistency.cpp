@@ -396,6 +396,8 @@ std::vector<Finding> ConsistencyChecker::check_exact(const Vector& x, const Vect
         std::string cone_detail, slip_detail;
         for (std::size_t j = 0; j < m_.tangents.size(); ++j) {
             const Tangent& t = m_.tangents[j];
+            if (t.contact < m_.polygons.size() && !m_.polygons[t.contact].empty())
+                continue; // a friction polygon: polygon_friction below
             const std::size_t T = m_.normals + j, N = t.contact;
             const Rational lt = lambda[T], ln = lambda[N];
             const Rational tau_h = tol * (sqrt_up(m_.H(T, T)) + t.mu * sqrt_up(m_.H(N, N)));
@@ -434,6 +436,8 @@ std::vector<Finding> ConsistencyChecker::check_exact(const Vector& x, const Vect
             finding(Property::friction_cone, std::sqrt(cone_score), cone_detail, {});
         if (worst_slip)
             finding(Property::coulomb, std::sqrt(slip_score), slip_detail, {});
+        if (m_.has_polygons())
+            polygon_friction(lambda, gm, gp, tol, s2, out);
     }
     // momentum: the part of the velocity change outside the range of M^-1 W
     if (velocities_) {
@@ -722,6 +726,92 @@ void ConsistencyChecker::circular_friction(const Vector& lambda, const Vector& g
                 f.exact = {{"Lambda_T . xi_T", to_string(dot)}, {"mu Lambda_N", to_string(mu * ln)},
                            {"|xi_T|^2", to_string(xi2)}, {"|Lambda_T|^2", to_string(lt2)}};
                 slip = std::move(f);
+            }
+        }
+    }
+    if (cone)
+        out.push_back(std::move(*cone));
+    if (slip)
+        out.push_back(std::move(*slip));
+}
+
+// Friction polygons (proofs/README.md, "Polygonal friction cones": consistency), per contact N
+// with a polygon (facets a_j, vertices v_j; tangents T1, T2), with t = R s + A:
+//   friction_cone  a_j . Lambda_T - mu Lambda_N > t (sqrt(a_j^T H_TT a_j) + mu sqrt H_NN) for some j;
+//   coulomb     q_j = (Lambda_T - mu Lambda_N v_j) . xi_T > t sqrt(tr H_TT) |xi_T| + mu L rho t g
+//               + mu t sqrt(H_NN) |v_j . xi_T| + mu L |v_j| t g for some vertex j (g = sqrt tr G_TT,
+//               rho = max |v_i|, L = max(Lambda_N + t sqrt H_NN, 0)): every answer of the law has
+//               q_j <= 0, and each term bounds what an answer within t can change; every root is
+//               replaced by a rational above it.
+void ConsistencyChecker::polygon_friction(const Vector& lambda, const Vector& gm, const Vector& gp, const Rational& tol,
+                                          const Rational& s2, std::vector<Finding>& out) const {
+    std::optional<Finding> cone, slip;
+    double cone_score = 0, slip_score = 0;
+    for (std::size_t N = 0; N < m_.polygons.size(); ++N) {
+        const FrictionPolygon& P = m_.polygons[N];
+        if (P.empty())
+            continue;
+        std::size_t j0 = 0;
+        while (m_.tangents[j0].contact != N)
+            ++j0;
+        const std::size_t T1 = m_.normals + j0, T2 = T1 + 1;
+        const Rational& mu = m_.tangents[j0].mu;
+        const Vector lt{lambda[T1], lambda[T2]};
+        const Vector xi{gp[T1] + m_.tangents[j0].e_T * gm[T1], gp[T2] + m_.tangents[j0 + 1].e_T * gm[T2]};
+        const Rational ln = lambda[N];
+        const Rational hn = sqrt_up(m_.H(N, N));
+        const std::string where = " (contact " + std::to_string(N + 1) + ", mu = " + to_string(mu) + ")";
+        const double scale = s2 > Rational(0) ? std::sqrt(approx((m_.H(T1, T1) + m_.H(T2, T2)) * s2)) : 0;
+        for (std::size_t j = 0; j < P.a.size(); ++j) {
+            const Vector& a = P.a[j];
+            const Rational over = dot(a, lt) - mu * ln;
+            const Rational aHa = a[0] * a[0] * m_.H(T1, T1) + Rational(2) * a[0] * a[1] * m_.H(T1, T2) + a[1] * a[1] * m_.H(T2, T2);
+            if (over > tol * (sqrt_up(aHa) + mu * hn)) {
+                const double score = scale > 0 ? approx(over) / scale : INFINITY;
+                if (!cone || score > cone_score) {
+                    cone_score = score;
+                    Finding f;
+                    f.property = Property::friction_cone;
+                    f.score = score;
+                    f.detail = "a_" + std::to_string(j + 1) + " . Lambda_T = " + exact_text(dot(a, lt)) + " > mu Lambda_N" +
+                               std::to_string(N + 1) + " = " + exact_text(mu * ln) + " (facet " + std::to_string(j + 1) +
+                               " of the friction polygon)" + where;
+                    f.exact = {{"a . Lambda_T", to_string(dot(a, lt))}, {"mu Lambda_N", to_string(mu * ln)}};
+                    cone = std::move(f);
+                }
+            }
+        }
+        Rational ln_up = ln + tol * hn;
+        if (sign_of(ln_up) == Sign::negative)
+            ln_up = Rational(0);
+        const Rational g = sqrt_up(m_.G(T1, T1) + m_.G(T2, T2));
+        const Rational h = sqrt_up(m_.H(T1, T1) + m_.H(T2, T2));
+        const Rational xi_up = sqrt_up(dot(xi, xi));
+        Rational radius;
+        for (const Vector& v : P.v)
+            radius = std::max(radius, sqrt_up(dot(v, v)));
+        for (std::size_t j = 0; j < P.v.size(); ++j) {
+            const Vector& v = P.v[j];
+            const Rational q = (lt[0] - mu * ln * v[0]) * xi[0] + (lt[1] - mu * ln * v[1]) * xi[1];
+            const Rational vxi = dot(v, xi);
+            const Rational bound = tol * h * xi_up + mu * ln_up * radius * tol * g +
+                                   mu * tol * hn * (sign_of(vxi) == Sign::negative ? -vxi : vxi) +
+                                   mu * ln_up * sqrt_up(dot(v, v)) * tol * g;
+            if (q > bound) {
+                const double score = scale > 0 && xi_up > Rational(0) ? approx(q / xi_up) / scale : INFINITY;
+                if (!slip || score > slip_score) {
+                    slip_score = score;
+                    Finding f;
+                    f.property = Property::coulomb;
+                    f.score = score;
+                    f.detail = "xi_T = (" + exact_text(xi[0]) + ", " + exact_text(xi[1]) + ") but Lambda_T = (" +
+                               exact_text(lt[0]) + ", " + exact_text(lt[1]) + ") dissipates less than mu Lambda_N v_" +
+                               std::to_string(j + 1) + " = (" + exact_text(mu * ln * v[0]) + ", " + exact_text(mu * ln * v[1]) +
+                               "): (Lambda_T - mu Lambda_N v) . xi_T = " + exact_text(q) + " > 0 (vertex " +
+                               std::to_string(j + 1) + " of the friction polygon)" + where;
+                    f.exact = {{"(Lambda_T - mu Lambda_N v) . xi_T", to_string(q)}, {"bound", to_string(bound)}};
+                    slip = std::move(f);
+                }
             }
         }
     }

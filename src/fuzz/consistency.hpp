@@ -16,6 +16,9 @@
 //       friction_cone  |Lambda_T| - mu Lambda_N > R s (sqrt H_TT + mu sqrt H_NN)
 //       coulomb     xi_T = gamma_T+ + e_T gamma_T- beyond R s sqrt G_TT on one side, and the friction
 //                   beyond R s (sqrt H_TT + mu sqrt H_NN) from the bound that opposes that slip
+//     A contact with a friction polygon (the system's facets a_j, vertices v_j): friction_cone
+//     a_j . Lambda_T - mu Lambda_N beyond t (sqrt(a_j^T H_TT a_j) + mu sqrt H_NN), coulomb
+//     (Lambda_T - mu Lambda_N v_j) . xi_T beyond its bound (consistency.cpp, polygon_friction).
 //     With the circular cone (--cone circular: |Lambda_T| <= mu Lambda_N over the tangents of one
 //     contact, Lambda_T = -mu Lambda_N xi_T / |xi_T| where it slips; proofs/README.md, "Consistency
 //     with a circular friction cone"), per rough contact, with t = R s + A:
@@ -178,6 +181,9 @@ class ConsistencyChecker {
     // The circular cone's friction_cone and coulomb findings (check_exact).
     void circular_friction(const Vector& lambda, const Vector& gm, const Vector& gp, const Rational& tol, const Rational& s2,
                            std::vector<Finding>& out) const;
+    // The same for the contacts with a friction polygon (the system's facets).
+    void polygon_friction(const Vector& lambda, const Vector& gm, const Vector& gp, const Rational& tol, const Rational& s2,
+                          std::vector<Finding>& out) const;
 };
 
 ConsistencySummary run_consistency(const Mechanics& m, const ConsistencyOptions& options, const Implementation& impl,

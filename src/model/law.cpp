@@ -66,6 +66,7 @@ Model::Model(Law law, std::size_t max_pieces, std::size_t max_memory_mb) : law_(
         Mechanics mech = make_mechanics(law_.masses, law_.M, law_.W, law_.friction, Dependent::allow);
         normals_ = mech.normals;
         tangents_ = std::move(mech.tangents);
+        polygons_ = std::move(mech.polygons);
         M_ = std::move(mech.M);
         M_inv_ = std::move(mech.M_inv);
         if (mech.redundant()) {

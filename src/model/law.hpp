@@ -174,6 +174,14 @@ class Model {
     std::size_t normals() const { return normals_; }
     const std::vector<Tangent>& tangents() const { return tangents_; } // tangent j is coordinate normals() + j
     bool has_friction() const { return !tangents_.empty(); }
+    // Per normal contact: its friction polygon (empty: the box); proofs/README.md, "Polygonal friction cones".
+    const std::vector<FrictionPolygon>& polygons() const { return polygons_; }
+    bool has_polygons() const {
+        for (const auto& p : polygons_)
+            if (!p.empty())
+                return true;
+        return false;
+    }
     const Matrix& G() const { return G_; }
     const Matrix& H() const { return H_; }
     // Dependent columns (proofs/README.md, "Redundant contacts"): W() is then W_B, the basis
@@ -224,6 +232,7 @@ class Model {
     Matrix C_, full_W_;
     std::size_t normals_ = 0;
     std::vector<Tangent> tangents_;
+    std::vector<FrictionPolygon> polygons_;
     std::vector<Piece> pieces_;
     std::vector<Vector> rays_;
     std::vector<Matrix> P_inv_;

@@ -259,7 +259,7 @@ void read_head(const ReadJson& doc, std::vector<Rational>& masses, std::optional
             W = get_matrix(c["W"], "$.contacts.W");
             if (c.contains("friction"))
                 for_each_element(c["friction"], "$.contacts.friction", [&](const ReadJson& f, const std::string& path) {
-                    expect_object(f, path, {"contact", "mu", "tangents", "restitution_tangential"},
+                    expect_object(f, path, {"contact", "mu", "tangents", "restitution_tangential", "facets"},
                                   {"contact", "mu", "tangents"});
                     FrictionDecl d;
                     const int k = get_small_int(f["contact"], path + ".contact");
@@ -272,6 +272,10 @@ void read_head(const ReadJson& doc, std::vector<Rational>& masses, std::optional
                     });
                     if (f.contains("restitution_tangential"))
                         d.restitution_tangential = get_rational(f["restitution_tangential"], path + ".restitution_tangential");
+                    if (f.contains("facets"))
+                        for_each_element(f["facets"], path + ".facets", [&](const ReadJson& a, const std::string& ap) {
+                            d.facets.push_back(get_vector(a, ap));
+                        });
                     friction.push_back(std::move(d));
                 });
         }
@@ -579,6 +583,12 @@ nlohmann::ordered_json law_to_json(const Law& law) {
                 OJson entry{{"contact", f.contact + 1}, {"mu", to_string(f.mu)}, {"tangents", tangents}};
                 if (sign_of(f.restitution_tangential) != Sign::zero)
                     entry["restitution_tangential"] = to_string(f.restitution_tangential);
+                if (!f.facets.empty()) {
+                    OJson facets = OJson::array();
+                    for (const auto& a : f.facets)
+                        facets.push_back(vec(a));
+                    entry["facets"] = facets;
+                }
                 fs.push_back(entry);
             }
             out["contacts"]["friction"] = fs;

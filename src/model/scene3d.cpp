@@ -145,9 +145,30 @@ std::pair<P3, P3> tangents_of(const P3& n) {
 }
 
 System parse(const ReadJson& doc) {
-    jr::expect_object(doc, "$", {"format", "name", "dimension", "bodies", "boundaries", "contacts", "friction", "restitution", "pairs"},
+    jr::expect_object(doc, "$", {"format", "name", "dimension", "bodies", "boundaries", "contacts", "friction", "friction_cone",
+                                 "restitution", "pairs"},
                       {"format", "name", "dimension", "bodies"});
     System out;
+    // "friction_cone": "box" (default: each tangent bounded on its own), "pyramid" (MuJoCo's
+    // pyramidal cone, |Lambda_T1| + |Lambda_T2| <= mu Lambda_N) or {"facets": [[a1, a2], ...]}.
+    std::vector<Vector> facets;
+    if (doc.contains("friction_cone")) {
+        const ReadJson& fc = doc["friction_cone"];
+        if (fc.is_string()) {
+            const std::string name = fc.get<std::string>();
+            if (name == "pyramid")
+                facets = pyramid_facets();
+            else if (name != "box")
+                input_error("$.friction_cone", "expected \"box\", \"pyramid\" or {\"facets\": [...]}, got \"" + name + "\"");
+        } else {
+            jr::expect_object(fc, "$.friction_cone", {"facets"}, {"facets"});
+            jr::expect_array(fc["facets"], "$.friction_cone.facets");
+            for (std::size_t j = 0; j < fc["facets"].size(); ++j)
+                facets.push_back(jr::get_vector(fc["facets"][j], idx("$.friction_cone.facets", j)));
+        }
+        if (!facets.empty())
+            (void)friction_polygon(facets, "$.friction_cone.facets"); // named in the scene's terms
+    }
     out.name = jr::get_string(doc["name"], "$.name");
     if (out.name.empty())
         input_error("$.name", "empty scene name");
@@ -442,7 +463,7 @@ System parse(const ReadJson& doc) {
             W(r, k) = col[r];
         if (sign_of(values.mu[k]) == Sign::positive) {
             const auto [t1, t2] = tangents_of(ct.n);
-            out.friction.push_back(FrictionDecl{k, values.mu[k], {column(ct, t1), column(ct, t2)}, Rational(0)});
+            out.friction.push_back(FrictionDecl{k, values.mu[k], {column(ct, t1), column(ct, t2)}, Rational(0), facets});
         }
     }
     out.contact_names = values.names;

@@ -16,6 +16,61 @@ Matrix two_body_impact(const Matrix& G, std::size_t k, const Rational& e) {
     return Q;
 }
 
+FrictionPolygon friction_polygon(const std::vector<Vector>& facets, const std::string& where) {
+    const std::size_t k = facets.size();
+    if (k < 3)
+        input_error(where, "a friction polygon needs at least three facets, got " + std::to_string(k));
+    for (std::size_t j = 0; j < k; ++j) {
+        if (facets[j].size() != 2)
+            input_error(idx(where, j), "expected 2 entries (along the two tangents), got " + std::to_string(facets[j].size()));
+        if (sign_of(facets[j][0]) == Sign::zero && sign_of(facets[j][1]) == Sign::zero)
+            input_error(idx(where, j), "a facet's normal must not be zero");
+    }
+    // Counterclockwise, each turn strictly between 0 and a half turn, and once around in all: the
+    // turns' cross products are positive and the directions' angles sum to one full turn (the
+    // number of times the sequence crosses the positive x axis counterclockwise is 1).
+    auto cross = [](const Vector& a, const Vector& b) { return a[0] * b[1] - a[1] * b[0]; };
+    std::size_t crossings = 0;
+    for (std::size_t j = 0; j < k; ++j) {
+        const Vector& a = facets[j];
+        const Vector& b = facets[(j + 1) % k];
+        if (sign_of(cross(a, b)) != Sign::positive)
+            input_error(idx(where, (j + 1) % k), "the facets must turn counterclockwise, each by less than a half turn "
+                                                 "(a bounded polygon around the origin)");
+        // Angles in [0, pi) are "upper", in [pi, 2 pi) "lower"; a turn of less than a half turn
+        // from lower to upper passes the angle 0 once.
+        auto upper = [](const Vector& x) {
+            return sign_of(x[1]) == Sign::positive || (sign_of(x[1]) == Sign::zero && sign_of(x[0]) == Sign::positive);
+        };
+        if (!upper(a) && upper(b))
+            ++crossings;
+    }
+    if (crossings != 1)
+        input_error(where, "the facets must go once around the origin, counterclockwise");
+    FrictionPolygon p;
+    p.a = facets;
+    for (std::size_t j = 0; j < k; ++j) {
+        const Vector& a = facets[j];
+        const Vector& b = facets[(j + 1) % k];
+        const Rational det = cross(a, b); // > 0
+        Vector v(2);
+        v[0] = (b[1] - a[1]) / det; // [a; b] v = (1, 1)
+        v[1] = (a[0] - b[0]) / det;
+        for (std::size_t i = 0; i < k; ++i)
+            if (i != j && i != (j + 1) % k && !(dot(facets[i], v) < Rational(1)))
+                input_error(idx(where, i), "facet " + std::to_string(i + 1) + " is not an edge of the polygon (it passes through or "
+                                           "cuts off the corner of facets " + std::to_string(j + 1) + " and " +
+                                           std::to_string((j + 1) % k + 1) + ")");
+        p.v.push_back(std::move(v));
+    }
+    return p;
+}
+
+std::vector<Vector> pyramid_facets() {
+    return {Vector{Rational(1), Rational(1)}, Vector{Rational(-1), Rational(1)}, Vector{Rational(-1), Rational(-1)},
+            Vector{Rational(1), Rational(-1)}};
+}
+
 Mechanics make_mechanics(const System& s, Dependent dependent) {
     try {
         return make_mechanics(s.masses, s.M, s.W, s.friction, dependent, !s.velocity_names.empty());
@@ -129,6 +184,7 @@ Mechanics make_mechanics(const std::vector<Rational>& masses, const std::optiona
         }
     }
     m.normals = m.W.cols();
+    m.polygons.assign(m.normals, FrictionPolygon{});
     if (!friction.empty()) {
         const std::string fp = "$.contacts.friction";
         std::vector<Vector> tangent_columns;
@@ -148,6 +204,12 @@ Mechanics make_mechanics(const std::vector<Rational>& masses, const std::optiona
             if (f.tangents.empty() || f.tangents.size() > 2)
                 input_error(at + ".tangents", "expected one tangent (planar) or two (spatial), got " +
                                                   std::to_string(f.tangents.size()));
+            if (!f.facets.empty()) {
+                if (f.tangents.size() != 2)
+                    input_error(at + ".facets", "a friction polygon needs two tangents, the contact has " +
+                                                    std::to_string(f.tangents.size()));
+                m.polygons[f.contact] = friction_polygon(f.facets, at + ".facets");
+            }
             for (std::size_t t = 0; t < f.tangents.size(); ++t) {
                 if (f.tangents[t].size() != n)
                     input_error(idx(at + ".tangents", t), "expected " + std::to_string(n) + " entries (one per velocity), got " +

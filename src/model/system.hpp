@@ -33,7 +33,25 @@ struct FrictionDecl {
     Rational mu;
     std::vector<Vector> tangents; // each n entries: the columns of W it adds
     Rational restitution_tangential; // e_T (0 unless given)
+    // A polygonal friction cone (two tangents; proofs/README.md, "Polygonal friction cones"):
+    // {Lambda_T : a_j . Lambda_T <= mu Lambda_N} with the facets a_j (2-vectors in the tangents'
+    // coordinates, counterclockwise). Empty: each tangent bounded by mu Lambda_N on its own (the box).
+    std::vector<Vector> facets = {};
 };
+
+// The friction polygon of a contact, validated: facets a_j counterclockwise, each an edge, and
+// vertex j = the intersection of facets j and j + 1 (a_j . v_j = a_{j+1} . v_j = 1), so that the
+// polygon is {x : a_j . x <= 1} = conv{v_j}.
+struct FrictionPolygon {
+    std::vector<Vector> a, v;
+    bool empty() const { return a.empty(); }
+};
+// Throws InputError naming `where` unless the facets (at least three) are listed
+// counterclockwise, each turn less than a half turn (bounded, the origin inside), and every vertex
+// strictly inside the other facets (each facet an edge, no three through a point).
+FrictionPolygon friction_polygon(const std::vector<Vector>& facets, const std::string& where);
+// MuJoCo's pyramidal cone of condim 3: |Lambda_T1| + |Lambda_T2| <= mu Lambda_N (facets (+-1, +-1)).
+std::vector<Vector> pyramid_facets();
 
 struct System {
     std::string name;
@@ -62,6 +80,15 @@ struct Mechanics {
     bool diagonal = true; // M is diagonal
     std::size_t normals = 0;
     std::vector<Tangent> tangents; // tangent j is column normals + j
+    // Per normal contact: its friction polygon (empty: the box, or frictionless); a polygon's
+    // contact has exactly two tangents.
+    std::vector<FrictionPolygon> polygons;
+    bool has_polygons() const {
+        for (const auto& p : polygons)
+            if (!p.empty())
+                return true;
+        return false;
+    }
     // Dependent columns (proofs/README.md, "Redundant contacts"): `basis` lists the columns of W
     // kept, in order, each one independent of those kept before it (the pivot columns of W's
     // reduced row echelon form; r = rank W of them), and W = W_B C with C (r x d) the non-zero

@@ -18,7 +18,8 @@ const char* statement_of(const std::string& id, bool friction) {
         return "Lambda = H (Q_i - I) gamma in the friction cone on C_i: Lambda_N >= 0, |Lambda_T| <= mu Lambda_N";
     if (id == "coulomb")
         return "on C_i, Lambda in the friction cone and friction opposes the slip: xi_T = gamma_T+ + e_T gamma_T- > 0 "
-               "implies Lambda_T = -mu Lambda_N, xi_T < 0 implies Lambda_T = +mu Lambda_N";
+               "implies Lambda_T = -mu Lambda_N, xi_T < 0 implies Lambda_T = +mu Lambda_N (per tangent; at a contact "
+               "with a friction polygon P, Lambda_T minimises Lambda_T . xi_T over mu Lambda_N P)";
     if (id == "fan") return "the cones cover R^c and overlap only on shared faces";
     if (id == "P1") return "Q_i v = Q_j v on every ray v shared by C_i and C_j";
     if (id == "P2") return "|Q_i x|_H = |x|_H for all x and every piece";

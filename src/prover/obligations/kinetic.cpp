@@ -49,6 +49,16 @@ bool Prover::in_friction_cone(const Vector& impulse) const {
     for (std::size_t j = 0; j < m_.tangents().size(); ++j) {
         const Tangent& t = m_.tangents()[j];
         const Rational bound = t.mu * impulse[t.contact];
+        if (!m_.polygons()[t.contact].empty()) {
+            // A friction polygon: a . Lambda_T <= mu Lambda_N for every facet (at the contact's first tangent).
+            if (j > 0 && m_.tangents()[j - 1].contact == t.contact)
+                continue;
+            const std::size_t T = m_.normals() + j;
+            for (const Vector& a : m_.polygons()[t.contact].a)
+                if (sign_of(bound - a[0] * impulse[T] - a[1] * impulse[T + 1]) == Sign::negative)
+                    return false;
+            continue;
+        }
         const Rational& lt = impulse[m_.normals() + j];
         if (sign_of(bound - lt) == Sign::negative || sign_of(bound + lt) == Sign::negative)
             return false;

@@ -113,6 +113,7 @@ class Prover {
     Outcome kinematic();      // kinematic.cpp
     Outcome kinetic();        // kinetic.cpp (with friction: the friction cone)
     Outcome coulomb();        // coulomb.cpp (laws with friction)
+    Outcome polygon_forms(Outcome o); // coulomb.cpp: friction polygons (Lemma P)
     bool in_friction_cone(const Vector& impulse) const; // kinetic.cpp
     Outcome energetic();      // energetic.cpp
     Outcome identities();     // identities.cpp
