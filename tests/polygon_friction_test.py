@@ -4,8 +4,9 @@
 "Polygonal friction cones").
 
 - Laws: `derive newton` on scenes in space with "friction_cone": "pyramid", a hexagon and a
-  triangle (anisotropic), one and two rough contacts; each verified (kinetic and coulomb proved,
-  coulomb by its polygon forms), certified and checked by impactcert-check; and compared with an
+  triangle (anisotropic), one and two rough contacts, and on dependent columns (a rough box on an
+  edge with the pyramid); each verified (kinetic and coulomb proved, coulomb by its polygon
+  forms), certified and checked by impactcert-check; and (independent columns) compared with an
   independent oracle in body velocities (tests/oracles/polygon_lcp.py: every combination of stick,
   vertex and edge states solved by elimination, Coulomb's law checked on the solution) at random
   rational inputs: exactly one u+, the law's.
@@ -138,6 +139,23 @@ for base, name, cone, friction in CASES:
             break
         compared += 1
     print(f"{name}: {len(doc['pieces'])} pieces, coulomb by {len(forms)} polygon forms, {compared} inputs agree with the oracle")
+
+# Dependent columns (a rough box on an edge: six columns of rank 5) with the pyramid: the pieces
+# declare their impulses, and kinetic and coulomb are proved on them and checked.
+if not LIGHT:
+    sc = scene("3d-rough-box-on-an-edge", "edge-pyramid", "pyramid")
+    law = os.path.join(tmp, "edge-pyramid-law.json")
+    run([CLI, "derive", "newton", "--system", sc, "-o", law], 0)
+    v = run([CLI, "verify", "--law", law, "--json"])
+    verdicts = {o["id"]: o["verdict"] for o in json.loads(v.stdout)["obligations"]}
+    cert = os.path.join(tmp, "edge-pyramid-cert.json")
+    run([CLI, "certify", "--law", law, "-o", cert])
+    if verdicts.get("kinetic") != "proved" or verdicts.get("coulomb") != "proved" or \
+            "verified" not in run([CHECK, cert]).stdout:
+        fail(f"rough box on an edge with the pyramid: {verdicts}")
+    else:
+        print(f"rough box on an edge, pyramid: {len(json.load(open(law))['pieces'])} pieces on 5 of 6 columns, "
+              "kinetic and coulomb proved and checked")
 
 # Mutants: mu raised in the head of the pyramid ball's law.
 if "ball-pyramid" in laws:
