@@ -212,6 +212,26 @@ if "ball-pyramid" in laws:
     tampered(forged, "refuted passed off as proved")
     tampered(matrix, "a polygon form's matrix changed")
 
+    # The law of mu = 1/2 declared with mu = 1/4: impulses outside the polygon, so coulomb is refuted
+    # before any polygon form; passed off as undecided at --max-faces, it is rejected.
+    low = json.load(open(laws["ball-pyramid"][1]))
+    low["contacts"]["friction"][0]["mu"] = "1/4"
+    low["name"] = "mu-lowered"
+    lowf = os.path.join(tmp, "mu-lowered.json")
+    json.dump(low, open(lowf, "w"))
+    cert = os.path.join(tmp, "mu-lowered-cert.json")
+    run([CLI, "certify", "--law", lowf, "-o", cert], 1)
+    original = json.load(open(cert))
+
+    def hidden(o):
+        if o["verdict"] != "refuted" or o["data"]:
+            fail(f"mu lowered: coulomb {o['verdict']} with data {list(o['data'])}, expected refuted before the forms")
+        o["verdict"] = "undecided"
+        del o["counterexample"]
+        o["limit"] = "a KKT enumeration needs more than 10 faces (raise it with --max-faces)"
+
+    tampered(hidden, "a refutation by the friction cone passed off as undecided at --max-faces")
+
 # Fuzzing against the polygon: the law in doubles, the law of mu halved, the box law.
 if "ball-pyramid" in laws:
     sc, law = laws["ball-pyramid"]
@@ -259,6 +279,7 @@ if "ball-pyramid" in laws:
 
 # Bad polygons and bad uses: one line, exit 2.
 for cone, words in [({"facets": [["1", "0"], ["0", "1"]]}, "at least three facets"),
+                    ({"facets": []}, "at least three facets"),
                     ({"facets": [["1", "0"], ["0", "0"], ["-1", "1"]]}, "must not be zero"),
                     ({"facets": [["1", "0"], ["-1", "-1"], ["-1", "1"]]}, "counterclockwise"),
                     ({"facets": [["1", "0"], ["-1", "1"], ["-1", "-1"], ["1", "0"], ["-1", "1"], ["-1", "-1"]]},

@@ -111,7 +111,8 @@ Checker::Truth Checker::holds(std::size_t k) {
 // enumeration (--max-chambers), P1's intersections (--max-subsets) and a KKT enumeration
 // (--max-faces). So: fan by --max-chambers; P1 by --max-subsets (a fan beyond its limit only
 // sends P1 to the intersections); kinematic by the fan's limit once every ray's image is
-// non-negative; energetic by --max-faces; nonexpansive by --max-faces, or by the fan's limit;
+// non-negative; energetic by --max-faces, and coulomb with friction polygons (a polygon form's
+// KKT enumeration) once the friction cone and Lemma F hold; nonexpansive by --max-faces, or by the fan's limit;
 // nonexpansive-lemma by the fan's limit or, once S is a function, P1's. P2, P3, kinetic,
 // identities, single-impacts and outcomes have no limit, so a refutation cannot hide there.
 void Checker::could_be_undecided(const std::string& id, const std::string& limit, const std::string& path) {
@@ -145,6 +146,9 @@ void Checker::could_be_undecided(const std::string& id, const std::string& limit
             for (const auto& r : pc(p).rays)
                 require(law_.normals_nonneg(law_.all_coordinates(mul(pc(p).Q_, r))), path,
                         "a ray's image is negative: the prover refutes kinematic before it needs the fan");
+    if (id == "coulomb")
+        require(!first_coulomb_failure(), path,
+                "the friction cone or Lemma F fails: the prover refutes coulomb before it needs a polygon form");
     if (id == "P1") {
         require(!face_to_face(), path, "the cones meet face to face: P1 is decided on shared rays, without a limit");
         require(!first_differing_shared_ray(), path, "two pieces differ on a shared ray: P1 is refuted without a limit");

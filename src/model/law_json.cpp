@@ -272,10 +272,12 @@ void read_head(const ReadJson& doc, std::vector<Rational>& masses, std::optional
                     });
                     if (f.contains("restitution_tangential"))
                         d.restitution_tangential = get_rational(f["restitution_tangential"], path + ".restitution_tangential");
-                    if (f.contains("facets"))
+                    if (f.contains("facets")) {
+                        d.facets.emplace();
                         for_each_element(f["facets"], path + ".facets", [&](const ReadJson& a, const std::string& ap) {
-                            d.facets.push_back(get_vector(a, ap));
+                            d.facets->push_back(get_vector(a, ap));
                         });
+                    }
                     friction.push_back(std::move(d));
                 });
         }
@@ -583,9 +585,9 @@ nlohmann::ordered_json law_to_json(const Law& law) {
                 OJson entry{{"contact", f.contact + 1}, {"mu", to_string(f.mu)}, {"tangents", tangents}};
                 if (sign_of(f.restitution_tangential) != Sign::zero)
                     entry["restitution_tangential"] = to_string(f.restitution_tangential);
-                if (!f.facets.empty()) {
+                if (f.facets) {
                     OJson facets = OJson::array();
-                    for (const auto& a : f.facets)
+                    for (const auto& a : *f.facets)
                         facets.push_back(vec(a));
                     entry["facets"] = facets;
                 }

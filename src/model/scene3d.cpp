@@ -151,7 +151,7 @@ System parse(const ReadJson& doc) {
     System out;
     // "friction_cone": "box" (default: each tangent bounded on its own), "pyramid" (MuJoCo's
     // pyramidal cone, |Lambda_T1| + |Lambda_T2| <= mu Lambda_N) or {"facets": [[a1, a2], ...]}.
-    std::vector<Vector> facets;
+    std::optional<std::vector<Vector>> facets;
     if (doc.contains("friction_cone")) {
         const ReadJson& fc = doc["friction_cone"];
         if (fc.is_string()) {
@@ -163,11 +163,12 @@ System parse(const ReadJson& doc) {
         } else {
             jr::expect_object(fc, "$.friction_cone", {"facets"}, {"facets"});
             jr::expect_array(fc["facets"], "$.friction_cone.facets");
+            facets.emplace();
             for (std::size_t j = 0; j < fc["facets"].size(); ++j)
-                facets.push_back(jr::get_vector(fc["facets"][j], idx("$.friction_cone.facets", j)));
+                facets->push_back(jr::get_vector(fc["facets"][j], idx("$.friction_cone.facets", j)));
         }
-        if (!facets.empty())
-            (void)friction_polygon(facets, "$.friction_cone.facets"); // named in the scene's terms
+        if (facets)
+            (void)friction_polygon(*facets, "$.friction_cone.facets"); // named in the scene's terms
     }
     out.name = jr::get_string(doc["name"], "$.name");
     if (out.name.empty())

@@ -204,11 +204,11 @@ Mechanics make_mechanics(const std::vector<Rational>& masses, const std::optiona
             if (f.tangents.empty() || f.tangents.size() > 2)
                 input_error(at + ".tangents", "expected one tangent (planar) or two (spatial), got " +
                                                   std::to_string(f.tangents.size()));
-            if (!f.facets.empty()) {
+            if (f.facets) {
                 if (f.tangents.size() != 2)
                     input_error(at + ".facets", "a friction polygon needs two tangents, the contact has " +
                                                     std::to_string(f.tangents.size()));
-                m.polygons[f.contact] = friction_polygon(f.facets, at + ".facets");
+                m.polygons[f.contact] = friction_polygon(*f.facets, at + ".facets");
             }
             for (std::size_t t = 0; t < f.tangents.size(); ++t) {
                 if (f.tangents[t].size() != n)

@@ -35,8 +35,8 @@ struct FrictionDecl {
     Rational restitution_tangential; // e_T (0 unless given)
     // A polygonal friction cone (two tangents; proofs/README.md, "Polygonal friction cones"):
     // {Lambda_T : a_j . Lambda_T <= mu Lambda_N} with the facets a_j (2-vectors in the tangents'
-    // coordinates, counterclockwise). Empty: each tangent bounded by mu Lambda_N on its own (the box).
-    std::vector<Vector> facets = {};
+    // coordinates, counterclockwise). Absent: each tangent bounded by mu Lambda_N on its own (the box).
+    std::optional<std::vector<Vector>> facets = std::nullopt;
 };
 
 // The friction polygon of a contact, validated: facets a_j counterclockwise, each an edge, and

@@ -15,7 +15,8 @@ namespace impactcert {
 const char* statement_of(const std::string& id, bool friction) {
     if (friction && id == "kinematic") return "gamma_N+ >= 0 for every gamma- (the normals; tangential velocities have no sign)";
     if (friction && id == "kinetic")
-        return "Lambda = H (Q_i - I) gamma in the friction cone on C_i: Lambda_N >= 0, |Lambda_T| <= mu Lambda_N";
+        return "Lambda = H (Q_i - I) gamma in the friction cone on C_i: Lambda_N >= 0, |Lambda_T| <= mu Lambda_N (per "
+               "tangent; a . Lambda_T <= mu Lambda_N for every facet a of a friction polygon)";
     if (id == "coulomb")
         return "on C_i, Lambda in the friction cone and friction opposes the slip: xi_T = gamma_T+ + e_T gamma_T- > 0 "
                "implies Lambda_T = -mu Lambda_N, xi_T < 0 implies Lambda_T = +mu Lambda_N (per tangent; at a contact "
