@@ -9,6 +9,9 @@
   verify energetic proved and refuted, and the gain at the upper end is recomputed in body
   velocities by the oracle (tests/oracles/friction_lcp.py, no G). The law stops being a function
   at G_NN / G_NT, which the derive column's enclosure must hold.
+- The block on a corner (examples/scenes/block-on-a-corner.json) at e = 9/10 over mu: the
+  polynomial 323 mu^2 - 120 mu + 8 with mu* = (60 - 2 sqrt 254)/323 in the enclosure, the laws
+  at both ends verified and the gain at the upper end recomputed by the oracle.
 - Three equal balls, the Newton law with restitution on approaching contacts, over e: the
   threshold must be sqrt(3)/2 (polynomial 4 e^2 - 3), with the laws at both ends verified and the
   gain at the upper end recomputed by the oracle in ball velocities.
@@ -174,6 +177,47 @@ try:
                 b.get("polynomial") != f"{e_star.denominator} e - {e_star.numerator}" or \
                 not F(en["in"][0]) <= e_star <= F(en["in"][1]):
             fail(f"kane over e: expected the exact root {e_star}, got {en}")
+
+        # ---- The block on a corner at e = 9/10 over mu: mu* = (60 - 2 sqrt 254)/323, the root of
+        # 323 mu^2 - 120 mu + 8 (docs/sweep.md); the laws at both ends, the gain above by the oracle.
+        block = load(os.path.join(SRC, "examples", "scenes", "block-on-a-corner.json"))
+        block["restitution"] = "9/10"
+
+        def block_with_mu(mu):
+            path = os.path.join(tmp, f"block-{str(mu).replace('/', '_')}.json")
+            with open(path, "w") as f:
+                json.dump(dict(block, friction=str(mu)), f)
+            return path
+
+        out = os.path.join(tmp, "block")
+        run(["sweep", "--scene", block_with_mu(F(1, 2)), "--law", "newton", "--vary", "mu=0..1:11", "--thresholds",
+             "-o", out], 0, "block sweep")
+        en = thresholds(out).get("energetic")
+        if not en or en.get("boundary", {}).get("polynomial") != "323 mu^2 - 120 mu + 8":
+            fail(f"block: energetic threshold {en}")
+        else:
+            lo, hi = F(en["in"][0]), F(en["in"][1])
+            # 60 - 323 x = 2 sqrt(254) at x = mu*: squares compared exactly.
+            if not (60 - 323 * hi > 0 and (60 - 323 * hi) ** 2 <= 1016 <= (60 - 323 * lo) ** 2):
+                fail(f"block: mu* is not in [{lo}, {hi}]")
+            below, above = energetic_at(block_with_mu(lo), "9/10"), energetic_at(block_with_mu(hi), "9/10")
+            if below["verdict"] != "proved" or above["verdict"] != "refuted":
+                fail(f"block: energetic at the ends {below['verdict']} / {above['verdict']}")
+            else:
+                head = load(block_with_mu(hi) + ".law.json")
+                n = len(head["contacts"]["W"])
+                Mb = [[F(head["masses"][i]) if i == j else F(0) for j in range(n)] for i in range(n)]
+                WNb = [F(r[0]) for r in head["contacts"]["W"]]
+                WTb = [F(x) for x in head["contacts"]["friction"][0]["tangents"][0]]
+                S = System(Mb, [WNb], [(0, hi, F(0), [WTb])])
+                gm = [F(x) for x in above["counterexample"]["gamma"]]
+                # u- = W (W^T W)^-1 gamma- (three velocities, two columns)
+                WtW = [[sum(a[i] * b[i] for i in range(n)) for b in S.columns] for a in S.columns]
+                y = solve(WtW, gm)
+                u = [sum(S.columns[k][i] * y[k] for k in range(2)) for i in range(n)]
+                sols = S.solutions(u, [F(9, 10)])
+                if len(sols) != 1 or not S.energy2(sols[0]) > S.energy2(u):
+                    fail("block: the oracle does not find the energy gain at the upper end")
 
         # ---- Three equal balls, Newton with restitution on approaching contacts, over e.
         out = os.path.join(tmp, "chain")
