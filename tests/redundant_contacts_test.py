@@ -194,14 +194,17 @@ try:
                     (on == "approaching" and verdict.get("kinematic") != "proved") or \
                     (friction and verdict.get("coulomb") != "proved"):
                 fail(f"{name}/{on}: verify: {verdict}")
-            bad = json.loads(json.dumps(law))
-            bad["pieces"][k]["impulses"][0][0] = str(F(bad["pieces"][k]["impulses"][0][0]) + 1)
-            badfile = os.path.join(tmp, "bad-impulse.json")
-            with open(badfile, "w") as f:
-                json.dump(bad, f)
-            p = run([CLI, "verify", "--law", badfile], 1)
-            if "kinetic" not in p.stdout or " refuted " not in [ln for ln in p.stdout.splitlines() if "kinetic" in ln][0]:
-                fail(f"{name}/{on}: a changed impulse is not refuted by kinetic: {p.stdout[:300]}")
+            # (--light: not on the rough box on an edge, whose verify takes the longest; the other
+            # scenes' laws have the same check)
+            if not (LIGHT and name == "3d-rough-box-on-an-edge"):
+                bad = json.loads(json.dumps(law))
+                bad["pieces"][k]["impulses"][0][0] = str(F(bad["pieces"][k]["impulses"][0][0]) + 1)
+                badfile = os.path.join(tmp, "bad-impulse.json")
+                with open(badfile, "w") as f:
+                    json.dump(bad, f)
+                p = run([CLI, "verify", "--law", badfile], 1)
+                if "kinetic" not in p.stdout or " refuted " not in [ln for ln in p.stdout.splitlines() if "kinetic" in ln][0]:
+                    fail(f"{name}/{on}: a changed impulse is not refuted by kinetic: {p.stdout[:300]}")
             if name in CERTIFY:
                 cert = os.path.join(tmp, f"{name}-{on}.cert.json")
                 run([CLI, "certify", "--law", lawfile, "-o", cert], None)
