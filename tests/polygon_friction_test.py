@@ -289,6 +289,22 @@ for cone, words in [({"facets": [["1", "0"], ["0", "1"]]}, "at least three facet
     p = run([CLI, "derive", "newton", "--system", sc], 2)
     if words not in p.stderr or "$.friction_cone" not in p.stderr or p.stderr.count("\n") != 1:
         fail(f"friction_cone {cone}: {p.stderr!r}")
+# Many facets: beyond the format's 1,024 refused; 300 (a polygon around the unit circle, tangent
+# at rational points) give 602 states, beyond --max-modes 400, refused at once (exit 3) before
+# any mode is built.
+def circle_facets(k):
+    ts = [F(i - k // 2, 20) for i in range(k)]
+    return [[str((1 - t * t) / (1 + t * t)), str(2 * t / (1 + t * t))] for t in ts]
+
+
+p = run([CLI, "derive", "newton", "--system", scene("3d-spinning-ball", "many", {"facets": circle_facets(1025)})], 2)
+if "at most 1024 facets" not in p.stderr:
+    fail(f"1025 facets: {p.stderr!r}")
+p = subprocess.run([CLI, "derive", "newton", "--system", scene("3d-spinning-ball", "many", {"facets": circle_facets(300)})],
+                   capture_output=True, text=True, timeout=60)
+if p.returncode != 3 or "has 602 contact modes, more than 400" not in p.stderr or "--max-modes" not in p.stderr:
+    fail(f"300 facets: exit {p.returncode}, {p.stderr!r}")
+
 if "ball-pyramid" in laws:
     sc, law = laws["ball-pyramid"]
     for args, words in [(["derive", "sequential", "--system", sc], "friction polygons are not offered"),

@@ -95,6 +95,7 @@ Polygon read_polygon(const Json& facets, const std::string& path) {
         malformed(path, "expected an array");
     const std::size_t k = facets.size();
     require(k >= 3, path, "a friction polygon needs at least three facets");
+    require(k <= 1024, path, "a friction polygon has at most 1024 facets"); // the format's bound, as the prover's
     Polygon poly;
     for (std::size_t j = 0; j < k; ++j) {
         Vec a = vec(facets[j], at(path, j));

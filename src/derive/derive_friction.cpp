@@ -26,6 +26,7 @@
 #include "model/law.hpp"
 #include "prover/obligations.hpp"
 
+#include <limits>
 #include <map>
 
 namespace impactcert {
@@ -105,6 +106,28 @@ struct Friction {
         : m(mech), e(restitution), approaching(approach), N(mech.normals), d(mech.contacts()), tangents_of(mech.normals) {
         for (std::size_t j = 0; j < m.tangents.size(); ++j)
             tangents_of[m.tangents[j].contact].push_back(j);
+    }
+
+    // The number of modes, saturated at SIZE_MAX (checked against --max-modes before any is built).
+    std::size_t mode_count() const {
+        const std::size_t most = std::numeric_limits<std::size_t>::max();
+        auto times = [most](std::size_t a, std::size_t b) { return b != 0 && a > most / b ? most : a * b; };
+        std::size_t count = 1;
+        for (std::size_t k = 0; k < N; ++k) {
+            if (approaching)
+                count = times(count, 2);
+            std::size_t states = 2; // open, and closed without friction
+            if (k < m.polygons.size() && !m.polygons[k].empty())
+                states = 2 + 2 * m.polygons[k].a.size(); // open, stick, K vertices, K edges
+            else if (!tangents_of[k].empty()) {
+                std::size_t words = 1;
+                for (std::size_t t = 0; t < tangents_of[k].size(); ++t)
+                    words = times(words, 3);
+                states = words == most ? most : 1 + words;
+            }
+            count = times(count, states);
+        }
+        return count;
     }
 
     // Every mode, in a fixed order (orthant, then contacts from the first, states as listed).
@@ -512,12 +535,17 @@ FrictionResult derive_newton_friction(const FrictionOptions& o) {
     check_bits(mech.G, o.max_bits, "G = W^T M^-1 W");
     const bool approaching = o.on == RestitutionOn::approaching;
     const Friction f(mech, o.restitution, approaching);
-    const std::vector<Mode> modes = f.modes();
-    if (modes.size() > o.max_modes)
+    // Counted before any is built: a polygon of many facets, or many rough contacts, would
+    // otherwise enumerate (2 + 2K)^N or 10^N modes first.
+    if (const std::size_t count = f.mode_count(); count > o.max_modes)
         throw DeriveLimit(std::string(mech.has_friction() ? "the Newton law with friction" : "the Newton law on dependent columns") +
-                          " of this system has " + std::to_string(modes.size()) +
+                          " of this system has " +
+                          (count == std::numeric_limits<std::size_t>::max() ? "more than 2^64" : std::to_string(count)) +
                           " contact modes, more than " + std::to_string(o.max_modes) +
                           " (their pairs are compared, about modes^2 / 2 polyhedra; raise it with --max-modes)");
+    const std::vector<Mode> modes = f.modes();
+    if (modes.size() != f.mode_count())
+        throw std::logic_error("derive newton: the modes counted are not the modes built");
     const PplScope ppl;
     FrictionResult result;
     result.modes = modes.size();

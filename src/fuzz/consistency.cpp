@@ -620,6 +620,22 @@ std::optional<Finding> ConsistencyChecker::at_rest(const double* yd) const {
 
 namespace {
 
+// `f` replaces the finding in `slot` when there is none or its score is higher (the worst per property).
+void keep_worst(std::optional<Finding>& slot, Finding f) {
+    if (!slot || f.score > slot->score)
+        slot = std::move(f);
+}
+
+// A finding of property p with its score, detail and exact figures.
+Finding make_finding(Property p, double score, std::string detail, std::vector<std::pair<std::string, std::string>> exact) {
+    Finding f;
+    f.property = p;
+    f.score = score;
+    f.detail = std::move(detail);
+    f.exact = std::move(exact);
+    return f;
+}
+
 // The sign of P + Q sqrt(S), S >= 0, exactly.
 Sign sign_with_root(const Rational& P, const Rational& Q, const Rational& S) {
     const Sign p = sign_of(P), q = sign_of(S) == Sign::zero ? Sign::zero : sign_of(Q);
@@ -642,7 +658,6 @@ Sign sign_with_root(const Rational& P, const Rational& Q, const Rational& S) {
 void ConsistencyChecker::circular_friction(const Vector& lambda, const Vector& gm, const Vector& gp, const Rational& tol,
                                            const Rational& s2, std::vector<Finding>& out) const {
     std::optional<Finding> cone, slip;
-    double cone_score = 0, slip_score = 0;
     std::vector<bool> done(m_.tangents.size(), false);
     auto vector_text = [](const std::vector<Rational>& v) {
         std::string t = "(";
@@ -680,16 +695,10 @@ void ConsistencyChecker::circular_friction(const Vector& lambda, const Vector& g
         if (sign_of(bound) == Sign::negative || lt2 > bound * bound) {
             const double over = std::sqrt(approx(lt2)) - approx(mu * ln);
             const double score = s2 > Rational(0) ? over / std::sqrt(approx(trH * s2)) : INFINITY;
-            if (!cone || score > cone_score) {
-                cone_score = score;
-                Finding f;
-                f.property = Property::friction_cone;
-                f.score = score;
-                f.detail = "|Lambda_T| = |" + vector_text(lt) + "| > mu Lambda_N" + std::to_string(N + 1) + " = " +
-                           exact_text(mu * ln) + where;
-                f.exact = {{"|Lambda_T|^2", to_string(lt2)}, {"mu Lambda_N", to_string(mu * ln)}};
-                cone = std::move(f);
-            }
+            keep_worst(cone, make_finding(Property::friction_cone, score,
+                                          "|Lambda_T| = |" + vector_text(lt) + "| > mu Lambda_N" + std::to_string(N + 1) +
+                                              " = " + exact_text(mu * ln) + where,
+                                          {{"|Lambda_T|^2", to_string(lt2)}, {"mu Lambda_N", to_string(mu * ln)}}));
         }
         // coulomb, two conditions that every answer of Coulomb's law meets (sliding: Lambda_T =
         // -mu Lambda_N xi_T / |xi_T|; sticking: xi_T = 0), each with its bound:
@@ -713,20 +722,18 @@ void ConsistencyChecker::circular_friction(const Vector& lambda, const Vector& g
             const double rho = approx(dot) + approx(mu * ln) * xi_norm;
             const double off = too_little ? rho / xi_norm : std::sqrt(std::max(0.0, approx(wedge2))) / xi_norm;
             const double score = s2 > Rational(0) ? off / std::sqrt(approx(trH * s2)) : INFINITY;
-            if (!slip || score > slip_score) {
-                slip_score = score;
-                Finding f;
-                f.property = Property::coulomb;
-                f.score = score;
-                f.detail = "xi_T = " + vector_text(xi) + " but Lambda_T = " + vector_text(lt) +
-                           " is not -mu Lambda_N xi_T / |xi_T| (mu Lambda_N = " + exact_text(mu * ln) + "): " +
-                           (too_little ? "Lambda_T . xi_T + mu Lambda_N |xi_T| = ~" + decimal_text(rho) + " > 0"
-                                       : "|Lambda_T ^ xi_T| / |xi_T| = ~" + decimal_text(off) + " (not along the slip)") +
-                           where;
-                f.exact = {{"Lambda_T . xi_T", to_string(dot)}, {"mu Lambda_N", to_string(mu * ln)},
-                           {"|xi_T|^2", to_string(xi2)}, {"|Lambda_T|^2", to_string(lt2)}};
-                slip = std::move(f);
-            }
+            keep_worst(slip, make_finding(Property::coulomb, score,
+                                          "xi_T = " + vector_text(xi) + " but Lambda_T = " + vector_text(lt) +
+                                              " is not -mu Lambda_N xi_T / |xi_T| (mu Lambda_N = " + exact_text(mu * ln) +
+                                              "): " +
+                                              (too_little ? "Lambda_T . xi_T + mu Lambda_N |xi_T| = ~" + decimal_text(rho) + " > 0"
+                                                          : "|Lambda_T ^ xi_T| / |xi_T| = ~" + decimal_text(off) +
+                                                                " (not along the slip)") +
+                                              where,
+                                          {{"Lambda_T . xi_T", to_string(dot)},
+                                           {"mu Lambda_N", to_string(mu * ln)},
+                                           {"|xi_T|^2", to_string(xi2)},
+                                           {"|Lambda_T|^2", to_string(lt2)}}));
         }
     }
     if (cone)
@@ -746,7 +753,6 @@ void ConsistencyChecker::circular_friction(const Vector& lambda, const Vector& g
 void ConsistencyChecker::polygon_friction(const Vector& lambda, const Vector& gm, const Vector& gp, const Rational& tol,
                                           const Rational& s2, std::vector<Finding>& out) const {
     std::optional<Finding> cone, slip;
-    double cone_score = 0, slip_score = 0;
     for (std::size_t N = 0; N < m_.polygons.size(); ++N) {
         const FrictionPolygon& P = m_.polygons[N];
         if (P.empty())
@@ -768,17 +774,11 @@ void ConsistencyChecker::polygon_friction(const Vector& lambda, const Vector& gm
             const Rational aHa = a[0] * a[0] * m_.H(T1, T1) + Rational(2) * a[0] * a[1] * m_.H(T1, T2) + a[1] * a[1] * m_.H(T2, T2);
             if (over > tol * (sqrt_up(aHa) + mu * hn)) {
                 const double score = scale > 0 ? approx(over) / scale : INFINITY;
-                if (!cone || score > cone_score) {
-                    cone_score = score;
-                    Finding f;
-                    f.property = Property::friction_cone;
-                    f.score = score;
-                    f.detail = "a_" + std::to_string(j + 1) + " . Lambda_T = " + exact_text(dot(a, lt)) + " > mu Lambda_N" +
-                               std::to_string(N + 1) + " = " + exact_text(mu * ln) + " (facet " + std::to_string(j + 1) +
-                               " of the friction polygon)" + where;
-                    f.exact = {{"a . Lambda_T", to_string(dot(a, lt))}, {"mu Lambda_N", to_string(mu * ln)}};
-                    cone = std::move(f);
-                }
+                keep_worst(cone, make_finding(Property::friction_cone, score,
+                                              "a_" + std::to_string(j + 1) + " . Lambda_T = " + exact_text(dot(a, lt)) +
+                                                  " > mu Lambda_N" + std::to_string(N + 1) + " = " + exact_text(mu * ln) +
+                                                  " (facet " + std::to_string(j + 1) + " of the friction polygon)" + where,
+                                              {{"a . Lambda_T", to_string(dot(a, lt))}, {"mu Lambda_N", to_string(mu * ln)}}));
             }
         }
         Rational ln_up = ln + tol * hn;
@@ -799,19 +799,14 @@ void ConsistencyChecker::polygon_friction(const Vector& lambda, const Vector& gm
                                    mu * ln_up * sqrt_up(dot(v, v)) * tol * g;
             if (q > bound) {
                 const double score = scale > 0 && xi_up > Rational(0) ? approx(q / xi_up) / scale : INFINITY;
-                if (!slip || score > slip_score) {
-                    slip_score = score;
-                    Finding f;
-                    f.property = Property::coulomb;
-                    f.score = score;
-                    f.detail = "xi_T = (" + exact_text(xi[0]) + ", " + exact_text(xi[1]) + ") but Lambda_T = (" +
-                               exact_text(lt[0]) + ", " + exact_text(lt[1]) + ") dissipates less than mu Lambda_N v_" +
-                               std::to_string(j + 1) + " = (" + exact_text(mu * ln * v[0]) + ", " + exact_text(mu * ln * v[1]) +
-                               "): (Lambda_T - mu Lambda_N v) . xi_T = " + exact_text(q) + " > 0 (vertex " +
-                               std::to_string(j + 1) + " of the friction polygon)" + where;
-                    f.exact = {{"(Lambda_T - mu Lambda_N v) . xi_T", to_string(q)}, {"bound", to_string(bound)}};
-                    slip = std::move(f);
-                }
+                keep_worst(slip, make_finding(Property::coulomb, score,
+                                              "xi_T = (" + exact_text(xi[0]) + ", " + exact_text(xi[1]) + ") but Lambda_T = (" +
+                                                  exact_text(lt[0]) + ", " + exact_text(lt[1]) +
+                                                  ") dissipates less than mu Lambda_N v_" + std::to_string(j + 1) + " = (" +
+                                                  exact_text(mu * ln * v[0]) + ", " + exact_text(mu * ln * v[1]) +
+                                                  "): (Lambda_T - mu Lambda_N v) . xi_T = " + exact_text(q) + " > 0 (vertex " +
+                                                  std::to_string(j + 1) + " of the friction polygon)" + where,
+                                              {{"(Lambda_T - mu Lambda_N v) . xi_T", to_string(q)}, {"bound", to_string(bound)}}));
             }
         }
     }

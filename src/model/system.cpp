@@ -20,6 +20,9 @@ FrictionPolygon friction_polygon(const std::vector<Vector>& facets, const std::s
     const std::size_t k = facets.size();
     if (k < 3)
         input_error(where, "a friction polygon needs at least three facets, got " + std::to_string(k));
+    if (k > kMaxFacets) // each vertex is checked against every facet (k^2 products)
+        input_error(where, "a friction polygon has at most " + std::to_string(kMaxFacets) + " facets, got " +
+                               std::to_string(k));
     for (std::size_t j = 0; j < k; ++j) {
         if (facets[j].size() != 2)
             input_error(idx(where, j), "expected 2 entries (along the two tangents), got " + std::to_string(facets[j].size()));

@@ -46,10 +46,11 @@ struct FrictionPolygon {
     std::vector<Vector> a, v;
     bool empty() const { return a.empty(); }
 };
-// Throws InputError naming `where` unless the facets (at least three) are listed
+// Throws InputError naming `where` unless the facets (at least three, at most kMaxFacets) are listed
 // counterclockwise, each turn less than a half turn (bounded, the origin inside), and every vertex
 // strictly inside the other facets (each facet an edge, no three through a point).
 FrictionPolygon friction_polygon(const std::vector<Vector>& facets, const std::string& where);
+inline constexpr std::size_t kMaxFacets = 1024; // facets of one friction polygon (the format's bound)
 // MuJoCo's pyramidal cone of condim 3: |Lambda_T1| + |Lambda_T2| <= mu Lambda_N (facets (+-1, +-1)).
 std::vector<Vector> pyramid_facets();
 
